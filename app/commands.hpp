@@ -1,0 +1,13 @@
+#pragma once
+/// Sub-commands of the `camplace` tool. Each registers its options and callback on the CLI11
+/// app; the callback throws core::InputError (or std::exception) on failure, which main prints.
+#include <CLI/CLI.hpp>
+
+namespace camplace::app {
+
+void register_evaluate_command(CLI::App& app);
+#ifdef CAMPLACE_HAVE_OPTIMIZE
+void register_optimize_command(CLI::App& app);
+#endif
+
+}  // namespace camplace::app

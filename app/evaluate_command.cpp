@@ -1,0 +1,195 @@
+// `camplace evaluate`: Err of one camera configuration, per state, in the voxel and/or the
+// exact pipeline.
+#include <cstdio>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "camplace/core/camera.hpp"
+#include "camplace/core/err.hpp"
+#include "camplace/core/error.hpp"
+#include "camplace/core/scene.hpp"
+#include "camplace/voxel/evaluator.hpp"
+#include "commands.hpp"
+#ifdef CAMPLACE_HAVE_EXACT
+#include "camplace/exact/evaluator.hpp"
+#endif
+
+namespace camplace::app {
+
+namespace {
+
+struct EvaluateArgs {
+  std::string scene, cameras, mode = "conservative", resolution, pipeline = "voxel", export_dir;
+  bool json = false, exact_fractions = false;
+};
+
+nlohmann::json voxel_json(const voxel::VoxelEvaluator& evaluator, const voxel::Evaluation& e) {
+  const auto& n = evaluator.grid().n;
+  nlohmann::json states = nlohmann::json::array();
+  for (const auto& s : e.states) {
+    states.push_back({{"time_step", s.time_step},
+                      {"event", s.event},
+                      {"weight", s.weight},
+                      {"d_true", s.d_true},
+                      {"d_model", s.d_model},
+                      {"model_volume", s.model_volume},
+                      {"components", s.components},
+                      {"components_removed", s.components_removed}});
+  }
+  return {{"pipeline", "voxel"},
+          {"mode", evaluator.options().mode == voxel::LabelMode::center ? "center" : "conservative"},
+          {"resolution", {n[0], n[1], n[2]}},
+          {"voxel_diagonal", evaluator.grid().step.norm()},
+          {"tolerance", core::default_tolerance(evaluator.scene().area, n)},
+          {"err", e.err},
+          {"states", states},
+          {"timing_ms",
+           {{"labelling", e.timing.labelling_ms},
+            {"clustering", e.timing.clustering_ms},
+            {"distance", e.timing.distance_ms},
+            {"total", e.timing.total_ms}}}};
+}
+
+void print_table(const nlohmann::json& r) {
+  std::printf("pipeline %s", r["pipeline"].get<std::string>().c_str());
+  if (r.contains("mode")) {
+    std::printf(", mode %s, resolution %dx%dx%d", r["mode"].get<std::string>().c_str(),
+                r["resolution"][0].get<int>(), r["resolution"][1].get<int>(),
+                r["resolution"][2].get<int>());
+  }
+  std::printf("\n%4s %5s %7s %9s %9s %11s %6s %7s\n", "step", "event", "weight", "d_true[m]",
+              "d_model[m]", "volume[m3]", "comps", "removed");
+  for (const auto& s : r["states"]) {
+    std::printf("%4d %5d %7.3f %9.4f %10.4f %11.4f %6d %7d\n", s["time_step"].get<int>(),
+                s["event"].get<int>(), s["weight"].get<double>(), s["d_true"].get<double>(),
+                s["d_model"].get<double>(), s["model_volume"].get<double>(),
+                s["components"].get<int>(), s["components_removed"].get<int>());
+  }
+  std::printf("Err = %.6f m^2", r["err"].get<double>());
+  if (r.contains("tolerance")) std::printf("   (tolerance %.4f m^2)", r["tolerance"].get<double>());
+  const auto& t = r["timing_ms"];
+  std::printf("\ntime: %.3f ms", t["total"].get<double>());
+  if (t.contains("labelling")) {
+    std::printf(" (labelling %.3f, clustering %.3f, distance %.3f)", t["labelling"].get<double>(),
+                t["clustering"].get<double>(), t["distance"].get<double>());
+  }
+  std::printf("\n");
+}
+
+#ifdef CAMPLACE_HAVE_EXACT
+nlohmann::json exact_json(const exact::ExactEvaluation& e, bool fractions) {
+  nlohmann::json states = nlohmann::json::array();
+  for (const auto& s : e.states) {
+    nlohmann::json j = {{"time_step", s.time_step},
+                        {"event", s.event},
+                        {"weight", s.weight},
+                        {"d_true", s.d_true},
+                        {"d_model", s.d_model},
+                        {"model_volume", s.model_volume},
+                        {"components", s.components},
+                        {"components_removed", s.components_removed}};
+    if (fractions) {
+      j["d_true_sq_exact"] = s.d_true_sq_exact;
+      j["d_model_sq_exact"] = s.d_model_sq_exact;
+    }
+    states.push_back(j);
+  }
+  return {{"pipeline", "exact"},
+          {"err", e.err},
+          {"states", states},
+          {"timing_ms",
+           {{"model", e.timing.model_ms},
+            {"clustering", e.timing.clustering_ms},
+            {"distance", e.timing.distance_ms},
+            {"total", e.timing.total_ms}}}};
+}
+
+nlohmann::json differences(const nlohmann::json& vox, const nlohmann::json& ex) {
+  nlohmann::json states = nlohmann::json::array();
+  for (std::size_t i = 0; i < vox["states"].size(); ++i) {
+    const auto& a = vox["states"][i];
+    const auto& b = ex["states"][i];
+    states.push_back({{"time_step", a["time_step"]},
+                      {"event", a["event"]},
+                      {"d_model_voxel_minus_exact",
+                       a["d_model"].get<double>() - b["d_model"].get<double>()},
+                      {"model_volume_voxel_minus_exact",
+                       a["model_volume"].get<double>() - b["model_volume"].get<double>()}});
+  }
+  return {{"err_voxel_minus_exact", vox["err"].get<double>() - ex["err"].get<double>()},
+          {"voxel_diagonal", vox["voxel_diagonal"]},
+          {"states", states}};
+}
+#endif
+
+void run_evaluate(const EvaluateArgs& args) {
+  const core::Scene scene = core::load_scene(args.scene);
+  const core::CameraConfig config = core::load_camera_config(args.cameras, scene);
+  voxel::VoxelOptions options;
+  options.mode = args.mode == "center" ? voxel::LabelMode::center : voxel::LabelMode::conservative;
+  if (!args.resolution.empty()) options.resolution = core::parse_resolution(args.resolution, "--resolution");
+  const bool want_voxel = args.pipeline != "exact";
+  const bool want_exact = args.pipeline != "voxel";
+#ifndef CAMPLACE_HAVE_EXACT
+  if (want_exact) {
+    throw core::InputError("command line", "--pipeline", "this build has no exact pipeline");
+  }
+#endif
+  nlohmann::json vox, ex;
+  if (want_voxel) {
+    const voxel::VoxelEvaluator evaluator(scene, options);
+    vox = voxel_json(evaluator, evaluator.evaluate(config));
+  }
+#ifdef CAMPLACE_HAVE_EXACT
+  if (want_exact) {
+    exact::ExactOptions exact_options;
+    exact_options.export_dir = args.export_dir;
+    ex = exact_json(exact::evaluate_exact(scene, config, exact_options), args.exact_fractions);
+  }
+#endif
+  nlohmann::json out;
+  if (want_voxel && want_exact) {
+#ifdef CAMPLACE_HAVE_EXACT
+    out = {{"pipeline", "both"}, {"voxel", vox}, {"exact", ex}, {"differences", differences(vox, ex)}};
+#endif
+  } else {
+    out = want_voxel ? vox : ex;
+  }
+  out["scene"] = args.scene;
+  out["cameras_file"] = args.cameras;
+  if (args.json) {
+    std::cout << out.dump(2) << "\n";
+    return;
+  }
+  if (want_voxel && want_exact) {
+    print_table(vox);
+    std::printf("\n");
+    print_table(ex);
+    std::printf("\nErr voxel - exact = %.6f m^2\n", out["differences"]["err_voxel_minus_exact"].get<double>());
+  } else {
+    print_table(out);
+  }
+}
+
+}  // namespace
+
+void register_evaluate_command(CLI::App& app) {
+  auto args = std::make_shared<EvaluateArgs>();
+  CLI::App* cmd = app.add_subcommand("evaluate", "Err of one camera configuration, state by state");
+  cmd->add_option("scene", args->scene, "scene JSON file")->required();
+  cmd->add_option("--cameras", args->cameras, "camera configuration JSON file")->required();
+  cmd->add_option("--mode", args->mode, "voxel labelling mode")
+      ->check(CLI::IsMember({"center", "conservative"}));
+  cmd->add_option("--resolution", args->resolution, "voxel resolution NXxNYxNZ (default: the scene's)");
+  cmd->add_option("--pipeline", args->pipeline, "voxel, exact or both")
+      ->check(CLI::IsMember({"voxel", "exact", "both"}));
+  cmd->add_flag("--json", args->json, "print one JSON object on stdout");
+  cmd->add_flag("--exact-fractions", args->exact_fractions,
+                "exact pipeline: add squared distances as exact fractions \"p/q\"");
+  cmd->add_option("--export-mesh", args->export_dir,
+                  "exact pipeline: write each state's model and each camera's pyramid (OFF) to DIR");
+  cmd->callback([args] { run_evaluate(*args); });
+}
+
+}  // namespace camplace::app

@@ -1,0 +1,25 @@
+// The camplace command-line tool: parse, call the modules, print. Errors → message, exit 1.
+#include <CLI/CLI.hpp>
+#include <exception>
+#include <iostream>
+
+#include "commands.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"camplace: camera placement for human-robot work cells (visual hull distance)"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "camplace 0.1.0");
+  camplace::app::register_evaluate_command(app);
+#ifdef CAMPLACE_HAVE_OPTIMIZE
+  camplace::app::register_optimize_command(app);
+#endif
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

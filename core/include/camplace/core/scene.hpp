@@ -1,0 +1,96 @@
+#pragma once
+/// The scene of SPEC §2: surveillance area, cameras and their domain, obstacles, time steps and
+/// events. Loaded and validated from one JSON file.
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "camplace/core/geometry.hpp"
+
+namespace camplace::core {
+
+enum class FovShape { cone, pyramid };
+enum class DynamicMode { masked, modelled };
+
+/// Closed interval [lo, hi].
+struct Interval {
+  double lo = 0.0;
+  double hi = 0.0;
+  bool fixed() const { return lo == hi; }
+};
+
+/// Bounds on one camera's setting: position in metres (world frame), yaw and pitch in radians.
+struct CameraDomain {
+  Interval x, y, z;
+  Interval yaw{-kPi, kPi};
+  Interval pitch{-kPi / 2, kPi / 2};
+  static constexpr double kPi = 3.14159265358979323846;
+};
+
+/// Camera block of the scene: count n, FOV, optional range, domain (shared or per camera).
+struct CameraSpec {
+  int count = 0;
+  double half_angle = 0.0;  ///< radians, in (0, π/2)
+  FovShape fov = FovShape::cone;
+  int sides = 16;                ///< k of the inscribed pyramid (exact pipeline, comparisons)
+  std::optional<double> range;   ///< axial far plane in metres, none = unlimited
+  std::vector<CameraDomain> domains;  ///< one per camera (shared domain copied n times)
+};
+
+/// One rigid object: a closed, outward-oriented triangle mesh and where it came from.
+struct SceneObject {
+  std::string name;   ///< the object's "name", or its JSON pointer
+  std::string entry;  ///< JSON pointer of the object in the scene file
+  TriangleMesh mesh;
+  Box3 bounds;
+};
+
+/// One appearance a of the unmodelled collective: its weight ω and its target objects.
+struct Event {
+  double weight = 0.0;
+  std::vector<SceneObject> targets;
+};
+
+/// One time step h: the robot's links, the critical objects and the events.
+struct TimeStep {
+  double t = 0.0;
+  std::vector<SceneObject> dynamic_obstacles;
+  std::vector<SceneObject> critical;  ///< defaults to the dynamic obstacles (SPEC §2)
+  std::vector<Event> events;
+};
+
+/// Plausibility filter thresholds (SPEC §4); 0 disables each.
+struct Plausibility {
+  double min_volume = 0.0;  ///< m³
+  double min_height = 0.0;  ///< m (z-extent)
+};
+
+struct Scene {
+  std::string file;  ///< path the scene was loaded from
+  Box3 area;         ///< surveillance area S
+  std::array<int, 3> voxels{16, 12, 12};
+  CameraSpec cameras;
+  std::vector<SceneObject> static_obstacles;
+  std::vector<TimeStep> time_steps;
+  DynamicMode dynamic_mode = DynamicMode::masked;
+  Plausibility plausibility;
+};
+
+/// One state (time step h, event l) of the error functional, as indices into the scene.
+struct StateIndex {
+  int time_step = 0;
+  int event = 0;
+};
+
+/// All states in order h = 0..H-1, l = 0..L_h-1.
+std::vector<StateIndex> states(const Scene& scene);
+
+/// Loads and validates a scene file (SPEC §2). Throws InputError naming the file, the entry
+/// (JSON pointer) and the reason for every rejection the SPEC lists.
+Scene load_scene(const std::string& path);
+
+/// Parses "NXxNYxNZ" (e.g. "16x12x12"); throws InputError naming `what` on bad input.
+std::array<int, 3> parse_resolution(const std::string& text, const std::string& what);
+
+}  // namespace camplace::core

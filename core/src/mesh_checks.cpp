@@ -1,0 +1,122 @@
+// The one core translation unit with CGAL mesh processing (compile cost: keep it alone).
+#include "mesh_checks.hpp"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/IO/polygon_soup_io.h>
+#include <CGAL/Polygon_mesh_processing/intersection.h>
+#include <CGAL/Polygon_mesh_processing/orientation.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/boost/graph/helpers.h>
+
+#include <filesystem>
+#include <vector>
+
+#include "camplace/core/error.hpp"
+
+namespace camplace::core::detail {
+
+namespace {
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using Mesh = CGAL::Surface_mesh<Point>;
+namespace PMP = CGAL::Polygon_mesh_processing;
+
+Mesh to_surface_mesh(const TriangleMesh& mesh) {
+  std::vector<Point> points;
+  points.reserve(mesh.vertices.size());
+  for (const Vec3& v : mesh.vertices) points.emplace_back(v.x(), v.y(), v.z());
+  std::vector<std::vector<std::size_t>> polygons;
+  for (const auto& t : mesh.triangles) polygons.push_back({std::size_t(t[0]), std::size_t(t[1]), std::size_t(t[2])});
+  Mesh out;
+  PMP::polygon_soup_to_polygon_mesh(points, polygons, out);
+  return out;
+}
+}  // namespace
+
+TriangleMesh read_mesh_file(const std::string& path, const std::string& scene_file,
+                            const std::string& entry) {
+  const std::string ext = std::filesystem::path(path).extension().string();
+  if (ext != ".off" && ext != ".obj" && ext != ".stl" && ext != ".ply" && ext != ".OFF" &&
+      ext != ".OBJ" && ext != ".STL" && ext != ".PLY") {
+    throw InputError(scene_file, entry, "mesh file " + path + ": unsupported format \"" + ext +
+                                            "\" (expected .off, .obj, .stl or .ply)");
+  }
+  if (!std::filesystem::is_regular_file(path)) {
+    throw InputError(scene_file, entry, "mesh file " + path + " does not exist");
+  }
+  std::vector<Point> points;
+  std::vector<std::vector<std::size_t>> polygons;
+  bool ok = false;
+  try {
+    ok = CGAL::IO::read_polygon_soup(path, points, polygons, CGAL::parameters::verbose(false));
+  } catch (const std::exception& e) {
+    throw InputError(scene_file, entry, "mesh file " + path + " cannot be read: " + e.what());
+  }
+  if (!ok || points.empty() || polygons.empty()) {
+    throw InputError(scene_file, entry, "mesh file " + path + " cannot be read as a mesh");
+  }
+  TriangleMesh mesh;
+  for (const Point& p : points) mesh.vertices.emplace_back(p.x(), p.y(), p.z());
+  for (std::size_t f = 0; f < polygons.size(); ++f) {
+    const auto& poly = polygons[f];
+    if (poly.size() < 3) {
+      throw InputError(scene_file, entry,
+                       "mesh file " + path + ": face " + std::to_string(f) + " has fewer than 3 vertices");
+    }
+    for (std::size_t idx : poly) {
+      if (idx >= points.size()) {
+        throw InputError(scene_file, entry,
+                         "mesh file " + path + ": face " + std::to_string(f) + " uses a vertex out of range");
+      }
+    }
+    // Polygons are fanned from their first vertex; a non-convex polygon then fails the
+    // self-intersection or degeneracy checks rather than passing silently.
+    for (std::size_t k = 1; k + 1 < poly.size(); ++k) {
+      mesh.triangles.push_back({int(poly[0]), int(poly[k]), int(poly[k + 1])});
+    }
+  }
+  return mesh;
+}
+
+void validate_and_orient(TriangleMesh& mesh, const std::string& file, const std::string& entry) {
+  auto fail = [&](const std::string& reason) { throw InputError(file, entry, reason); };
+  if (mesh.triangles.empty()) fail("mesh has no triangles");
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    if (!mesh.vertices[i].allFinite()) fail("vertex " + std::to_string(i) + " is not finite");
+  }
+  const int nv = static_cast<int>(mesh.vertices.size());
+  std::vector<std::vector<std::size_t>> polygons;
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+    const auto& t = mesh.triangles[f];
+    for (int idx : t) {
+      if (idx < 0 || idx >= nv) fail("triangle " + std::to_string(f) + " uses a vertex index out of range");
+    }
+    const Point a(mesh.vertices[t[0]].x(), mesh.vertices[t[0]].y(), mesh.vertices[t[0]].z());
+    const Point b(mesh.vertices[t[1]].x(), mesh.vertices[t[1]].y(), mesh.vertices[t[1]].z());
+    const Point c(mesh.vertices[t[2]].x(), mesh.vertices[t[2]].y(), mesh.vertices[t[2]].z());
+    if (CGAL::collinear(a, b, c)) fail("mesh is degenerate: triangle " + std::to_string(f) + " has zero area");
+    polygons.push_back({std::size_t(t[0]), std::size_t(t[1]), std::size_t(t[2])});
+  }
+  if (!PMP::is_polygon_soup_a_polygon_mesh(polygons)) {
+    fail("mesh is not a consistently oriented manifold (an edge is used twice in the same "
+         "direction or by more than two triangles)");
+  }
+  const Mesh sm = to_surface_mesh(mesh);
+  if (!CGAL::is_closed(sm)) fail("mesh is open (it has border edges)");
+  if (PMP::does_self_intersect(sm)) fail("mesh intersects itself");
+  const double volume = signed_volume(mesh);
+  if (std::abs(volume) < 1e-12) fail("mesh is degenerate: it encloses no volume");
+  if (volume < 0) {
+    for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
+  }
+}
+
+bool solids_intersect(const TriangleMesh& a, const TriangleMesh& b) {
+  const Mesh ma = to_surface_mesh(a), mb = to_surface_mesh(b);
+  return PMP::do_intersect(ma, mb, CGAL::parameters::do_overlap_test_of_bounded_sides(true),
+                           CGAL::parameters::do_overlap_test_of_bounded_sides(true));
+}
+
+}  // namespace camplace::core::detail

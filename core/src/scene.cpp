@@ -1,0 +1,350 @@
+// Scene loading and validation (SPEC §2).
+#include <Eigen/Geometry>
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+#include "camplace/core/scene.hpp"
+#include "json_reader.hpp"
+#include "mesh_checks.hpp"
+
+namespace camplace::core {
+
+namespace {
+using detail::JsonNode;
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDeg = kPi / 180.0;
+// Vertices may leave S by this much (metres) to absorb rounding of transformed meshes.
+constexpr double kAreaSlack = 1e-9;
+
+std::string format_vec(const Vec3& v) {
+  std::ostringstream out;
+  out << "[" << v.x() << ", " << v.y() << ", " << v.z() << "]";
+  return out.str();
+}
+
+TriangleMesh box_mesh(const Vec3& lo, const Vec3& hi) {
+  TriangleMesh m;
+  for (int i = 0; i < 8; ++i) {
+    m.vertices.emplace_back((i & 1) ? hi.x() : lo.x(), (i & 2) ? hi.y() : lo.y(),
+                            (i & 4) ? hi.z() : lo.z());
+  }
+  // Outward (counter-clockwise seen from outside) faces: -x, +x, -y, +y, -z, +z.
+  m.triangles = {{0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}, {0, 1, 5}, {0, 5, 4},
+                 {2, 6, 7}, {2, 7, 3}, {0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}};
+  return m;
+}
+
+Eigen::Matrix3d rotation_deg(const Vec3& deg) {
+  // Rz · Ry · Rx: rotate about x first, then y, then z (extrinsic, world axes).
+  return (Eigen::AngleAxisd(deg.z() * kDeg, Vec3::UnitZ()) *
+          Eigen::AngleAxisd(deg.y() * kDeg, Vec3::UnitY()) *
+          Eigen::AngleAxisd(deg.x() * kDeg, Vec3::UnitX()))
+      .toRotationMatrix();
+}
+
+void apply_transform(TriangleMesh& mesh, const JsonNode& node) {
+  node.only_keys({"scale", "rotate_deg", "translate"});
+  Vec3 scale = Vec3::Ones();
+  if (node.has("scale")) {
+    const JsonNode s = node.at("scale");
+    scale = s.value().is_array() ? s.vec3() : Vec3::Constant(s.number());
+    if ((scale.array() == 0.0).any()) s.fail("scale must not be 0");
+  }
+  const Eigen::Matrix3d rotation =
+      node.has("rotate_deg") ? rotation_deg(node.at("rotate_deg").vec3()) : Eigen::Matrix3d::Identity();
+  const Vec3 translation = node.has("translate") ? node.at("translate").vec3() : Vec3::Zero();
+  for (Vec3& v : mesh.vertices) v = rotation * scale.cwiseProduct(v) + translation;
+}
+
+class SceneParser {
+ public:
+  explicit SceneParser(std::string path) : path_(std::move(path)) {
+    dir_ = std::filesystem::path(path_).parent_path();
+  }
+
+  Scene parse() {
+    const nlohmann::json doc = detail::read_json_file(path_);
+    const JsonNode root(doc, path_, "");
+    root.only_keys({"area", "voxels", "cameras", "static_obstacles", "time_steps",
+                    "dynamic_mode", "plausibility", "description", "name"});
+    scene_.file = path_;
+    parse_area(root.at("area"));
+    scene_.voxels = parse_voxels(root.at("voxels"));
+    parse_cameras(root.at("cameras"));
+    if (root.has("dynamic_mode")) {
+      const JsonNode m = root.at("dynamic_mode");
+      const std::string mode = m.string();
+      if (mode == "masked") scene_.dynamic_mode = DynamicMode::masked;
+      else if (mode == "modelled") scene_.dynamic_mode = DynamicMode::modelled;
+      else m.fail("unknown dynamic_mode \"" + mode + "\" (expected \"masked\" or \"modelled\")");
+    }
+    if (root.has("plausibility")) {
+      const JsonNode p = root.at("plausibility");
+      p.only_keys({"min_volume", "min_height"});
+      if (p.has("min_volume")) scene_.plausibility.min_volume = p.at("min_volume").number_in(0, 1e9);
+      if (p.has("min_height")) scene_.plausibility.min_height = p.at("min_height").number_in(0, 1e9);
+    }
+    if (root.has("static_obstacles")) {
+      scene_.static_obstacles = parse_objects(root.at("static_obstacles"));
+    }
+    parse_time_steps(root.at("time_steps"));
+    check_targets_clear_of_obstacles(root);
+    return std::move(scene_);
+  }
+
+ private:
+  void parse_area(const JsonNode& node) {
+    node.only_keys({"min", "max"});
+    scene_.area.min = node.at("min").vec3();
+    scene_.area.max = node.at("max").vec3();
+    for (int i = 0; i < 3; ++i) {
+      if (!(scene_.area.min[i] < scene_.area.max[i])) {
+        node.fail("area is empty: min " + format_vec(scene_.area.min) + " must be below max " +
+                  format_vec(scene_.area.max) + " on every axis");
+      }
+    }
+  }
+
+  std::array<int, 3> parse_voxels(const JsonNode& node) const {
+    if (node.array_size() != 3) node.fail("expected [nx, ny, nz]");
+    std::array<int, 3> n{};
+    for (std::size_t i = 0; i < 3; ++i) n[i] = node.at(i).integer_in(1, 4096);
+    return n;
+  }
+
+  Interval parse_interval(const JsonNode& node, double lo, double hi, double unit) const {
+    if (node.array_size() != 2) node.fail("expected [lo, hi]");
+    Interval iv{node.at(std::size_t{0}).number() * unit, node.at(std::size_t{1}).number() * unit};
+    if (iv.lo > iv.hi) node.fail("domain is empty: lo > hi");
+    if (iv.lo < lo - kAreaSlack || iv.hi > hi + kAreaSlack) {
+      std::ostringstream msg;
+      msg << "domain [" << iv.lo / unit << ", " << iv.hi / unit << "] leaves the allowed range ["
+          << lo / unit << ", " << hi / unit << "]" << (unit == 1.0 ? " of the area S" : "");
+      node.fail(msg.str());
+    }
+    return iv;
+  }
+
+  CameraDomain parse_domain(const JsonNode& node) const {
+    const Box3& s = scene_.area;
+    CameraDomain d;
+    d.x = {s.min.x(), s.max.x()};
+    d.y = {s.min.y(), s.max.y()};
+    d.z = {s.min.z(), s.max.z()};
+    std::string preset = "room";
+    if (node.is_string()) {
+      preset = node.string();
+    } else {
+      node.only_keys({"preset", "x", "y", "z", "yaw_deg", "pitch_deg"});
+      if (node.has("preset")) preset = node.at("preset").string();
+    }
+    if (preset == "ceiling") {
+      d.z = {s.max.z(), s.max.z()};
+    } else if (preset == "upper_fourth") {
+      d.z = {s.max.z() - 0.25 * (s.max.z() - s.min.z()), s.max.z()};
+    } else if (preset != "room") {
+      (node.is_string() ? node : node.at("preset"))
+          .fail("unknown domain preset \"" + preset + "\" (expected room, ceiling or upper_fourth)");
+    }
+    if (node.is_object()) {
+      if (node.has("x")) d.x = parse_interval(node.at("x"), s.min.x(), s.max.x(), 1.0);
+      if (node.has("y")) d.y = parse_interval(node.at("y"), s.min.y(), s.max.y(), 1.0);
+      if (node.has("z")) d.z = parse_interval(node.at("z"), s.min.z(), s.max.z(), 1.0);
+      if (node.has("yaw_deg")) d.yaw = parse_interval(node.at("yaw_deg"), -kPi, kPi, kDeg);
+      if (node.has("pitch_deg")) {
+        d.pitch = parse_interval(node.at("pitch_deg"), -kPi / 2, kPi / 2, kDeg);
+      }
+    }
+    return d;
+  }
+
+  void parse_cameras(const JsonNode& node) {
+    node.only_keys({"count", "half_angle_deg", "fov", "sides", "range", "domain", "camera_domains"});
+    CameraSpec& c = scene_.cameras;
+    c.count = node.at("count").integer_in(1, 256);
+    const JsonNode half = node.at("half_angle_deg");
+    const double half_deg = half.number();
+    if (!(half_deg > 0.0 && half_deg < 90.0)) half.fail("half_angle_deg must lie in (0, 90)");
+    c.half_angle = half_deg * kDeg;
+    if (node.has("fov")) {
+      const JsonNode f = node.at("fov");
+      const std::string fov = f.string();
+      if (fov == "cone") c.fov = FovShape::cone;
+      else if (fov == "pyramid") c.fov = FovShape::pyramid;
+      else f.fail("unknown fov \"" + fov + "\" (expected \"cone\" or \"pyramid\")");
+    }
+    if (node.has("sides")) c.sides = node.at("sides").integer_in(3, 1024);
+    if (node.has("range")) {
+      const JsonNode r = node.at("range");
+      const double range = r.number();
+      if (!(range > 0.0)) r.fail("range must be positive");
+      c.range = range;
+    }
+    const CameraDomain shared =
+        node.has("domain") ? parse_domain(node.at("domain")) : parse_domain(JsonNode(kRoom, path_, ""));
+    c.domains.assign(c.count, shared);
+    if (node.has("camera_domains")) {
+      const JsonNode list = node.at("camera_domains");
+      if (list.array_size() != static_cast<std::size_t>(c.count)) {
+        list.fail("expected one domain per camera (" + std::to_string(c.count) + "), found " +
+                  std::to_string(list.array_size()));
+      }
+      for (int i = 0; i < c.count; ++i) {
+        const JsonNode item = list.at(std::size_t(i));
+        if (!item.value().is_null()) c.domains[i] = parse_domain(item);
+      }
+    }
+  }
+
+  SceneObject parse_object(const JsonNode& node) const {
+    node.only_keys({"name", "box", "tetrahedron", "mesh", "file", "transform"});
+    SceneObject object;
+    object.entry = node.pointer();
+    object.name = node.has("name") ? node.at("name").string() : node.pointer();
+    int kinds = 0;
+    for (const char* k : {"box", "tetrahedron", "mesh", "file"}) kinds += node.has(k);
+    if (kinds != 1) node.fail("an object needs exactly one of box, tetrahedron, mesh or file");
+    if (node.has("box")) {
+      const JsonNode b = node.at("box");
+      b.only_keys({"min", "max"});
+      const Vec3 lo = b.at("min").vec3(), hi = b.at("max").vec3();
+      if (!((lo.array() < hi.array()).all())) b.fail("box is degenerate: min must be below max on every axis");
+      object.mesh = box_mesh(lo, hi);
+    } else if (node.has("tetrahedron")) {
+      const JsonNode t = node.at("tetrahedron");
+      if (t.array_size() != 4) t.fail("a tetrahedron needs exactly 4 points");
+      for (std::size_t i = 0; i < 4; ++i) object.mesh.vertices.push_back(t.at(i).vec3());
+      object.mesh.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+    } else if (node.has("mesh")) {
+      const JsonNode m = node.at("mesh");
+      m.only_keys({"vertices", "triangles"});
+      const JsonNode verts = m.at("vertices"), tris = m.at("triangles");
+      for (std::size_t i = 0; i < verts.array_size(); ++i) object.mesh.vertices.push_back(verts.at(i).vec3());
+      for (std::size_t i = 0; i < tris.array_size(); ++i) {
+        const JsonNode t = tris.at(i);
+        if (t.array_size() != 3) t.fail("a triangle needs exactly 3 vertex indices");
+        std::array<int, 3> tri{};
+        for (std::size_t k = 0; k < 3; ++k) {
+          tri[k] = t.at(k).integer_in(0, static_cast<int>(verts.array_size()) - 1);
+        }
+        object.mesh.triangles.push_back(tri);
+      }
+    } else {
+      const JsonNode f = node.at("file");
+      const std::filesystem::path rel = f.string();
+      const std::string full = (rel.is_absolute() ? rel : dir_ / rel).string();
+      object.mesh = detail::read_mesh_file(full, path_, f.pointer());
+    }
+    if (node.has("transform")) apply_transform(object.mesh, node.at("transform"));
+    detail::validate_and_orient(object.mesh, path_, node.pointer());
+    object.bounds = bounding_box(object.mesh);
+    const Box3& s = scene_.area;
+    if ((object.bounds.min.array() < s.min.array() - kAreaSlack).any() ||
+        (object.bounds.max.array() > s.max.array() + kAreaSlack).any()) {
+      node.fail("object \"" + object.name + "\" leaves the area S: its bounds " +
+                format_vec(object.bounds.min) + "–" + format_vec(object.bounds.max) +
+                " are not inside " + format_vec(s.min) + "–" + format_vec(s.max));
+    }
+    return object;
+  }
+
+  std::vector<SceneObject> parse_objects(const JsonNode& list) const {
+    std::vector<SceneObject> objects;
+    for (std::size_t i = 0; i < list.array_size(); ++i) objects.push_back(parse_object(list.at(i)));
+    return objects;
+  }
+
+  void parse_time_steps(const JsonNode& list) {
+    if (list.array_size() == 0) list.fail("a scene needs at least one time step");
+    double weight_sum = 0.0;
+    for (std::size_t h = 0; h < list.array_size(); ++h) {
+      const JsonNode node = list.at(h);
+      node.only_keys({"t", "dynamic_obstacles", "critical", "events"});
+      TimeStep step;
+      step.t = node.has("t") ? node.at("t").number() : static_cast<double>(h);
+      if (node.has("dynamic_obstacles")) step.dynamic_obstacles = parse_objects(node.at("dynamic_obstacles"));
+      step.critical = node.has("critical") ? parse_objects(node.at("critical")) : step.dynamic_obstacles;
+      if (step.critical.empty()) {
+        node.fail("time step has no critical objects: give \"critical\" or \"dynamic_obstacles\"");
+      }
+      const JsonNode events = node.at("events");
+      if (events.array_size() == 0) events.fail("a time step needs at least one event");
+      for (std::size_t l = 0; l < events.array_size(); ++l) {
+        const JsonNode e = events.at(l);
+        e.only_keys({"weight", "targets", "name"});
+        Event event;
+        const JsonNode w = e.at("weight");
+        event.weight = w.number();
+        if (event.weight < 0.0) w.fail("weight must not be negative");
+        weight_sum += event.weight;
+        const JsonNode targets = e.at("targets");
+        if (targets.array_size() == 0) targets.fail("an event needs at least one target");
+        event.targets = parse_objects(targets);
+        step.events.push_back(std::move(event));
+      }
+      scene_.time_steps.push_back(std::move(step));
+    }
+    if (!(weight_sum > 0.0)) list.fail("all event weights are 0: Err would be identically 0");
+  }
+
+  void check_targets_clear_of_obstacles(const JsonNode& root) const {
+    // Obstacles are rigid: a target may not meet an obstacle of its own state (SPEC §2).
+    for (const TimeStep& step : scene_.time_steps) {
+      for (const Event& event : step.events) {
+        for (const SceneObject& target : event.targets) {
+          auto check = [&](const SceneObject& obstacle) {
+            if (!boxes_meet(target.bounds, obstacle.bounds)) return;
+            if (detail::solids_intersect(target.mesh, obstacle.mesh)) {
+              throw InputError(path_, target.entry,
+                               "target \"" + target.name + "\" intersects obstacle \"" +
+                                   obstacle.name + "\" (" + obstacle.entry + ") of its own state");
+            }
+          };
+          for (const SceneObject& o : scene_.static_obstacles) check(o);
+          for (const SceneObject& o : step.dynamic_obstacles) check(o);
+        }
+      }
+    }
+    (void)root;
+  }
+
+  static bool boxes_meet(const Box3& a, const Box3& b) {
+    return (a.min.array() <= b.max.array()).all() && (b.min.array() <= a.max.array()).all();
+  }
+
+  static inline const nlohmann::json kRoom = "room";
+  std::string path_;
+  std::filesystem::path dir_;
+  Scene scene_;
+};
+}  // namespace
+
+std::vector<StateIndex> states(const Scene& scene) {
+  std::vector<StateIndex> out;
+  for (int h = 0; h < static_cast<int>(scene.time_steps.size()); ++h) {
+    for (int l = 0; l < static_cast<int>(scene.time_steps[h].events.size()); ++l) out.push_back({h, l});
+  }
+  return out;
+}
+
+Scene load_scene(const std::string& path) { return SceneParser(path).parse(); }
+
+std::array<int, 3> parse_resolution(const std::string& text, const std::string& what) {
+  std::array<int, 3> n{};
+  std::istringstream in(text);
+  char x1 = 0, x2 = 0;
+  std::string rest;
+  if (!(in >> n[0] >> x1 >> n[1] >> x2 >> n[2]) || (x1 != 'x' && x1 != 'X') ||
+      (x2 != 'x' && x2 != 'X') || (in >> rest)) {
+    throw InputError("command line", what, "expected NXxNYxNZ (e.g. 16x12x12), got \"" + text + "\"");
+  }
+  for (int v : n) {
+    if (v < 1 || v > 4096) {
+      throw InputError("command line", what, "every resolution must lie in [1, 4096], got \"" + text + "\"");
+    }
+  }
+  return n;
+}
+
+}  // namespace camplace::core

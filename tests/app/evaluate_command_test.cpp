@@ -1,0 +1,78 @@
+// The `camplace evaluate` command as a user runs it: output schema, consistency, exit codes.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "command.hpp"
+#include "scene_builder.hpp"
+
+namespace camplace::testing {
+namespace {
+
+CommandResult run(const std::string& args) { return run_camplace(CAMPLACE_BINARY, args); }
+
+const std::string kData = std::string(CAMPLACE_SOURCE_DIR) + "/data/";
+
+TEST(EvaluateCommand, JsonHasTheSchemaAndErrIsTheWeightedSum) {
+  for (const char* mode : {"center", "conservative"}) {
+    const CommandResult r = run("evaluate " + kData + "paper_basic.json --cameras " + kData +
+                      "paper_basic_corners.json --mode " + mode + " --json");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const auto j = nlohmann::json::parse(r.output);
+    EXPECT_EQ(j["pipeline"], "voxel");
+    EXPECT_EQ(j["mode"], mode);
+    EXPECT_EQ(j["resolution"], nlohmann::json({16, 12, 12}));
+    ASSERT_EQ(j["states"].size(), 6u);
+    double err = 0;
+    for (const auto& s : j["states"]) {
+      for (const char* key : {"time_step", "event", "weight", "d_true", "d_model", "model_volume",
+                              "components", "components_removed"}) {
+        EXPECT_TRUE(s.contains(key)) << key;
+      }
+      const double diff = s["d_true"].get<double>() - s["d_model"].get<double>();
+      err += s["weight"].get<double>() * diff * diff;
+    }
+    EXPECT_NEAR(j["err"].get<double>(), err, 1e-12);
+    for (const char* key : {"labelling", "clustering", "distance", "total"}) {
+      EXPECT_GE(j["timing_ms"][key].get<double>(), 0.0) << key;
+    }
+  }
+}
+
+TEST(EvaluateCommand, ResolutionOptionChangesTheGrid) {
+  const CommandResult r = run("evaluate " + kData + "paper_basic.json --cameras " + kData +
+                    "paper_basic_corners.json --resolution 20x15x15 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(nlohmann::json::parse(r.output)["resolution"], nlohmann::json({20, 15, 15}));
+}
+
+TEST(EvaluateCommand, TableIsPrintedWithoutJson) {
+  const CommandResult r = run("evaluate " + kData + "paper_basic.json --cameras " + kData + "paper_basic_corners.json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("Err = "), std::string::npos);
+  EXPECT_NE(r.output.find("d_model"), std::string::npos);
+}
+
+TEST(EvaluateCommand, BadInputsExitNonZeroNamingFileAndEntry) {
+  const std::string dir = temp_dir("evalcli");
+  const std::string wrong_count = write_file(dir + "/two.json",
+      R"({"cameras": [{"position": [1,1,1], "yaw_deg": 0, "pitch_deg": 0}, {"position": [1,1,1], "yaw_deg": 0, "pitch_deg": 0}]})");
+  struct Case {
+    std::string args, expect;
+  } cases[] = {
+      {"evaluate " + dir + "/none.json --cameras " + wrong_count, "none.json"},
+      {"evaluate " + kData + "paper_basic.json --cameras " + wrong_count, "holds 2 cameras"},
+      {"evaluate " + kData + "paper_basic.json --cameras " + kData + "paper_basic_corners.json --resolution 0x1x1", "--resolution"},
+      {"evaluate " + kData + "paper_basic.json --cameras " + kData + "paper_basic_corners.json --mode fancy", "--mode"},
+      {"evaluate " + kData + "paper_basic.json", "--cameras"},
+  };
+  for (const Case& c : cases) {
+    const CommandResult r = run(c.args);
+    EXPECT_NE(r.exit_code, 0) << c.args;
+    EXPECT_NE(r.output.find(c.expect), std::string::npos) << c.args << "\n" << r.output;
+  }
+}
+
+}  // namespace
+}  // namespace camplace::testing

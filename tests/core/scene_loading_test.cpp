@@ -1,0 +1,314 @@
+// Scene loading (SPEC §2): every object kind loads; every rejection class is reported with the
+// file, the entry (JSON pointer) and the reason.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "camplace/core/error.hpp"
+#include "camplace/core/scene.hpp"
+#include "scene_builder.hpp"
+
+namespace camplace::testing {
+namespace {
+
+using nlohmann::json;
+
+const char* kCubeOff = "OFF\n8 6 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n0 0 1\n1 0 1\n0 1 1\n1 1 1\n"
+                       "4 0 2 3 1\n4 4 5 7 6\n4 0 1 5 4\n4 2 6 7 3\n4 0 4 6 2\n4 1 3 7 5\n";
+
+json base_scene() {
+  return json::parse(R"({
+    "area": {"min": [0, 0, 0], "max": [4, 3, 3]},
+    "voxels": [8, 6, 6],
+    "cameras": {"count": 2, "half_angle_deg": 30},
+    "static_obstacles": [{"name": "table", "box": {"min": [0.2, 0.2, 0], "max": [1, 1, 0.8]}}],
+    "time_steps": [{
+      "dynamic_obstacles": [{"name": "link", "tetrahedron": [[3, 2, 0], [3.5, 2, 0], [3, 2.5, 0], [3.2, 2.2, 1]]}],
+      "events": [{"weight": 1, "targets": [{"name": "person", "box": {"min": [2, 0.5, 0], "max": [2.4, 0.9, 1.8]}}]}]
+    }]
+  })");
+}
+
+std::string write_scene(const json& scene, const std::string& name) {
+  return write_file(temp_dir("scene-" + name) + "/scene.json", scene.dump(1));
+}
+
+// Loads and expects InputError with this entry and a reason containing `reason`.
+void expect_rejected(const std::string& path, const std::string& entry, const std::string& reason) {
+  try {
+    core::load_scene(path);
+    ADD_FAILURE() << "accepted " << path << " (expected: " << entry << ": " << reason << ")";
+  } catch (const core::InputError& e) {
+    EXPECT_EQ(e.file(), path);
+    EXPECT_EQ(e.entry(), entry) << e.what();
+    EXPECT_NE(e.reason().find(reason), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos);
+  }
+}
+
+void expect_rejected(const json& scene, const std::string& name, const std::string& entry,
+                     const std::string& reason) {
+  expect_rejected(write_scene(scene, name), entry, reason);
+}
+
+json inline_mesh(const std::vector<std::array<double, 3>>& v, const std::vector<std::array<int, 3>>& t) {
+  return {{"mesh", {{"vertices", v}, {"triangles", t}}}};
+}
+
+const std::vector<std::array<double, 3>> kTetV = {{1, 1, 1}, {2, 1, 1}, {1, 2, 1}, {1, 1, 2}};
+const std::vector<std::array<int, 3>> kTetT = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+
+TEST(SceneLoading, BaseSceneLoadsWithDefaults) {
+  const core::Scene s = core::load_scene(write_scene(base_scene(), "base"));
+  EXPECT_EQ(s.cameras.count, 2);
+  EXPECT_EQ(s.cameras.fov, core::FovShape::cone);
+  EXPECT_EQ(s.cameras.sides, 16);
+  EXPECT_FALSE(s.cameras.range.has_value());
+  ASSERT_EQ(s.cameras.domains.size(), 2u);
+  EXPECT_EQ(s.cameras.domains[1].z.hi, 3.0);
+  EXPECT_EQ(s.dynamic_mode, core::DynamicMode::masked);
+  ASSERT_EQ(s.time_steps.size(), 1u);
+  EXPECT_EQ(s.time_steps[0].critical.size(), 1u);  // defaults to the dynamic obstacles
+  EXPECT_EQ(s.time_steps[0].critical[0].name, "link");
+  EXPECT_NEAR(core::signed_volume(s.static_obstacles[0].mesh), 0.8 * 0.8 * 0.8, 1e-12);
+}
+
+TEST(SceneLoading, EveryObjectKindAndMeshFormatLoads) {
+  json scene = base_scene();
+  const std::string dir = temp_dir("formats");
+  write_file(dir + "/m/cube.off", kCubeOff);
+  write_file(dir + "/m/cube.obj",
+             "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 0 0 1\nv 1 0 1\nv 0 1 1\nv 1 1 1\n"
+             "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n");
+  write_file(dir + "/m/tet.stl",
+             "solid t\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 0 1 0\nvertex 1 0 0\nendloop\nendfacet\n"
+             "facet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 0 1\nendloop\nendfacet\n"
+             "facet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 0 0 1\nvertex 0 1 0\nendloop\nendfacet\n"
+             "facet normal 0 0 0\nouter loop\nvertex 1 0 0\nvertex 0 1 0\nvertex 0 0 1\nendloop\nendfacet\nendsolid t\n");
+  write_file(dir + "/m/tet.ply",
+             "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+             "element face 4\nproperty list uchar int vertex_indices\nend_header\n"
+             "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+  scene["static_obstacles"] = json::array({
+      {{"name", "off"}, {"file", "m/cube.off"}, {"transform", {{"scale", 0.5}, {"translate", {0.1, 0.1, 0}}}}},
+      {{"name", "obj"}, {"file", "m/cube.obj"}, {"transform", {{"scale", {0.5, 0.25, 1}}, {"rotate_deg", {0, 0, 90}}, {"translate", {1.5, 2.0, 0}}}}},
+      {{"name", "stl"}, {"file", "m/tet.stl"}, {"transform", {{"translate", {0.1, 2.0, 0}}}}},
+      {{"name", "ply"}, {"file", "m/tet.ply"}, {"transform", {{"scale", 0.5}, {"translate", {3.4, 0.1, 2}}}}},
+      inline_mesh({{1.2, 2.2, 2}, {1.6, 2.2, 2}, {1.2, 2.6, 2}, {1.2, 2.2, 2.4}}, kTetT)});
+  const core::Scene s = core::load_scene(write_file(dir + "/scene.json", scene.dump()));
+  ASSERT_EQ(s.static_obstacles.size(), 5u);
+  EXPECT_NEAR(core::signed_volume(s.static_obstacles[0].mesh), 0.125, 1e-12);
+  EXPECT_NEAR(core::signed_volume(s.static_obstacles[1].mesh), 0.125, 1e-12);
+  // The rotation by 90° about z maps the 0.5 × 0.25 footprint to x ∈ [1.25, 1.5], y ∈ [2, 2.5].
+  EXPECT_NEAR(s.static_obstacles[1].bounds.min.x(), 1.25, 1e-12);
+  EXPECT_NEAR(s.static_obstacles[1].bounds.max.y(), 2.5, 1e-12);
+  EXPECT_NEAR(core::signed_volume(s.static_obstacles[2].mesh), 1.0 / 6, 1e-12);  // STL
+  EXPECT_NEAR(core::signed_volume(s.static_obstacles[3].mesh), 1.0 / 48, 1e-9);
+  EXPECT_NEAR(core::signed_volume(s.static_obstacles[4].mesh), 0.064 / 6, 1e-12);
+}
+
+TEST(SceneLoading, CameraBlockPresetsAndPerCameraDomains) {
+  json scene = base_scene();
+  scene["cameras"] = json::parse(R"({"count": 3, "half_angle_deg": 25, "fov": "pyramid", "sides": 8,
+      "range": 6, "domain": "upper_fourth",
+      "camera_domains": [null, {"preset": "ceiling", "yaw_deg": [-90, 90]}, {"x": [0, 1], "y": [0, 1], "z": [2, 3], "pitch_deg": [-90, 0]}]})");
+  scene["dynamic_mode"] = "modelled";
+  scene["plausibility"] = {{"min_volume", 0.01}, {"min_height", 0.5}};
+  const core::Scene s = core::load_scene(write_scene(scene, "cameras"));
+  EXPECT_EQ(s.cameras.fov, core::FovShape::pyramid);
+  EXPECT_EQ(s.cameras.sides, 8);
+  EXPECT_EQ(*s.cameras.range, 6.0);
+  EXPECT_DOUBLE_EQ(s.cameras.domains[0].z.lo, 2.25);
+  EXPECT_TRUE(s.cameras.domains[1].z.fixed());
+  EXPECT_DOUBLE_EQ(s.cameras.domains[1].z.lo, 3.0);
+  EXPECT_NEAR(s.cameras.domains[1].yaw.hi, 3.14159265358979323846 / 2, 1e-15);
+  EXPECT_DOUBLE_EQ(s.cameras.domains[2].x.hi, 1.0);
+  EXPECT_DOUBLE_EQ(s.cameras.domains[2].pitch.hi, 0.0);
+  EXPECT_EQ(s.dynamic_mode, core::DynamicMode::modelled);
+  EXPECT_DOUBLE_EQ(s.plausibility.min_height, 0.5);
+}
+
+TEST(SceneLoading, PaperBasicHasTheSetupOfTheTable) {
+  const core::Scene s = core::load_scene(std::string(CAMPLACE_SOURCE_DIR) + "/data/paper_basic.json");
+  auto facets = [](const std::vector<core::SceneObject>& objects) {
+    std::size_t n = 0;
+    for (const auto& o : objects) n += o.mesh.triangles.size();
+    return n;
+  };
+  EXPECT_EQ(s.static_obstacles.size(), 2u);
+  EXPECT_EQ(facets(s.static_obstacles), 8u);
+  ASSERT_EQ(s.time_steps.size(), 2u);
+  std::size_t dynamic = 0, targets = 0;
+  for (const auto& step : s.time_steps) {
+    dynamic += facets(step.dynamic_obstacles);
+    ASSERT_EQ(step.events.size(), 3u);
+    double weights = 0;
+    for (const auto& e : step.events) {
+      weights += e.weight;
+      EXPECT_EQ(e.targets.size(), 2u);
+    }
+    EXPECT_NEAR(weights, 1.0, 1e-12);
+    targets += facets(step.events[0].targets) * 3 / 2;  // 3 events, counted per place
+  }
+  EXPECT_EQ(dynamic, 24u);
+  EXPECT_EQ(targets, 24u);  // 6 target tetrahedra at 3 places
+  EXPECT_EQ(s.cameras.count, 6);
+  EXPECT_EQ(s.voxels, (std::array<int, 3>{16, 12, 12}));
+}
+
+TEST(SceneRejection, MissingFileAndNotJson) {
+  expect_rejected(temp_dir("missing") + "/nope.json", "", "cannot open");
+  expect_rejected(write_file(temp_dir("notjson") + "/s.json", "{\"area\": [1, 2,"), "", "not valid JSON");
+}
+
+TEST(SceneRejection, MissingFieldAndWrongType) {
+  json s = base_scene();
+  s.erase("area");
+  expect_rejected(s, "missing", "/", "missing required field \"area\"");
+  s = base_scene();
+  s["voxels"] = "16x12x12";
+  expect_rejected(s, "type", "/voxels", "expected an array");
+}
+
+TEST(SceneRejection, NonFiniteNumber) {
+  std::string text = base_scene().dump();
+  text.replace(text.find("[4,3,3]"), 7, "[4,1e999,3]");
+  expect_rejected(write_file(temp_dir("inf") + "/s.json", text), "", "number overflow");
+}
+
+TEST(SceneRejection, OutOfRangeValues) {
+  json s = base_scene();
+  s["cameras"]["half_angle_deg"] = 95;
+  expect_rejected(s, "half", "/cameras/half_angle_deg", "(0, 90)");
+  s = base_scene();
+  s["cameras"]["sides"] = 2;
+  expect_rejected(s, "sides", "/cameras/sides", "out of range");
+  s = base_scene();
+  s["cameras"]["range"] = -1;
+  expect_rejected(s, "range", "/cameras/range", "positive");
+  s = base_scene();
+  s["plausibility"] = {{"min_volume", -0.1}};
+  expect_rejected(s, "plaus", "/plausibility/min_volume", "out of range");
+}
+
+TEST(SceneRejection, UnknownFieldIsNamed) {
+  json s = base_scene();
+  s["plausability"] = {{"min_volume", 0.1}};
+  expect_rejected(s, "typo", "/plausability", "unknown field");
+}
+
+TEST(SceneRejection, CameraCountAndResolutionBelowOne) {
+  json s = base_scene();
+  s["cameras"]["count"] = 0;
+  expect_rejected(s, "count", "/cameras/count", "out of range [1,");
+  s = base_scene();
+  s["voxels"] = {16, 0, 12};
+  expect_rejected(s, "voxels", "/voxels/1", "out of range [1,");
+  EXPECT_THROW(core::parse_resolution("16x0x12", "--resolution"), core::InputError);
+  EXPECT_THROW(core::parse_resolution("16x12", "--resolution"), core::InputError);
+  EXPECT_EQ(core::parse_resolution("20x15x15", "--resolution"), (std::array<int, 3>{20, 15, 15}));
+}
+
+TEST(SceneRejection, EmptyDomainOrOutsideArea) {
+  json s = base_scene();
+  s["cameras"]["domain"] = {{"x", {2, 1}}};
+  expect_rejected(s, "empty", "/cameras/domain/x", "empty");
+  s = base_scene();
+  s["cameras"]["domain"] = {{"preset", "ceiling"}, {"z", {0, 5}}};
+  expect_rejected(s, "outside", "/cameras/domain/z", "leaves");
+  s = base_scene();
+  s["cameras"]["domain"] = "floor";
+  expect_rejected(s, "preset", "/cameras/domain", "unknown domain preset");
+  s = base_scene();
+  s["cameras"]["camera_domains"] = {nullptr};
+  expect_rejected(s, "per-camera", "/cameras/camera_domains", "one domain per camera");
+}
+
+TEST(SceneRejection, OpenMesh) {
+  json s = base_scene();
+  auto tris = kTetT;
+  tris.pop_back();
+  s["static_obstacles"][0] = inline_mesh(kTetV, tris);
+  expect_rejected(s, "open", "/static_obstacles/0", "open");
+}
+
+TEST(SceneRejection, InconsistentlyOrientedMesh) {
+  json s = base_scene();
+  auto tris = kTetT;
+  std::swap(tris[1][1], tris[1][2]);
+  s["static_obstacles"][0] = inline_mesh(kTetV, tris);
+  expect_rejected(s, "orient", "/static_obstacles/0", "consistently oriented");
+}
+
+TEST(SceneRejection, SelfIntersectingMesh) {
+  json s = base_scene();
+  // Two interpenetrating tetrahedra in one mesh.
+  std::vector<std::array<double, 3>> v = kTetV;
+  for (const auto& p : kTetV) v.push_back({p[0] + 0.3, p[1] + 0.3, p[2] + 0.3});
+  auto t = kTetT;
+  for (const auto& tri : kTetT) t.push_back({tri[0] + 4, tri[1] + 4, tri[2] + 4});
+  s["static_obstacles"][0] = inline_mesh(v, t);
+  expect_rejected(s, "selfx", "/static_obstacles/0", "intersects itself");
+}
+
+TEST(SceneRejection, DegenerateMeshes) {
+  json s = base_scene();
+  s["static_obstacles"][0] = {{"tetrahedron", {{1, 1, 1}, {2, 1, 1}, {2, 1, 1}, {1, 1, 2}}}};
+  expect_rejected(s, "degen", "/static_obstacles/0", "degenerate");
+  s = base_scene();
+  s["static_obstacles"][0] = {{"box", {{"min", {1, 1, 1}}, {"max", {2, 1, 2}}}}};
+  expect_rejected(s, "flatbox", "/static_obstacles/0/box", "degenerate");
+}
+
+TEST(SceneRejection, BrokenOrMissingMeshFiles) {
+  const std::string dir = temp_dir("meshfiles");
+  write_file(dir + "/garbage.off", "OFF\n8 6\nthis is not a mesh\n");
+  write_file(dir + "/open.off", "OFF\n4 3 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n");
+  json s = base_scene();
+  s["static_obstacles"][0] = {{"file", "garbage.off"}};
+  expect_rejected(write_file(dir + "/a.json", s.dump()), "/static_obstacles/0/file", "cannot be read");
+  s["static_obstacles"][0] = {{"file", "nothere.obj"}};
+  expect_rejected(write_file(dir + "/b.json", s.dump()), "/static_obstacles/0/file", "does not exist");
+  s["static_obstacles"][0] = {{"file", "mesh.xyz"}};
+  expect_rejected(write_file(dir + "/c.json", s.dump()), "/static_obstacles/0/file", "unsupported format");
+  s["static_obstacles"][0] = {{"file", "open.off"}};
+  expect_rejected(write_file(dir + "/d.json", s.dump()), "/static_obstacles/0", "open");
+}
+
+TEST(SceneRejection, ObjectLeavesArea) {
+  json s = base_scene();
+  s["static_obstacles"][0]["box"]["max"] = {1, 1, 3.5};
+  expect_rejected(s, "leaves", "/static_obstacles/0", "leaves the area S");
+}
+
+TEST(SceneRejection, TargetIntersectsObstacleOfItsState) {
+  json s = base_scene();
+  s["time_steps"][0]["events"][0]["targets"][0]["box"] = {{"min", {0.5, 0.5, 0}}, {"max", {1.5, 1.5, 1.8}}};
+  expect_rejected(s, "static", "/time_steps/0/events/0/targets/0", "intersects obstacle \"table\"");
+  s = base_scene();
+  s["time_steps"][0]["events"][0]["targets"][0]["box"] = {{"min", {3.05, 2.05, 0}}, {"max", {3.1, 2.1, 0.1}}};
+  expect_rejected(s, "inside", "/time_steps/0/events/0/targets/0", "intersects obstacle \"link\"");
+}
+
+TEST(SceneRejection, NegativeOrAllZeroWeights) {
+  json s = base_scene();
+  s["time_steps"][0]["events"][0]["weight"] = -0.5;
+  expect_rejected(s, "neg", "/time_steps/0/events/0/weight", "negative");
+  s["time_steps"][0]["events"][0]["weight"] = 0;
+  expect_rejected(s, "zero", "/time_steps", "all event weights are 0");
+}
+
+TEST(SceneRejection, TimeStepWithoutCriticalObjectsOrEvents) {
+  json s = base_scene();
+  s["time_steps"][0].erase("dynamic_obstacles");
+  expect_rejected(s, "nocrit", "/time_steps/0", "no critical objects");
+  s = base_scene();
+  s["time_steps"][0]["events"] = json::array();
+  expect_rejected(s, "noevents", "/time_steps/0/events", "at least one event");
+  s = base_scene();
+  s["time_steps"] = json::array();
+  expect_rejected(s, "nosteps", "/time_steps", "at least one time step");
+}
+
+}  // namespace
+}  // namespace camplace::testing

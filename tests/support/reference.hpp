@@ -1,0 +1,26 @@
+#pragma once
+// Brute-force reference for the sensor model of SPEC §3: one point, one camera, every ray
+// tested against every triangle with a plain ray–plane + barycentric test. Written
+// independently of voxel/ (no culling, no shared helpers) so tests can use it as an oracle.
+#include <vector>
+
+#include "camplace/core/camera.hpp"
+#include "camplace/core/scene.hpp"
+#include "camplace/voxel/evaluator.hpp"
+
+namespace camplace::testing {
+
+struct ReferenceLabel {
+  voxel::Label label = voxel::Label::undetectable;
+  bool ambiguous = false;  ///< the point lies within `margin` of a boundary (tie)
+};
+
+/// κ(p) for one camera in state (h, l) of the scene; ties flagged within `margin` metres.
+ReferenceLabel reference_label(const core::Scene& scene, int time_step, int event,
+                               const core::CameraSetting& camera, const core::Vec3& p,
+                               double margin = 1e-7);
+
+/// True when p is inside the closed mesh, by counting crossings of a fixed skew ray.
+bool reference_inside(const core::TriangleMesh& mesh, const core::Vec3& p);
+
+}  // namespace camplace::testing

@@ -1,0 +1,153 @@
+#include "scene_builder.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+#include <algorithm>
+
+namespace camplace::testing {
+
+using core::Vec3;
+constexpr double kDeg = 3.14159265358979323846 / 180.0;
+
+core::SceneObject box_object(const std::string& name, const Vec3& lo, const Vec3& hi) {
+  core::SceneObject o;
+  o.name = o.entry = name;
+  for (int i = 0; i < 8; ++i) {
+    o.mesh.vertices.emplace_back((i & 1) ? hi.x() : lo.x(), (i & 2) ? hi.y() : lo.y(),
+                                 (i & 4) ? hi.z() : lo.z());
+  }
+  o.mesh.triangles = {{0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}, {0, 1, 5}, {0, 5, 4},
+                      {2, 6, 7}, {2, 7, 3}, {0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}};
+  o.bounds = core::bounding_box(o.mesh);
+  return o;
+}
+
+core::SceneObject tetra_object(const std::string& name, const Vec3& a, const Vec3& b,
+                               const Vec3& c, const Vec3& d) {
+  core::SceneObject o;
+  o.name = o.entry = name;
+  o.mesh.vertices = {a, b, c, d};
+  o.mesh.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  if ((b - a).cross(c - a).dot(d - a) < 0) {
+    for (auto& t : o.mesh.triangles) std::swap(t[1], t[2]);
+  }
+  o.bounds = core::bounding_box(o.mesh);
+  return o;
+}
+
+core::Scene simple_scene(const core::Box3& area, std::array<int, 3> voxels, int count,
+                         double half_angle_deg, std::vector<core::SceneObject> critical,
+                         std::vector<core::SceneObject> targets) {
+  core::Scene s;
+  s.file = "<test scene>";
+  s.area = area;
+  s.voxels = voxels;
+  s.cameras.count = count;
+  s.cameras.half_angle = half_angle_deg * kDeg;
+  core::CameraDomain domain;
+  domain.x = {area.min.x(), area.max.x()};
+  domain.y = {area.min.y(), area.max.y()};
+  domain.z = {area.min.z(), area.max.z()};
+  s.cameras.domains.assign(count, domain);
+  core::TimeStep step;
+  step.critical = std::move(critical);
+  core::Event event;
+  event.weight = 1.0;
+  event.targets = std::move(targets);
+  step.events.push_back(std::move(event));
+  s.time_steps.push_back(std::move(step));
+  return s;
+}
+
+core::CameraSetting camera_at(const Vec3& position, double yaw_deg, double pitch_deg) {
+  return {position, yaw_deg * kDeg, pitch_deg * kDeg};
+}
+
+namespace {
+core::SceneObject random_object(std::mt19937& rng, const std::string& name, const Vec3& cell_lo,
+                                const Vec3& cell_hi) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  auto point = [&] {
+    return Vec3(cell_lo.x() + unit(rng) * (cell_hi.x() - cell_lo.x()),
+                cell_lo.y() + unit(rng) * (cell_hi.y() - cell_lo.y()),
+                cell_lo.z() + unit(rng) * (cell_hi.z() - cell_lo.z()));
+  };
+  if (unit(rng) < 0.5) {
+    const Vec3 a = point(), b = point();
+    Vec3 lo = a.cwiseMin(b), hi = a.cwiseMax(b);
+    hi = hi.cwiseMax(lo + Vec3::Constant(0.05)).cwiseMin(cell_hi);
+    lo = lo.cwiseMin(hi - Vec3::Constant(0.05));
+    return box_object(name, lo, hi);
+  }
+  for (;;) {
+    const Vec3 a = point(), b = point(), c = point(), d = point();
+    if (std::abs((b - a).cross(c - a).dot(d - a)) > 1e-3) return tetra_object(name, a, b, c, d);
+  }
+}
+}  // namespace
+
+core::Scene random_scene(std::mt19937& rng, std::array<int, 3> voxels) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const core::Box3 area{Vec3(0, 0, 0), Vec3(4, 3, 3)};
+  // 4×3×2 cells of 1×1×1.5 m; each object gets its own cell shrunk by 0.1 m.
+  std::vector<int> cells(24);
+  for (int i = 0; i < 24; ++i) cells[i] = i;
+  std::shuffle(cells.begin(), cells.end(), rng);
+  int next = 0;
+  auto object_in_next_cell = [&](const std::string& name) {
+    const int c = cells[next++];
+    const Vec3 lo(c % 4, (c / 4) % 3, 1.5 * (c / 12));
+    return random_object(rng, name, lo + Vec3::Constant(0.1), lo + Vec3(0.9, 0.9, 1.4));
+  };
+  core::Scene s = simple_scene(area, voxels, 3, 20.0 + 40.0 * unit(rng), {}, {});
+  s.time_steps.clear();
+  s.static_obstacles.push_back(object_in_next_cell("static 0"));
+  s.static_obstacles.push_back(object_in_next_cell("static 1"));
+  for (int h = 0; h < 2; ++h) {
+    core::TimeStep step;
+    step.dynamic_obstacles.push_back(object_in_next_cell("dynamic"));
+    step.critical = step.dynamic_obstacles;
+    for (int l = 0; l < 2; ++l) {
+      core::Event e;
+      e.weight = 0.5;
+      e.targets.push_back(object_in_next_cell("target a"));
+      e.targets.push_back(object_in_next_cell("target b"));
+      step.events.push_back(e);
+    }
+    s.time_steps.push_back(step);
+  }
+  s.cameras.fov = unit(rng) < 0.5 ? core::FovShape::cone : core::FovShape::pyramid;
+  s.cameras.sides = 3 + static_cast<int>(unit(rng) * 14);
+  if (unit(rng) < 0.3) s.cameras.range = 2.0 + 3.0 * unit(rng);
+  s.dynamic_mode = unit(rng) < 0.5 ? core::DynamicMode::masked : core::DynamicMode::modelled;
+  return s;
+}
+
+core::CameraConfig random_config(std::mt19937& rng, const core::Scene& scene) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  core::CameraConfig config;
+  for (int i = 0; i < scene.cameras.count; ++i) {
+    const Vec3 p = scene.area.min + unit(rng) * Vec3::UnitX() * scene.area.size().x() +
+                   unit(rng) * Vec3::UnitY() * scene.area.size().y() +
+                   unit(rng) * Vec3::UnitZ() * scene.area.size().z();
+    config.push_back(camera_at(p, -180 + 360 * unit(rng), -90 + 180 * unit(rng)));
+  }
+  return config;
+}
+
+std::string write_file(const std::string& path, const std::string& text) {
+  std::filesystem::create_directories(std::filesystem::path(path).parent_path());
+  std::ofstream(path, std::ios::binary) << text;
+  return path;
+}
+
+std::string temp_dir(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("camplace-test-" + name + "-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir.string();
+}
+
+}  // namespace camplace::testing

@@ -1,0 +1,38 @@
+#pragma once
+// Scenes built in code for tests and benchmarks.
+#include <random>
+#include <string>
+
+#include "camplace/core/camera.hpp"
+#include "camplace/core/scene.hpp"
+
+namespace camplace::testing {
+
+/// Axis-aligned box object (outward triangles).
+core::SceneObject box_object(const std::string& name, const core::Vec3& min, const core::Vec3& max);
+/// Tetrahedron object, oriented outward whatever the order of the points.
+core::SceneObject tetra_object(const std::string& name, const core::Vec3& a, const core::Vec3& b,
+                               const core::Vec3& c, const core::Vec3& d);
+
+/// A scene over `area` with one time step holding the given critical objects and one event
+/// (weight 1) with the given targets; `count` cone cameras of half angle `half_angle_deg`.
+core::Scene simple_scene(const core::Box3& area, std::array<int, 3> voxels, int count,
+                         double half_angle_deg, std::vector<core::SceneObject> critical,
+                         std::vector<core::SceneObject> targets);
+
+/// Camera setting from degrees.
+core::CameraSetting camera_at(const core::Vec3& position, double yaw_deg, double pitch_deg);
+
+/// Random scene in a 4×3×3 m room: static, dynamic and target boxes/tetrahedra in disjoint
+/// cells (so targets never meet obstacles), 2 time steps × 2 events, random FOV shape, range and
+/// dynamic mode.
+core::Scene random_scene(std::mt19937& rng, std::array<int, 3> voxels);
+/// Random camera configuration inside the scene's area.
+core::CameraConfig random_config(std::mt19937& rng, const core::Scene& scene);
+
+/// Writes text to a file (creating directories) and returns the path.
+std::string write_file(const std::string& path, const std::string& text);
+/// A fresh empty directory under the system temporary directory.
+std::string temp_dir(const std::string& name);
+
+}  // namespace camplace::testing
