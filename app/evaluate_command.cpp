@@ -1,6 +1,8 @@
 // `camplace evaluate`: Err of one camera configuration, per state, in the voxel and/or the
 // exact pipeline.
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -21,6 +23,7 @@ namespace {
 
 struct EvaluateArgs {
   std::string scene, cameras, mode = "conservative", resolution, pipeline = "voxel", export_dir;
+  std::string voxels_out;
   bool json = false, exact_fractions = false;
 };
 
@@ -123,6 +126,30 @@ nlohmann::json differences(const nlohmann::json& vox, const nlohmann::json& ex) 
 }
 #endif
 
+// The filtered voxel model of every state, one character per voxel ('1' = in M) in index
+// order i + nx·(j + ny·k), written atomically (temporary file, then rename).
+void write_voxels(const voxel::VoxelEvaluator& evaluator, const core::CameraConfig& config,
+                  const std::string& path) {
+  const auto& n = evaluator.grid().n;
+  nlohmann::json states = nlohmann::json::array();
+  const auto all = core::states(evaluator.scene());
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    std::string bits;
+    for (std::uint8_t b : evaluator.model(config, static_cast<int>(i))) bits += b ? '1' : '0';
+    states.push_back({{"time_step", all[i].time_step}, {"event", all[i].event}, {"model", bits}});
+  }
+  const nlohmann::json doc = {{"resolution", {n[0], n[1], n[2]}},
+                              {"index_order", "i + nx*(j + ny*k)"},
+                              {"states", states}};
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    out << doc.dump() << "\n";
+    if (!out) throw core::InputError("command line", "--voxels-out", "cannot write " + path);
+  }
+  std::filesystem::rename(tmp, path);
+}
+
 void run_evaluate(const EvaluateArgs& args) {
   const core::Scene scene = core::load_scene(args.scene);
   const core::CameraConfig config = core::load_camera_config(args.cameras, scene);
@@ -140,6 +167,7 @@ void run_evaluate(const EvaluateArgs& args) {
   if (want_voxel) {
     const voxel::VoxelEvaluator evaluator(scene, options);
     vox = voxel_json(evaluator, evaluator.evaluate(config));
+    if (!args.voxels_out.empty()) write_voxels(evaluator, config, args.voxels_out);
   }
 #ifdef CAMPLACE_HAVE_EXACT
   if (want_exact) {
@@ -189,6 +217,8 @@ void register_evaluate_command(CLI::App& app) {
                 "exact pipeline: add squared distances as exact fractions \"p/q\"");
   cmd->add_option("--export-mesh", args->export_dir,
                   "exact pipeline: write each state's model and each camera's pyramid (OFF) to DIR");
+  cmd->add_option("--voxels-out", args->voxels_out,
+                  "voxel pipeline: write each state's filtered model voxels to this JSON file");
   cmd->callback([args] { run_evaluate(*args); });
 }
 

@@ -1,6 +1,8 @@
 // The `camplace evaluate` command as a user runs it: output schema, consistency, exit codes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -45,6 +47,23 @@ TEST(EvaluateCommand, ResolutionOptionChangesTheGrid) {
                     "paper_basic_corners.json --resolution 20x15x15 --json");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(nlohmann::json::parse(r.output)["resolution"], nlohmann::json({20, 15, 15}));
+}
+
+TEST(EvaluateCommand, VoxelsOutHoldsTheModelWhoseVolumeIsReported) {
+  const std::string path = temp_dir("voxelsout") + "/model.json";
+  const CommandResult r = run("evaluate " + kData + "paper_basic.json --cameras " + kData +
+                              "paper_basic_corners.json --json --voxels-out " + path);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto report = nlohmann::json::parse(r.output);
+  std::ifstream in(path);
+  const auto voxels = nlohmann::json::parse(in);
+  ASSERT_EQ(voxels["states"].size(), 6u);
+  for (std::size_t i = 0; i < 6; ++i) {
+    const std::string bits = voxels["states"][i]["model"];
+    ASSERT_EQ(bits.size(), 16u * 12u * 12u);
+    const double volume = std::count(bits.begin(), bits.end(), '1') * 0.25 * 0.25 * 0.25;
+    EXPECT_NEAR(volume, report["states"][i]["model_volume"].get<double>(), 1e-9) << i;
+  }
 }
 
 TEST(EvaluateCommand, TableIsPrintedWithoutJson) {
