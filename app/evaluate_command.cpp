@@ -1,8 +1,6 @@
 // `camplace evaluate`: Err of one camera configuration, per state, in the voxel and/or the
 // exact pipeline.
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -10,6 +8,7 @@
 #include "camplace/core/camera.hpp"
 #include "camplace/core/err.hpp"
 #include "camplace/core/error.hpp"
+#include "camplace/core/files.hpp"
 #include "camplace/core/scene.hpp"
 #include "camplace/voxel/evaluator.hpp"
 #include "commands.hpp"
@@ -45,6 +44,7 @@ nlohmann::json voxel_json(const voxel::VoxelEvaluator& evaluator, const voxel::E
           {"resolution", {n[0], n[1], n[2]}},
           {"voxel_diagonal", evaluator.grid().step.norm()},
           {"tolerance", core::default_tolerance(evaluator.scene().area, n)},
+          {"err_lower_bound", evaluator.err_lower_bound()},
           {"err", e.err},
           {"states", states},
           {"timing_ms",
@@ -71,6 +71,10 @@ void print_table(const nlohmann::json& r) {
   }
   std::printf("Err = %.6f m^2", r["err"].get<double>());
   if (r.contains("tolerance")) std::printf("   (tolerance %.4f m^2)", r["tolerance"].get<double>());
+  if (r.value("err_lower_bound", 0.0) > 0.0) {
+    std::printf("\nno configuration has Err below %.4f m^2 in this mode and resolution (voxels touching a "
+                "target are always in M)", r["err_lower_bound"].get<double>());
+  }
   const auto& t = r["timing_ms"];
   std::printf("\ntime: %.3f ms", t["total"].get<double>());
   if (t.contains("labelling")) {
@@ -141,13 +145,11 @@ void write_voxels(const voxel::VoxelEvaluator& evaluator, const core::CameraConf
   const nlohmann::json doc = {{"resolution", {n[0], n[1], n[2]}},
                               {"index_order", "i + nx*(j + ny*k)"},
                               {"states", states}};
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << doc.dump() << "\n";
-    if (!out) throw core::InputError("command line", "--voxels-out", "cannot write " + path);
+  try {
+    core::write_file_atomically(path, doc.dump() + "\n");
+  } catch (const std::runtime_error& e) {
+    throw core::InputError("command line", "--voxels-out", e.what());
   }
-  std::filesystem::rename(tmp, path);
 }
 
 void run_evaluate(const EvaluateArgs& args) {

@@ -5,7 +5,7 @@
 #include <iomanip>
 #include <sstream>
 
-#include "json_reader.hpp"
+#include "camplace/core/json_reader.hpp"
 
 namespace camplace::core {
 
@@ -86,9 +86,9 @@ bool Fov::contains_ball(const Vec3& center, double radius) const {
 }
 
 CameraConfig load_camera_config(const std::string& path, const Scene& scene) {
-  const nlohmann::json doc = detail::read_json_file(path);
-  const detail::JsonNode root(doc, path, "");
-  const detail::JsonNode cameras = root.at("cameras");
+  const nlohmann::json doc = read_json_file(path);
+  const JsonNode root(doc, path, "");
+  const JsonNode cameras = root.at("cameras");
   const std::size_t count = cameras.array_size();
   if (count != static_cast<std::size_t>(scene.cameras.count)) {
     cameras.fail("holds " + std::to_string(count) + " cameras but the scene " + scene.file +
@@ -96,7 +96,7 @@ CameraConfig load_camera_config(const std::string& path, const Scene& scene) {
   }
   CameraConfig config;
   for (std::size_t i = 0; i < count; ++i) {
-    const detail::JsonNode entry = cameras.at(i);
+    const JsonNode entry = cameras.at(i);
     entry.only_keys({"position", "yaw_deg", "pitch_deg", "name"});
     CameraSetting camera;
     camera.position = entry.at("position").vec3();

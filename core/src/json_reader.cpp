@@ -1,10 +1,10 @@
-#include "json_reader.hpp"
+#include "camplace/core/json_reader.hpp"
 
 #include <cmath>
 #include <fstream>
 #include <sstream>
 
-namespace camplace::core::detail {
+namespace camplace::core {
 
 nlohmann::json read_json_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -107,4 +107,4 @@ Vec3 JsonNode::vec3() const {
   return Vec3(at(std::size_t{0}).number(), at(std::size_t{1}).number(), at(std::size_t{2}).number());
 }
 
-}  // namespace camplace::core::detail
+}  // namespace camplace::core

@@ -5,13 +5,13 @@
 #include <sstream>
 
 #include "camplace/core/scene.hpp"
-#include "json_reader.hpp"
+#include "camplace/core/json_reader.hpp"
 #include "mesh_checks.hpp"
 
 namespace camplace::core {
 
 namespace {
-using detail::JsonNode;
+
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 // Vertices may leave S by this much (metres) to absorb rounding of transformed meshes.
@@ -64,7 +64,7 @@ class SceneParser {
   }
 
   Scene parse() {
-    const nlohmann::json doc = detail::read_json_file(path_);
+    const nlohmann::json doc = read_json_file(path_);
     const JsonNode root(doc, path_, "");
     root.only_keys({"area", "voxels", "cameras", "static_obstacles", "time_steps",
                     "dynamic_mode", "plausibility", "description", "name"});

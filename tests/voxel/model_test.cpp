@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <limits>
+#include <random>
 
 #include "camplace/core/err.hpp"
 #include "planar_fixture.hpp"
@@ -118,6 +119,28 @@ TEST(Model, ErrIsWeightedSumOfSquaredDifferences) {
   EXPECT_DOUBLE_EQ(core::error_functional(terms), 0.5 * 0.5625 + 0.0 + 0.25 * 1.0);
   EXPECT_NEAR(core::default_tolerance({core::Vec3(0, 0, 0), core::Vec3(4, 3, 3)}, {16, 12, 12}),
               0.046875, 1e-12);  // (½·√(3·0.25²))² = 3/64, the paper's 0.046 m²
+}
+
+}  // namespace
+}  // namespace camplace::testing
+
+namespace camplace::testing {
+namespace {
+
+TEST(Model, ConservativeErrLowerBoundByHandAndNeverBeaten) {
+  // Target [2.5,3]×[1.75,2.25]: the touching voxel nearest to the critical box is
+  // [2.25,2.5]×[1.75,2]×[0,0.25] (it touches the face x = 2.5) at 2.25 − 1.1 = 1.15 m, while
+  // d_true = 1.4 m: the bound is (1.4 − 1.15)² = 0.0625 m².
+  const core::Scene scene = planar_scene({box_object("target", {2.5, 1.75, 0}, {3, 2.25, 0.25})});
+  const voxel::VoxelEvaluator evaluator(scene, {voxel::LabelMode::conservative, {0, 0, 0}});
+  EXPECT_NEAR(evaluator.err_lower_bound(), 0.0625, 1e-12);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int i = 0; i < 200; ++i) {
+    const auto camera = camera_at({4 * u(rng), 4 * u(rng), 0.25 * u(rng)}, -180 + 360 * u(rng), -10 + 20 * u(rng));
+    EXPECT_GE(evaluator.err({camera}), evaluator.err_lower_bound() - 1e-12);
+  }
+  EXPECT_EQ(voxel::VoxelEvaluator(scene, {voxel::LabelMode::center, {0, 0, 0}}).err_lower_bound(), 0.0);
 }
 
 }  // namespace

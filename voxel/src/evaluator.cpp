@@ -92,6 +92,7 @@ struct VoxelEvaluator::Impl {
   std::vector<StateInfo> states;
   std::vector<std::vector<std::uint8_t>> removed_by_step;  ///< obstacle interiors per step
   std::vector<std::vector<double>> critical_sq_by_step;    ///< d(C_h, voxel)² per step
+  double err_lower_bound = 0.0;                            ///< conservative mode only
 
   int add_object(const core::SceneObject& object, bool occupying) {
     ObjectInfo info;
@@ -134,6 +135,29 @@ struct VoxelEvaluator::Impl {
       removed_by_step.push_back(obstacle_interiors(step));
       critical_sq_by_step.push_back(critical_distances(step));
     }
+    if (conservative) err_lower_bound = lower_bound();
+  }
+
+  /// Err if the model held only the voxels touching a target (see err_lower_bound()).
+  double lower_bound() const {
+    std::vector<core::ErrTerm> terms;
+    for (const StateInfo& state : states) {
+      const core::Event& event = scene.time_steps[state.time_step].events[state.event];
+      const auto& critical = critical_sq_by_step[state.time_step];
+      double best = std::numeric_limits<double>::infinity();
+      for (int v = 0; v < grid.count(); ++v) {
+        if (critical[v] >= best) continue;
+        const Box3 box = grid.voxel_box(v);
+        for (const core::SceneObject& target : event.targets) {
+          if (core::box_solid_sq_distance(target.mesh, box) == 0.0) {
+            best = critical[v];
+            break;
+          }
+        }
+      }
+      terms.push_back({state.weight, state.d_true, std::sqrt(best)});
+    }
+    return core::error_functional(terms);
   }
 
   /// Voxels removed as obstacle interior (SPEC §4–5): centre inside (center mode) or the
@@ -514,6 +538,7 @@ std::vector<std::uint8_t> VoxelEvaluator::model(const core::CameraConfig& config
   return out;
 }
 
+double VoxelEvaluator::err_lower_bound() const { return impl_->err_lower_bound; }
 const Grid& VoxelEvaluator::grid() const { return impl_->grid; }
 const core::Scene& VoxelEvaluator::scene() const { return impl_->scene; }
 const VoxelOptions& VoxelEvaluator::options() const { return impl_->options; }

@@ -83,6 +83,12 @@ class VoxelEvaluator {
   /// Model voxels after the plausibility filter (1 = in M) for one state.
   std::vector<std::uint8_t> model(const core::CameraConfig& config, int state) const;
 
+  /// A lower bound of Err over all camera configurations (m²), conservative mode only: every
+  /// voxel that touches a target is in M whatever the cameras (its rays meet the target), so
+  /// d(C, M) never exceeds the distance to the nearest such voxel. When this bound exceeds the
+  /// tolerance, no configuration can reach it. Center mode: 0 (no bound).
+  double err_lower_bound() const;
+
   const Grid& grid() const;
   const core::Scene& scene() const;
   const VoxelOptions& options() const;

@@ -1,6 +1,6 @@
 #pragma once
 // Typed, checked access to a JSON document: every failure throws InputError naming the file,
-// the JSON pointer of the entry and the reason. Private to core.
+// the JSON pointer of the entry and the reason.
 #include <nlohmann/json.hpp>
 #include <set>
 #include <string>
@@ -8,7 +8,7 @@
 #include "camplace/core/error.hpp"
 #include "camplace/core/geometry.hpp"
 
-namespace camplace::core::detail {
+namespace camplace::core {
 
 /// Reads and parses a JSON file; InputError when it cannot be read or is not JSON.
 nlohmann::json read_json_file(const std::string& path);
@@ -44,4 +44,4 @@ class JsonNode {
   std::string file_, pointer_;
 };
 
-}  // namespace camplace::core::detail
+}  // namespace camplace::core
