@@ -96,6 +96,35 @@ TEST(Labelling, StaticObstacleInFrontOfTargetLeavesFrontFree) {
   }
 }
 
+TEST(Labelling, ConservativeSeparatesBoxesFromThinTriangleCones) {
+  // A flat target (1 cm thick) in the camera's own horizontal plane: its triangles' cones are
+  // thin wedges. Rays of slope ≤ 0.1 meet it; the voxels [3, 3.25]×[2.5, 2.75] and
+  // [3, 3.25]×[1.25, 1.5] are wholly in the FOV and all their rays have slope ≥ 0.16: free.
+  const core::Scene scene = planar_scene({tetra_object("flat", {2.5, 1.75, 0.12}, {2.5, 2.25, 0.12},
+                                                       {3.0, 2.0, 0.12}, {2.75, 2.0, 0.13})});
+  voxel::VoxelEvaluator evaluator(scene, {LabelMode::conservative, {0, 0, 0}});
+  const auto labels = evaluator.labels(planar_camera(), 0);
+  EXPECT_EQ(labels[12 + 16 * 10], Label::free);
+  EXPECT_EQ(labels[12 + 16 * 5], Label::free);
+  EXPECT_EQ(labels[11 + 16 * 8], Label::occupied);  // on the axis, behind the target
+  // Every voxel wholly in the FOV is free exactly when no point of it has |y − 2| ≤ 0.1·x (the
+  // fan of rays through the target's front edge; the voxel's z-range always holds the plane).
+  const auto empty = voxel::VoxelEvaluator(planar_scene(), {LabelMode::conservative, {0, 0, 0}})
+                         .labels(planar_camera(), 0);
+  int checked = 0;
+  for (int j = 0; j < 16; ++j) {
+    for (int i = 0; i < 16; ++i) {
+      if (empty[i + 16 * j] != Label::free) continue;
+      const double y0 = 0.25 * j, y1 = y0 + 0.25, x_max = 0.25 * i + 0.25;
+      const double gap = (y0 > 2 ? y0 - 2 : y1 < 2 ? 2 - y1 : 0.0) - 0.1 * x_max;
+      if (std::abs(gap) < 1e-9) continue;  // touches the fan's boundary: a tie
+      EXPECT_EQ(labels[i + 16 * j] == Label::free, gap > 0) << "voxel " << i << "," << j;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 100);
+}
+
 TEST(Labelling, MaskedDynamicObstacleOccupiesModelledOneOccludes) {
   core::Scene scene = planar_scene();
   scene.time_steps[0].dynamic_obstacles.push_back(box_object("robot", {2.5, 1.75, 0}, {3, 2.25, 0.25}));

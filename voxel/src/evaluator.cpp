@@ -50,9 +50,11 @@ struct ObjectCone {
   bool contains_camera = false;  ///< camera inside the solid: it is blind in this state
 };
 
-/// Per camera and triangle: inward unit normals of the three planes through the camera that
-/// bound the infinite cone over the triangle, and the triangle's nearest distance.
+/// Per camera and triangle: the infinite cone from the camera over the triangle, as its three
+/// edge rays (vertex − camera) and the inward unit normals of its three planes, and the
+/// triangle's nearest distance.
 struct TriangleCone {
+  Vec3 edge[3];
   Vec3 normal[3];
   double near_distance = 0.0;
   bool flat = false;  ///< camera in the triangle's plane: the cone has no volume
@@ -263,6 +265,9 @@ struct VoxelEvaluator::Impl {
       tc.flat = !(std::abs(det) > 1e-12 * scale);
       if (tc.flat) continue;
       const double sign = det > 0 ? 1.0 : -1.0;
+      tc.edge[0] = a;
+      tc.edge[1] = b;
+      tc.edge[2] = e;
       tc.normal[0] = (sign * a.cross(b)).normalized();
       tc.normal[1] = (sign * b.cross(e)).normalized();
       tc.normal[2] = (sign * e.cross(a)).normalized();
@@ -342,22 +347,43 @@ struct VoxelEvaluator::Impl {
         const TriangleCone& tc = view.triangles[t];
         if (tc.flat) continue;
         if (!info.occupying && tc.near_distance >= view.far[v]) continue;
-        // The box lies wholly outside one bounding plane of the triangle's cone: its support
-        // value n·(centre − c) + |n|·half_step is negative.
-        bool separated = false;
-        for (const Vec3& n : tc.normal) {
-          if (n.dot(w) + n.cwiseAbs().dot(half_step) < 0.0) {
-            separated = true;
-            break;
-          }
-        }
-        if (separated) continue;
+        if (cone_misses_box(tc, w)) continue;
         if (info.occupying) return Label::occupied;
         if (free_only) return Label::undetectable;
         verdict = Label::undetectable;
       }
     }
     return verdict;
+  }
+
+  /// True when the triangle's infinite cone and the voxel box (centre at w from the camera) are
+  /// disjoint, by the separating-axis theorem for two convex polyhedra: the cone's 3 planes,
+  /// the box's 3 face normals and the 9 cross products of cone edges and box edges. Exact up to
+  /// rounding; touching counts as meeting.
+  bool cone_misses_box(const TriangleCone& tc, const Vec3& w) const {
+    // Cone planes first: cheapest and most often decisive.
+    for (const Vec3& n : tc.normal) {
+      if (n.dot(w) + n.cwiseAbs().dot(half_step) < 0.0) return true;
+    }
+    // Axis L: the cone projects to [0, ∞) or (−∞, 0] (relative to the camera) when its edges
+    // all project to one side, else to the whole line; the box to L·w ± Σ|L_i|·h_i.
+    auto separates = [&](const Vec3& axis) {
+      const double pa = axis.dot(tc.edge[0]), pb = axis.dot(tc.edge[1]), pc = axis.dot(tc.edge[2]);
+      const double radius = axis.cwiseAbs().dot(half_step);
+      const double mid = axis.dot(w);
+      if (pa >= 0.0 && pb >= 0.0 && pc >= 0.0) return mid + radius < 0.0;
+      if (pa <= 0.0 && pb <= 0.0 && pc <= 0.0) return mid - radius > 0.0;
+      return false;
+    };
+    for (int i = 0; i < 3; ++i) {
+      if (separates(Vec3::Unit(i))) return true;
+    }
+    for (const Vec3& e : tc.edge) {
+      for (int i = 0; i < 3; ++i) {
+        if (separates(e.cross(Vec3::Unit(i)))) return true;
+      }
+    }
+    return false;
   }
 
   /// Model before filtering: 1 where no camera sees the voxel free, minus obstacle interiors.
