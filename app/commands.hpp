@@ -9,5 +9,13 @@ void register_evaluate_command(CLI::App& app);
 #ifdef CAMPLACE_HAVE_OPTIMIZE
 void register_optimize_command(CLI::App& app);
 #endif
+#ifdef CAMPLACE_HAVE_COMPARE
+void register_generate_command(CLI::App& app);
+#endif
+#ifdef CAMPLACE_HAVE_VALIDATION
+void register_compare_command(CLI::App& app);
+void register_compare_optimizer_command(CLI::App& app);
+void register_study_command(CLI::App& app);
+#endif
 
 }  // namespace camplace::app

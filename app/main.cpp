@@ -13,6 +13,14 @@ int main(int argc, char** argv) {
 #ifdef CAMPLACE_HAVE_OPTIMIZE
   camplace::app::register_optimize_command(app);
 #endif
+#ifdef CAMPLACE_HAVE_VALIDATION
+  camplace::app::register_compare_command(app);
+  camplace::app::register_compare_optimizer_command(app);
+  camplace::app::register_study_command(app);
+#endif
+#ifdef CAMPLACE_HAVE_COMPARE
+  camplace::app::register_generate_command(app);
+#endif
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,110 @@
+// `camplace compare`: the voxel pipeline against the exact one for one configuration (SPEC §8).
+#include <iostream>
+#include <sstream>
+
+#include <filesystem>
+
+#include "camplace/compare/optimizer_validation.hpp"
+#include "camplace/compare/study.hpp"
+#include "camplace/compare/voxel_vs_exact.hpp"
+#include "camplace/core/camera.hpp"
+#include "camplace/core/error.hpp"
+#include "camplace/core/scene.hpp"
+#include "commands.hpp"
+
+namespace camplace::app {
+
+namespace {
+
+struct CompareArgs {
+  std::string scene, cameras, resolutions, out;
+};
+
+std::vector<std::array<int, 3>> parse_resolution_list(const std::string& text) {
+  std::vector<std::array<int, 3>> out;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) out.push_back(core::parse_resolution(item, "--resolutions"));
+  if (out.empty()) throw core::InputError("command line", "--resolutions", "no resolution given");
+  return out;
+}
+
+void run_compare(const CompareArgs& args, const std::string& command) {
+  const core::Scene scene = core::load_scene(args.scene);
+  const core::CameraConfig config = core::load_camera_config(args.cameras, scene);
+  compare::CompareOptions options;
+  if (!args.resolutions.empty()) options.resolutions = parse_resolution_list(args.resolutions);
+  options.command = command;
+  const compare::CompareResult result = compare::compare_voxel_exact(scene, config, options);
+  compare::write_compare_report(scene, result, options, args.out);
+  std::cout << "conservative-mode violations: " << result.conservative_violations
+            << "\ncenter-mode violations: " << result.center_violations << "\nErr:";
+  for (const auto& e : result.errs) std::cout << "  " << e.pipeline << " " << e.err;
+  std::cout << "\nreport: " << args.out << "/report.md\n";
+}
+
+}  // namespace
+
+void register_compare_command(CLI::App& app) {
+  auto args = std::make_shared<CompareArgs>();
+  CLI::App* cmd = app.add_subcommand("compare", "voxel pipeline against the exact pipeline, report in DIR");
+  cmd->add_option("scene", args->scene, "scene JSON file")->required();
+  cmd->add_option("--cameras", args->cameras, "camera configuration JSON file")->required();
+  cmd->add_option("--resolutions", args->resolutions,
+                  "comma-separated voxel resolutions, e.g. 16x12x12,24x18x18 (default: the scene's)");
+  cmd->add_option("--out", args->out, "output directory")->required();
+  cmd->callback([args] {
+    std::string command = "camplace compare " + args->scene + " --cameras " + args->cameras;
+    if (!args->resolutions.empty()) command += " --resolutions " + args->resolutions;
+    run_compare(*args, command + " --out " + args->out);
+  });
+}
+
+void register_compare_optimizer_command(CLI::App& app) {
+  struct Args {
+    std::string scene, runs, resolutions, out;
+    int samples = 12;
+    unsigned seed = 1;
+  };
+  auto args = std::make_shared<Args>();
+  CLI::App* cmd = app.add_subcommand(
+      "compare-optimizer", "exact Err of optimizer results and voxel/exact rank agreement, report in DIR");
+  cmd->add_option("scene", args->scene, "scene JSON file")->required();
+  cmd->add_option("--runs", args->runs, "directory with run-<seed>.json files of camplace optimize")->required();
+  cmd->add_option("--samples", args->samples, "random configurations for the rank agreement")
+      ->check(CLI::Range(2, 100000));
+  cmd->add_option("--seed", args->seed, "seed of the random configurations");
+  cmd->add_option("--resolutions", args->resolutions, "comma-separated voxel resolutions (default: the scene's)");
+  cmd->add_option("--out", args->out, "output directory")->required();
+  cmd->callback([args] {
+    const core::Scene scene = core::load_scene(args->scene);
+    compare::OptimizerValidationOptions options;
+    options.runs_dir = args->runs;
+    options.samples = args->samples;
+    options.seed = args->seed;
+    if (!args->resolutions.empty()) options.resolutions = parse_resolution_list(args->resolutions);
+    options.command = "camplace compare-optimizer " + args->scene + " --runs " + args->runs + " --samples " +
+                      std::to_string(args->samples) + " --seed " + std::to_string(args->seed) +
+                      (args->resolutions.empty() ? "" : " --resolutions " + args->resolutions) + " --out " + args->out;
+    compare::validate_optimizer(scene, options, args->out);
+    std::cout << "report: " << args->out << "/report.md\n";
+  });
+}
+
+void register_study_command(CLI::App& app) {
+  auto options = std::make_shared<compare::StudyOptions>();
+  CLI::App* cmd = app.add_subcommand("study", "run a study of the paper's examinations (resumable), report in DIR");
+  cmd->add_option("study", options->study_file, "study JSON file (e.g. data/studies/paper.json)")->required();
+  cmd->add_option("--out", options->out_dir, "output directory; rerun to resume")->required();
+  cmd->callback([options] {
+    options->camplace = std::filesystem::read_symlink("/proc/self/exe").string();
+    options->command = "camplace study " + options->study_file + " --out " + options->out_dir;
+    const compare::StudyOutcome outcome = compare::run_study(*options);
+    std::cout << "runs: " << outcome.runs_total << " (" << outcome.runs_done_before << " found, "
+              << outcome.runs_done_now << " run now)" << (outcome.interrupted ? ", interrupted" : "")
+              << "\nreport: " << options->out_dir << "/report.md\n";
+    if (outcome.interrupted) throw std::runtime_error("study interrupted; rerun the same command to resume");
+  });
+}
+
+}  // namespace camplace::app

@@ -1,0 +1,203 @@
+// `camplace optimize`: R seeded runs of a pagmo solver minimising the voxel Err (SPEC §7), with
+// run files, a summary and progress on stderr. Thin: parse, call camplace::optimize, print.
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "camplace/core/error.hpp"
+#include "camplace/core/scene.hpp"
+#include "camplace/optimize/objective.hpp"
+#include "camplace/optimize/optimizer.hpp"
+#include "camplace/optimize/report.hpp"
+#include "commands.hpp"
+
+namespace camplace::app {
+namespace {
+
+// Raised by SIGINT; the running optimisation stops at its next evaluation and writes its best.
+std::atomic<bool> g_interrupted{false};
+static_assert(std::atomic<bool>::is_always_lock_free, "the SIGINT flag must be lock-free");
+
+extern "C" void on_sigint(int) { g_interrupted.store(true); }
+
+struct OptimizeArgs {
+  std::string scene, algorithm = "gaco", start = "random", mode = "conservative", resolution, out;
+  unsigned seed = 1;
+  int runs = 1, threads = 0, population = 0;
+  double time_limit = 300.0;
+  std::uint64_t max_evals = 0;
+  double tolerance = 0.0;
+  bool tolerance_given = false;
+  bool quiet = false;
+};
+
+/// Progress on stderr: a redrawn line on a terminal (≤ 10 per second), plain lines every 5 s
+/// otherwise.
+class ProgressPrinter {
+ public:
+  ProgressPrinter(bool quiet, int run, int runs, unsigned seed)
+      : quiet_(quiet), tty_(::isatty(STDERR_FILENO) == 1), run_(run), runs_(runs), seed_(seed) {}
+
+  void update(const optimize::Progress& p) {
+    if (quiet_) return;
+    const auto now = std::chrono::steady_clock::now();
+    const auto interval = tty_ ? std::chrono::milliseconds(100) : std::chrono::milliseconds(5000);
+    if (printed_ && now - last_ < interval) return;
+    last_ = now;
+    printed_ = true;
+    print(p, false);
+  }
+
+  void finish(const optimize::RunResult& r) {
+    if (quiet_) return;
+    print({r.evaluations, r.err, r.seconds}, true);
+    std::fprintf(stderr, "  %s\n", optimize::to_string(r.stop_reason));
+  }
+
+ private:
+  void print(const optimize::Progress& p, bool final_line) {
+    if (tty_) std::fprintf(stderr, "\r\033[K");
+    std::fprintf(stderr, "run %d/%d seed %u | %llu evaluations | best Err %.5f m² | %.1f s", run_,
+                 runs_, seed_, static_cast<unsigned long long>(p.evaluations), p.best_err,
+                 p.seconds);
+    if (!tty_ && !final_line) std::fprintf(stderr, "\n");
+    std::fflush(stderr);
+  }
+
+  bool quiet_, tty_;
+  int run_, runs_;
+  unsigned seed_;
+  bool printed_ = false;
+  std::chrono::steady_clock::time_point last_;
+};
+
+void run_optimize(const OptimizeArgs& args) {
+  // SA_RESETHAND: the first Ctrl-C stops the run and writes its result; a second one kills.
+  // Installed first, so a Ctrl-C while the scene loads still ends with a (one-evaluation) run file.
+  struct sigaction action {};
+  action.sa_handler = on_sigint;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESETHAND;
+  sigaction(SIGINT, &action, nullptr);
+
+  if (args.runs < 1) throw core::InputError("command line", "--runs", "must be at least 1");
+  if (args.threads < 0) throw core::InputError("command line", "--threads", "must be >= 0");
+  if (args.time_limit < 0.0) {
+    throw core::InputError("command line", "--time-limit", "must be >= 0 (0 = no limit)");
+  }
+  const core::Scene scene = core::load_scene(args.scene);
+  voxel::VoxelOptions voxel_options;
+  voxel_options.mode =
+      args.mode == "center" ? voxel::LabelMode::center : voxel::LabelMode::conservative;
+  if (!args.resolution.empty()) {
+    voxel_options.resolution = core::parse_resolution(args.resolution, "--resolution");
+  }
+
+  optimize::OptimizeOptions options;
+  options.algorithm = args.algorithm;
+  options.time_limit = args.time_limit;
+  options.max_evaluations = args.max_evals;
+  if (args.tolerance_given) {
+    if (!(args.tolerance >= 0.0)) {
+      throw core::InputError("command line", "--tolerance", "must be >= 0 (m²)");
+    }
+    options.tolerance = args.tolerance;
+  }
+  options.threads = args.threads;
+  options.population = args.population;
+  options.interrupt = &g_interrupted;
+  if (args.start == "random") {
+    options.start.kind = optimize::StartKind::random;
+  } else if (args.start == "corners") {
+    options.start.kind = optimize::StartKind::corners;
+  } else {
+    options.start = {optimize::StartKind::file, args.start};
+  }
+
+  const optimize::VoxelObjective objective(scene, voxel_options);
+  optimize::RunContext context;
+  context.scene_file = args.scene;
+  context.mode = args.mode;
+  context.resolution = objective.evaluator().grid().n;
+  context.start = args.start;
+  context.time_limit = args.time_limit;
+  context.max_evaluations = args.max_evals;
+
+  std::error_code ec;
+  std::filesystem::create_directories(args.out, ec);
+  if (ec || !std::filesystem::is_directory(args.out)) {
+    throw core::InputError("command line", "--out",
+                           "cannot create directory " + args.out + ": " + ec.message());
+  }
+
+  std::vector<optimize::RunResult> results;
+  // The first run always starts (and stops at once after an early Ctrl-C); Ctrl-C ends the job.
+  for (int i = 0; i < args.runs && (i == 0 || !g_interrupted.load()); ++i) {
+    options.seed = args.seed + static_cast<unsigned>(i);
+    ProgressPrinter progress(args.quiet, i + 1, args.runs, options.seed);
+    options.on_progress = [&progress](const optimize::Progress& p) { progress.update(p); };
+    optimize::RunResult result = optimize::optimize(scene, objective, options);
+    progress.finish(result);
+    const std::string file =
+        (std::filesystem::path(args.out) / ("run-" + std::to_string(result.seed) + ".json"))
+            .string();
+    optimize::write_file_atomically(file, optimize::run_json(result, context).dump(2) + "\n");
+    results.push_back(std::move(result));
+  }
+  const bool interrupted = g_interrupted.load();
+  const std::filesystem::path out(args.out);
+  optimize::write_file_atomically((out / "summary.json").string(),
+                                  optimize::summary_json(results, context, interrupted).dump(2) +
+                                      "\n");
+  optimize::write_file_atomically((out / "summary.csv").string(), optimize::summary_csv(results));
+  signal(SIGINT, SIG_DFL);
+
+  if (interrupted) {
+    std::cout << "interrupted: the best result so far is in " << args.out << "\n\n";
+  }
+  optimize::print_summary(std::cout, results);
+  std::cout << "\nrun files, summary.json and summary.csv in " << args.out << "\n";
+}
+
+}  // namespace
+
+void register_optimize_command(CLI::App& app) {
+  auto args = std::make_shared<OptimizeArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "optimize", "find camera settings that minimise the voxel Err (pagmo solvers)");
+  cmd->footer("Solvers:\n" + optimize::algorithm_help());
+  cmd->add_option("scene", args->scene, "scene JSON file")->required();
+  cmd->add_option("--out", args->out, "directory for run-<seed>.json, summary.json, summary.csv")
+      ->required();
+  cmd->add_option("--algorithm", args->algorithm, "solver (see below)")
+      ->check(CLI::IsMember(optimize::algorithm_names()));
+  cmd->add_option("--seed", args->seed, "seed of the first run; run i uses seed+i");
+  cmd->add_option("--runs", args->runs, "number of runs R");
+  cmd->add_option("--time-limit", args->time_limit, "seconds per run, 0 = none (default 300)");
+  cmd->add_option("--max-evals", args->max_evals, "objective evaluations per run, 0 = none");
+  CLI::Option* tolerance = cmd->add_option(
+      "--tolerance", args->tolerance, "stop when Err <= X m² (default (½ voxel diagonal)²)");
+  cmd->add_option("--start", args->start, "random, corners or a camera configuration FILE");
+  cmd->add_option("--threads", args->threads,
+                  "threads for batch evaluation (gaco, pso_gen), 0 = all cores");
+  cmd->add_option("--population", args->population, "population size, 0 = the solver's default");
+  cmd->add_option("--mode", args->mode, "voxel labelling mode")
+      ->check(CLI::IsMember({"center", "conservative"}));
+  cmd->add_option("--resolution", args->resolution,
+                  "voxel resolution NXxNYxNZ (default: the scene's)");
+  cmd->add_flag("--quiet", args->quiet, "no progress on stderr");
+  cmd->callback([args, tolerance] {
+    args->tolerance_given = tolerance->count() > 0;
+    run_optimize(*args);
+  });
+}
+
+}  // namespace camplace::app

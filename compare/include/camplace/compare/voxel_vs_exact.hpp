@@ -1,0 +1,61 @@
+#pragma once
+/// Validation of the voxel pipeline against the exact one for one camera configuration
+/// (SPEC §8): per state and per (mode, resolution) the distances, volumes, Err, and the checks
+/// that the conservative voxel model contains the exact model and never over-estimates d.
+#include <array>
+#include <string>
+#include <vector>
+
+#include "camplace/core/camera.hpp"
+#include "camplace/core/scene.hpp"
+
+namespace camplace::compare {
+
+struct CompareOptions {
+  /// Voxel resolutions to compare; empty = the scene's resolution.
+  std::vector<std::array<int, 3>> resolutions;
+  /// The command that produced the report, quoted in report.md.
+  std::string command;
+};
+
+/// One state at one (mode, resolution) against the exact pipeline. Metres, m³.
+struct CompareRow {
+  int time_step = 0, event = 0;
+  double weight = 0.0;
+  std::string mode;  ///< "center" or "conservative"
+  std::array<int, 3> resolution{0, 0, 0};
+  double voxel_diagonal = 0.0;
+  double d_true = 0.0, d_exact = 0.0, d_voxel = 0.0;
+  double volume_exact = 0.0, volume_voxel = 0.0;
+  /// Points of the exact model found outside the voxel model (0 = contains it), see
+  /// exact_outside_voxel_model().
+  int exact_outside = 0;
+  bool distance_over_estimated = false;  ///< d_voxel > d_exact (+1e-9 m)
+};
+
+/// Err of one pipeline (m²) and its evaluation time (ms).
+struct ErrRow {
+  std::string pipeline;  ///< "exact", "voxel-center", "voxel-conservative"
+  std::array<int, 3> resolution{0, 0, 0};
+  double err = 0.0;
+  double ms = 0.0;
+};
+
+struct CompareResult {
+  std::vector<CompareRow> rows;
+  std::vector<ErrRow> errs;
+  int conservative_violations = 0;  ///< rows of conservative mode failing either check
+  int center_violations = 0;        ///< the same for center mode (expected: it is not conservative)
+};
+
+/// Runs the exact pipeline once and the voxel pipeline in both modes at every resolution.
+CompareResult compare_voxel_exact(const core::Scene& scene, const core::CameraConfig& config,
+                                  const CompareOptions& options);
+
+/// Writes DIR/report.md, DIR/compare.csv, DIR/err.csv and the plots (gnuplot, PNG):
+/// DIR/error_vs_resolution.png and DIR/d_voxel_vs_d_exact.png. Timing only in err.csv's `ms`
+/// column and the report's timing table.
+void write_compare_report(const core::Scene& scene, const CompareResult& result,
+                          const CompareOptions& options, const std::string& dir);
+
+}  // namespace camplace::compare

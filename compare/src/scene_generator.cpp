@@ -1,0 +1,658 @@
+// Scene families of the paper's examinations (SPEC §9 table), derived from the basic setup of
+// data/paper_basic.json (data/README.md says where its numbers come from).
+//
+// Properties every generated scene keeps (they make the plausibility filter of SPEC §4 valid,
+// see data/README.md "Why the person is made of two tall parts"):
+// - every dynamic obstacle's top is below 1 m, every target is at least 1.45 m tall;
+// - min_volume / min_height are the smallest target's volume and z-extent, rounded down to
+//   6 decimals, so no component holding a whole target part is ever discarded;
+// - no target meets an obstacle of its own state, nothing leaves S, every time step has
+//   critical objects and its event weights sum to 1.
+#include "camplace/compare/scene_generator.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+#include <utility>
+
+#include "camplace/core/error.hpp"
+#include "camplace/core/files.hpp"
+#include "camplace/core/geometry.hpp"
+#include "camplace/core/scene.hpp"
+
+namespace camplace::compare {
+
+namespace {
+
+using core::Box3;
+using core::TriangleMesh;
+using core::Vec3;
+using Json = nlohmann::ordered_json;
+
+constexpr double kPi = 3.14159265358979323846;
+// Generated (non-basic) vertices are rounded to micrometres: readable files, same text.
+constexpr double kRound = 1e6;
+// Random placements keep bounding boxes this far apart (m) and this far inside S's walls.
+constexpr double kClearance = 0.1;
+constexpr double kWallMargin = 0.05;
+// The plausibility rule's bounds (data/README.md): robot below 1 m, person parts ≥ 1.45 m.
+constexpr double kDynamicTopLimit = 1.0;
+constexpr double kTargetMinHeight = 1.45;
+
+// ---------------------------------------------------------------------------------------------
+// Objects
+
+/// One object as written: a tetrahedron (its 4 points as given) or an inline mesh.
+struct Object {
+  std::string name;
+  TriangleMesh mesh;  ///< outward; for a tetrahedron the 4 points in the given order
+  bool tetrahedron = false;
+};
+
+struct Event {
+  double weight = 0.0;
+  std::vector<Object> targets;
+};
+
+struct Step {
+  std::vector<Object> dynamic;
+  std::vector<Event> events;
+};
+
+using Tetra = std::array<Vec3, 4>;  ///< base triangle (points 0, 1, 2) and apex (point 3)
+
+struct NamedTetra {
+  std::string name;
+  Tetra points;
+};
+
+void orient_outward(TriangleMesh& mesh) {
+  if (core::signed_volume(mesh) < 0) {
+    for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
+  }
+}
+
+Object tetra_object(const NamedTetra& t) {
+  Object o;
+  o.name = t.name;
+  o.tetrahedron = true;
+  o.mesh.vertices.assign(t.points.begin(), t.points.end());
+  o.mesh.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  orient_outward(o.mesh);
+  return o;
+}
+
+Vec3 rounded(const Vec3& v) {
+  return Vec3(std::round(v.x() * kRound) / kRound, std::round(v.y() * kRound) / kRound,
+              std::round(v.z() * kRound) / kRound);
+}
+
+/// The pyramid over the closed polygon `ring` (n ≥ 3 points, convex, planar) with apex `apex`:
+/// n − 2 base triangles (a fan from ring[0]) and n side triangles, 2n − 2 facets, outward.
+TriangleMesh pyramid(const std::vector<Vec3>& ring, const Vec3& apex) {
+  const int n = static_cast<int>(ring.size());
+  CAMPLACE_ASSERT(n >= 3);
+  TriangleMesh m;
+  for (const Vec3& v : ring) m.vertices.push_back(rounded(v));
+  m.vertices.push_back(rounded(apex));
+  for (int k = 1; k + 1 < n; ++k) m.triangles.push_back({0, k + 1, k});
+  for (int k = 0; k < n; ++k) m.triangles.push_back({k, (k + 1) % n, n});
+  orient_outward(m);
+  return m;
+}
+
+/// Facets → base polygon corners of a pyramid: F = 2n − 2.
+int corners_for(int facets) {
+  CAMPLACE_ASSERT(facets >= 4 && facets % 2 == 0);
+  return (facets + 2) / 2;
+}
+
+/// The basic tetrahedron made finer with the same volume (and the same z-range when the base is
+/// horizontal, as for every basic object but the robot's forearm): the pyramid with the same
+/// apex over a regular n-gon (F = 2n − 2 facets) in the base triangle's plane, inscribed in the
+/// base triangle's Steiner circumellipse shrunk about the centroid so the polygon's area equals
+/// the triangle's. For n = 3 that polygon is the triangle itself, so F = 4 gives the basic
+/// tetrahedron back (written as given); for the n ≥ 8 the facet families use, the polygon
+/// bulges beyond each edge by at most 36 % of the centroid–edge distance (a few cm here; every
+/// generated scene is checked against S and the other objects by the scene loader).
+Object finer(const NamedTetra& t, int facets) {
+  if (facets == 4) return tetra_object(t);
+  const int n = corners_for(facets);
+  const Vec3& a = t.points[0];
+  const Vec3& b = t.points[1];
+  const Vec3& c = t.points[2];
+  const Vec3 g = (a + b + c) / 3.0;
+  // Circumellipse g + u cos τ + w sin τ passes through a (τ = 0), b (2π/3), c (4π/3).
+  const Vec3 u = a - g;
+  const Vec3 w = (b - c) / std::sqrt(3.0);
+  // Area of a regular n-gon inscribed in that ellipse: |u × w| · (n/2) sin(2π/n); the
+  // triangle's: |u × w| · (3/2) sin(2π/3).
+  const double scale =
+      std::sqrt((1.5 * std::sin(2.0 * kPi / 3.0)) / (0.5 * n * std::sin(2.0 * kPi / n)));
+  std::vector<Vec3> ring;
+  for (int j = 0; j < n; ++j) {
+    const double tau = 2.0 * kPi * j / n;
+    ring.push_back(g + scale * (u * std::cos(tau) + w * std::sin(tau)));
+  }
+  Object o;
+  o.name = t.name;
+  o.mesh = pyramid(ring, t.points[3]);
+  return o;
+}
+
+/// Splits `total` facets over `parts` objects: even counts ≥ 4, as equal as possible, the
+/// larger ones first.
+std::vector<int> split_facets(int total, int parts) {
+  CAMPLACE_ASSERT(total % 2 == 0 && total >= 4 * parts);
+  const int pairs = total / 2;
+  std::vector<int> out;
+  for (int j = 0; j < parts; ++j) out.push_back(2 * (pairs / parts + (j < pairs % parts ? 1 : 0)));
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The basic setup (data/paper_basic.json), and the few additions some families need.
+
+const Box3 kArea{Vec3(0, 0, 0), Vec3(4, 3, 3)};
+constexpr std::array<int, 3> kBasicVoxels{16, 12, 12};
+constexpr int kBasicCameras = 6;
+
+std::vector<NamedTetra> basic_static() {
+  return {{"cabinet",
+           {Vec3(0.1, 0.1, 0.0), Vec3(1.0, 0.1, 0.0), Vec3(0.1, 0.8, 0.0), Vec3(0.3, 0.3, 1.1)}},
+          {"workbench",
+           {Vec3(3.0, 2.2, 0.0), Vec3(3.9, 2.3, 0.0), Vec3(3.9, 2.9, 0.0), Vec3(3.6, 2.6, 0.9)}}};
+}
+
+/// More furniture for the static_objects family, along the walls, clear of the robot and of
+/// the persons of the basic setup.
+std::vector<NamedTetra> extra_static() {
+  return {
+      {"shelf",
+       {Vec3(0.1, 2.3, 0.0), Vec3(0.7, 2.9, 0.0), Vec3(0.1, 2.9, 0.0), Vec3(0.25, 2.75, 1.6)}},
+      {"crate",
+       {Vec3(3.45, 0.1, 0.0), Vec3(3.9, 0.1, 0.0), Vec3(3.9, 0.45, 0.0), Vec3(3.8, 0.2, 0.6)}},
+      {"cupboard",
+       {Vec3(3.55, 1.25, 0.0), Vec3(3.9, 1.25, 0.0), Vec3(3.9, 1.95, 0.0), Vec3(3.8, 1.6, 1.3)}}};
+}
+
+NamedTetra robot_pedestal() {
+  return {"robot pedestal",
+          {Vec3(2.6, 0.5, 0.0), Vec3(3.1, 0.5, 0.0), Vec3(2.85, 1.0, 0.0), Vec3(2.85, 0.7, 0.7)}};
+}
+
+/// The basic robot of 3 tetrahedra: poses 0 (reaching toward the persons, −x) and 1 (turned
+/// toward +y) are the basic ones; pose 2 (turned toward +x) is added for 3 time steps.
+std::vector<NamedTetra> robot_pose(int pose) {
+  const Vec3 b0(2.75, 0.62, 0.66), b1(2.95, 0.62, 0.66), b2(2.85, 0.8, 0.66);
+  switch (pose) {
+    case 0:
+      return {robot_pedestal(),
+              {"robot upper arm", {b0, b1, b2, Vec3(2.7, 0.95, 0.98)}},
+              {"robot forearm",
+               {Vec3(2.66, 0.92, 0.92), Vec3(2.76, 1.02, 0.97), Vec3(2.68, 1.04, 0.88),
+                Vec3(2.15, 1.3, 0.9)}}};
+    case 1:
+      return {robot_pedestal(),
+              {"robot upper arm", {b0, b1, b2, Vec3(3.05, 0.95, 0.98)}},
+              {"robot forearm",
+               {Vec3(3.0, 0.92, 0.92), Vec3(3.1, 1.02, 0.97), Vec3(3.02, 1.04, 0.88),
+                Vec3(3.3, 1.55, 0.9)}}};
+    default:
+      CAMPLACE_ASSERT(pose == 2);
+      return {robot_pedestal(),
+              {"robot upper arm", {b0, b1, b2, Vec3(3.1, 0.6, 0.98)}},
+              {"robot forearm",
+               {Vec3(3.05, 0.57, 0.92), Vec3(3.15, 0.67, 0.97), Vec3(3.07, 0.69, 0.88),
+                Vec3(3.65, 0.45, 0.9)}}};
+  }
+}
+
+/// A robot of 2 tetrahedra (pedestal and one arm) for the dynamic_steps family; at step h the
+/// arm points at 180° − 30°·h (from −x toward the persons over +y), its tip at 0.95 m.
+std::vector<NamedTetra> two_link_robot(int step) {
+  const double phi = (180.0 - 30.0 * step) * kPi / 180.0;
+  const Vec3 tip(2.85 + 0.65 * std::cos(phi), 0.7 + 0.65 * std::sin(phi), 0.95);
+  return {robot_pedestal(),
+          {"robot arm",
+           {Vec3(2.75, 0.62, 0.66), Vec3(2.95, 0.62, 0.66), Vec3(2.85, 0.8, 0.66), rounded(tip)}}};
+}
+
+/// Where a person stands: the basic setup's 3 places, then 2 more for unmodelled_events.
+const std::array<std::array<double, 2>, 5> kPlaces{
+    {{1.2, 1.6}, {1.7, 2.3}, {1.5, 0.7}, {0.6, 1.6}, {2.3, 2.0}}};
+
+/// The basic person of 2 tetrahedra standing at place `place` (computed as the basic file's
+/// numbers were, so the 3 basic places reproduce them bit for bit).
+std::vector<NamedTetra> person(int place) {
+  const double x = kPlaces[place][0], y = kPlaces[place][1];
+  return {{"person legs-head",
+           {Vec3(x - 0.22, y - 0.12, 0.0), Vec3(x + 0.22, y - 0.12, 0.0), Vec3(x, y + 0.2, 0.0),
+            Vec3(x, y, 1.75)}},
+          {"person shoulders-feet",
+           {Vec3(x - 0.25, y - 0.05, 1.45), Vec3(x + 0.25, y - 0.05, 1.45), Vec3(x, y + 0.15, 1.45),
+            Vec3(x, y + 0.02, 0.0)}}};
+}
+
+/// Event weights for L events, summing to 1 (L = 3: the basic setup's 0.5, 0.3, 0.2).
+std::vector<double> event_weights(int events) {
+  switch (events) {
+    case 1:
+      return {1.0};
+    case 2:
+      return {0.6, 0.4};
+    case 3:
+      return {0.5, 0.3, 0.2};
+    case 4:
+      return {0.4, 0.3, 0.2, 0.1};
+    default:
+      CAMPLACE_ASSERT(events == 5);
+      return {0.3, 0.25, 0.2, 0.15, 0.1};
+  }
+}
+
+std::vector<Object> finer_all(const std::vector<NamedTetra>& tetras, int facets) {
+  std::vector<Object> out;
+  for (const NamedTetra& t : tetras) out.push_back(finer(t, facets));
+  return out;
+}
+
+/// The basic persons at places 0..events−1, each part with `facets` facets.
+std::vector<Event> person_events(int events, int facets) {
+  const std::vector<double> weights = event_weights(events);
+  std::vector<Event> out;
+  for (int l = 0; l < events; ++l) out.push_back({weights[l], finer_all(person(l), facets)});
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Random placement (dynamic_objects, unmodelled_objects)
+
+/// Uniform in [0, 1) from the raw 32-bit output, which the standard fixes for std::mt19937
+/// (std::uniform_real_distribution is not portable across standard libraries).
+double unit(std::mt19937& rng) { return static_cast<double>(rng()) / 4294967296.0; }
+
+bool boxes_apart(const Box3& a, const Box3& b, double margin) {
+  for (int i = 0; i < 3; ++i) {
+    if (a.max[i] + margin < b.min[i] || b.max[i] + margin < a.min[i]) return true;
+  }
+  return false;
+}
+
+bool inside_area(const Box3& b) {
+  return b.min.x() >= kArea.min.x() + kWallMargin && b.max.x() <= kArea.max.x() - kWallMargin &&
+         b.min.y() >= kArea.min.y() + kWallMargin && b.max.y() <= kArea.max.y() - kWallMargin &&
+         b.min.z() >= kArea.min.z() && b.max.z() <= kArea.max.z();
+}
+
+struct PyramidShape {
+  double radius_lo, radius_hi;  ///< circumradius of the regular base polygon (m)
+  double height_lo, height_hi;  ///< z-extent (m)
+  double lean;                  ///< apex offset from the axis, fraction of the radius
+  bool upright;                 ///< base on the floor (else base on top, apex on the floor)
+};
+
+/// Draws pyramids with the given facet counts at random places in S until each has its
+/// bounding box kClearance away from every box in `avoid` (and from the ones drawn before).
+std::vector<Object> place_randomly(std::mt19937& rng, const std::vector<int>& facets,
+                                   const PyramidShape& shape, const std::string& name,
+                                   std::vector<Box3> avoid) {
+  std::vector<Object> out;
+  for (std::size_t j = 0; j < facets.size(); ++j) {
+    const int n = corners_for(facets[j]);
+    const bool upright = shape.upright || j % 2 == 0;
+    bool placed = false;
+    for (int attempt = 0; attempt < 100000 && !placed; ++attempt) {
+      const double r = shape.radius_lo + (shape.radius_hi - shape.radius_lo) * unit(rng);
+      const double h = shape.height_lo + (shape.height_hi - shape.height_lo) * unit(rng);
+      const double turn = 2.0 * kPi * unit(rng);
+      const Vec3 center(kArea.min.x() + kArea.size().x() * unit(rng),
+                        kArea.min.y() + kArea.size().y() * unit(rng), 0.0);
+      const Vec3 lean(shape.lean * r * (2.0 * unit(rng) - 1.0),
+                      shape.lean * r * (2.0 * unit(rng) - 1.0), 0.0);
+      const double base_z = upright ? 0.0 : h, apex_z = upright ? h : 0.0;
+      std::vector<Vec3> ring;
+      for (int k = 0; k < n; ++k) {
+        const double a = turn + 2.0 * kPi * k / n;
+        ring.push_back(center + Vec3(r * std::cos(a), r * std::sin(a), base_z));
+      }
+      TriangleMesh mesh = pyramid(ring, center + lean + Vec3(0, 0, apex_z));
+      const Box3 box = core::bounding_box(mesh);
+      if (!inside_area(box)) continue;
+      if (!std::all_of(avoid.begin(), avoid.end(),
+                       [&](const Box3& o) { return boxes_apart(box, o, kClearance); })) {
+        continue;
+      }
+      avoid.push_back(box);
+      Object o;
+      o.name = name + " " + std::to_string(j + 1) + " (" + (upright ? "upright" : "inverted") +
+               " pyramid over a " + std::to_string(n) + "-gon)";
+      o.mesh = std::move(mesh);
+      out.push_back(std::move(o));
+      placed = true;
+    }
+    // The free floor of S is far larger than what these objects need: not finding a place is a
+    // bug in the shapes above, not a user error.
+    CAMPLACE_ASSERT(placed);
+  }
+  return out;
+}
+
+std::vector<Box3> boxes_of(const std::vector<Object>& objects) {
+  std::vector<Box3> out;
+  for (const Object& o : objects) out.push_back(core::bounding_box(o.mesh));
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Families
+
+const std::vector<SceneFamily> kFamilies = {
+    {"resolution", true, 0, 5, false, "voxels (16+4i)x(12+3i)x(12+3i)"},
+    {"static_facets", true, 0, 5, false, "8+60i static facets at 2 objects (4+30i each)"},
+    {"static_objects", true, 0, 3, false,
+     "2+i static tetrahedra, 8+4i facets (the paper's \"6+4i facets at 2+i objects\" is "
+     "impossible for closed polyhedra)"},
+    {"dynamic_facets", true, 0, 5, false,
+     "24+60i dynamic facets at 3 objects per time step, 2 time steps (4+10i each)"},
+    {"dynamic_objects", true, 0, 3, true,
+     "2+i dynamic objects with 24+4i facets in total, 1 time step, placed randomly"},
+    {"dynamic_steps", true, 1, 5, false,
+     "i time steps with 2i dynamic tetrahedra (8i facets), 3 events per step"},
+    {"unmodelled_facets", true, 0, 5, false,
+     "24+60i target facets at 2 objects per event, 3 events (4+10i each)"},
+    {"unmodelled_objects", true, 0, 3, true,
+     "2+i target objects with 24+4i facets in total, 1 event, placed randomly"},
+    {"unmodelled_events", true, 1, 5, false,
+     "i events with 2i target tetrahedra (8i facets), 3 time steps"},
+    {"cameras", true, 3, 9, false, "i cameras"},
+    {"domain_ceiling", false, 0, 0, false, "cameras on the ceiling only (domain preset ceiling)"},
+    {"domain_upper_fourth", false, 0, 0, false,
+     "cameras in the upper fourth of S's height only (domain preset upper_fourth)"},
+};
+
+struct SceneSpec {
+  std::array<int, 3> voxels = kBasicVoxels;
+  int cameras = kBasicCameras;
+  std::string domain = "room";
+  std::vector<Object> statics;
+  std::vector<Step> steps;
+  std::string note;
+};
+
+SceneSpec basic_scene() {
+  SceneSpec s;
+  s.statics = finer_all(basic_static(), 4);
+  for (int h = 0; h < 2; ++h) s.steps.push_back({finer_all(robot_pose(h), 4), person_events(3, 4)});
+  return s;
+}
+
+SceneSpec build(const SceneFamily& family, int i, unsigned seed) {
+  SceneSpec s = basic_scene();
+  const std::string& f = family.name;
+  std::mt19937 rng(seed);
+  if (f == "resolution") {
+    s.voxels = {16 + 4 * i, 12 + 3 * i, 12 + 3 * i};
+  } else if (f == "static_facets") {
+    s.statics = finer_all(basic_static(), 4 + 30 * i);
+  } else if (f == "static_objects") {
+    std::vector<NamedTetra> tetras = basic_static();
+    const std::vector<NamedTetra> extra = extra_static();
+    tetras.insert(tetras.end(), extra.begin(), extra.begin() + i);
+    s.statics = finer_all(tetras, 4);
+    s.note =
+        " Note: SPEC §9 lists \"6+4i facets at 2+i objects\", impossible for closed "
+        "polyhedra (each has at least 4 facets); this scene has 2+i tetrahedra, 8+4i facets.";
+  } else if (f == "dynamic_facets") {
+    for (int h = 0; h < 2; ++h) s.steps[h].dynamic = finer_all(robot_pose(h), 4 + 10 * i);
+  } else if (f == "dynamic_objects") {
+    s.steps.resize(1);
+    std::vector<Box3> avoid = boxes_of(s.statics);
+    for (const Event& e : s.steps[0].events) {
+      const std::vector<Box3> b = boxes_of(e.targets);
+      avoid.insert(avoid.end(), b.begin(), b.end());
+    }
+    // Robot-like links on the floor, tops in [0.5, 0.95] m (< 1 m, see the file comment).
+    const PyramidShape shape{0.15, 0.3, 0.5, 0.95, 0.5, true};
+    s.steps[0].dynamic =
+        place_randomly(rng, split_facets(24 + 4 * i, 2 + i), shape, "robot part", avoid);
+  } else if (f == "dynamic_steps") {
+    s.steps.clear();
+    for (int h = 0; h < i; ++h)
+      s.steps.push_back({finer_all(two_link_robot(h), 4), person_events(3, 4)});
+  } else if (f == "unmodelled_facets") {
+    for (Step& step : s.steps) step.events = person_events(3, 4 + 10 * i);
+  } else if (f == "unmodelled_objects") {
+    std::vector<Box3> avoid = boxes_of(s.statics);
+    for (const Step& step : s.steps) {
+      const std::vector<Box3> b = boxes_of(step.dynamic);
+      avoid.insert(avoid.end(), b.begin(), b.end());
+    }
+    // Person-part-like pyramids 1.5–1.9 m tall (≥ 1.45 m, see the file comment), alternately
+    // upright (like legs-head) and inverted (like shoulders-feet).
+    const PyramidShape shape{0.15, 0.3, 1.5, 1.9, 0.3, false};
+    const Event event{1.0,
+                      place_randomly(rng, split_facets(24 + 4 * i, 2 + i), shape, "target", avoid)};
+    for (Step& step : s.steps) step.events = {event};
+  } else if (f == "unmodelled_events") {
+    s.steps.clear();
+    for (int h = 0; h < 3; ++h)
+      s.steps.push_back({finer_all(robot_pose(h), 4), person_events(i, 4)});
+  } else if (f == "cameras") {
+    s.cameras = i;
+  } else if (f == "domain_ceiling") {
+    s.domain = "ceiling";
+  } else if (f == "domain_upper_fourth") {
+    s.domain = "upper_fourth";
+  }
+  return s;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Output
+
+/// x rounded down to 6 decimals, never above x.
+double floor6(double x) {
+  double k = std::floor(x * 1e6);
+  while (k / 1e6 > x) k -= 1.0;
+  return k / 1e6;
+}
+
+Json vec_json(const Vec3& v) { return Json::array({v.x(), v.y(), v.z()}); }
+
+Json object_json(const Object& o) {
+  Json j;
+  j["name"] = o.name;
+  if (o.tetrahedron) {
+    Json points = Json::array();
+    for (const Vec3& v : o.mesh.vertices) points.push_back(vec_json(v));
+    j["tetrahedron"] = points;
+  } else {
+    Json vertices = Json::array(), triangles = Json::array();
+    for (const Vec3& v : o.mesh.vertices) vertices.push_back(vec_json(v));
+    for (const auto& t : o.mesh.triangles) triangles.push_back(Json::array({t[0], t[1], t[2]}));
+    j["mesh"] = {{"vertices", vertices}, {"triangles", triangles}};
+  }
+  return j;
+}
+
+Json objects_json(const std::vector<Object>& objects) {
+  Json list = Json::array();
+  for (const Object& o : objects) list.push_back(object_json(o));
+  return list;
+}
+
+std::size_t facets_of(const std::vector<Object>& objects) {
+  std::size_t n = 0;
+  for (const Object& o : objects) n += o.mesh.triangles.size();
+  return n;
+}
+
+/// Internal invariants of every generated scene (the scene loader checks the rest).
+void check_invariants(const SceneSpec& s) {
+  CAMPLACE_ASSERT(!s.steps.empty());
+  for (const Step& step : s.steps) {
+    CAMPLACE_ASSERT(!step.dynamic.empty());  // the critical objects (SPEC §2 default)
+    for (const Object& o : step.dynamic) {
+      CAMPLACE_ASSERT(core::bounding_box(o.mesh).max.z() < kDynamicTopLimit);
+    }
+    double sum = 0.0;
+    for (const Event& e : step.events) {
+      sum += e.weight;
+      for (const Object& o : e.targets) {
+        CAMPLACE_ASSERT(core::bounding_box(o.mesh).size().z() >= kTargetMinHeight);
+      }
+    }
+    CAMPLACE_ASSERT(std::abs(sum - 1.0) < 1e-12);
+  }
+}
+
+std::string describe(const SceneFamily& family, std::optional<int> param, unsigned seed,
+                     const SceneSpec& s) {
+  std::size_t dyn_facets = 0, dyn_objects = 0;
+  for (const Step& step : s.steps) {
+    dyn_facets += facets_of(step.dynamic);
+    dyn_objects += step.dynamic.size();
+  }
+  std::size_t target_facets = 0, target_objects = 0;
+  for (const Event& e : s.steps[0].events) {
+    target_facets += facets_of(e.targets);
+    target_objects += e.targets.size();
+  }
+  std::ostringstream d;
+  d << "Generated by `camplace generate " << family.name;
+  if (param) d << " --param " << *param;
+  d << " --seed " << seed << "` from the paper's basic setup (data/paper_basic.json): family "
+    << family.name;
+  if (param) d << ", param i = " << *param;
+  d << " (" << family.what << "), seed " << seed
+    << (family.random ? "" : " (the placement does not depend on the seed)") << ". Static "
+    << facets_of(s.statics) << " facets at " << s.statics.size() << " objects; dynamic "
+    << dyn_facets << " facets at " << dyn_objects << " objects in " << s.steps.size()
+    << " time step" << (s.steps.size() == 1 ? "" : "s") << "; unmodelled " << target_facets
+    << " facets at " << target_objects << " objects in " << s.steps[0].events.size() << " event"
+    << (s.steps[0].events.size() == 1 ? "" : "s") << " (the same targets in every time step); "
+    << s.cameras << " cameras, domain " << s.domain << "; voxels " << s.voxels[0] << "x"
+    << s.voxels[1] << "x" << s.voxels[2] << "." << s.note;
+  return d.str();
+}
+
+std::string scene_json(const SceneSpec& s, const std::string& description) {
+  check_invariants(s);
+  double min_volume = INFINITY, min_height = INFINITY;
+  for (const Step& step : s.steps) {
+    for (const Event& e : step.events) {
+      for (const Object& o : e.targets) {
+        min_volume = std::min(min_volume, std::abs(core::signed_volume(o.mesh)));
+        min_height = std::min(min_height, core::bounding_box(o.mesh).size().z());
+      }
+    }
+  }
+  Json doc;
+  doc["description"] = description;
+  doc["area"] = {{"min", vec_json(kArea.min)}, {"max", vec_json(kArea.max)}};
+  doc["voxels"] = Json::array({s.voxels[0], s.voxels[1], s.voxels[2]});
+  doc["cameras"] = {{"count", s.cameras},
+                    {"half_angle_deg", 30},
+                    {"fov", "cone"},
+                    {"sides", 16},
+                    {"domain", s.domain}};
+  doc["static_obstacles"] = objects_json(s.statics);
+  Json steps = Json::array();
+  for (std::size_t h = 0; h < s.steps.size(); ++h) {
+    Json events = Json::array();
+    for (const Event& e : s.steps[h].events) {
+      events.push_back({{"weight", e.weight}, {"targets", objects_json(e.targets)}});
+    }
+    Json step;
+    step["t"] = static_cast<double>(h);
+    step["dynamic_obstacles"] = objects_json(s.steps[h].dynamic);
+    step["events"] = events;
+    steps.push_back(step);
+  }
+  doc["time_steps"] = steps;
+  doc["dynamic_mode"] = "masked";
+  // The smallest target part, rounded down: a component holding a whole part is never smaller,
+  // so no true target part is discarded (data/README.md, "plausibility").
+  doc["plausibility"] = {{"min_volume", floor6(min_volume)}, {"min_height", floor6(min_height)}};
+  return doc.dump(1) + "\n";
+}
+
+const SceneFamily& find_family(const std::string& name) {
+  for (const SceneFamily& f : kFamilies) {
+    if (f.name == name) return f;
+  }
+  std::string names;
+  for (const SceneFamily& f : kFamilies) names += (names.empty() ? "" : ", ") + f.name;
+  throw core::InputError("command line", "FAMILY",
+                         "unknown scene family \"" + name + "\" (expected one of: " + names + ")");
+}
+
+void check_param(const SceneFamily& f, std::optional<int> param) {
+  const std::string range =
+      "[" + std::to_string(f.min_param) + ", " + std::to_string(f.max_param) + "]";
+  if (f.has_param && !param) {
+    throw core::InputError(
+        "command line", "--param",
+        "family " + f.name + " needs --param i with i in " + range + " (" + f.what + ")");
+  }
+  if (!f.has_param && param) {
+    throw core::InputError("command line", "--param", "family " + f.name + " takes no --param");
+  }
+  if (param && (*param < f.min_param || *param > f.max_param)) {
+    throw core::InputError("command line", "--param",
+                           "family " + f.name + " takes i in " + range + " (" + f.what + "), got " +
+                               std::to_string(*param));
+  }
+}
+
+}  // namespace
+
+const std::vector<SceneFamily>& scene_families() { return kFamilies; }
+
+std::string generate_scene_json(const std::string& family, std::optional<int> param,
+                                unsigned seed) {
+  const SceneFamily& f = find_family(family);
+  check_param(f, param);
+  const SceneSpec spec = build(f, param.value_or(0), seed);
+  return scene_json(spec, describe(f, param, seed, spec));
+}
+
+std::string write_generated_scene(const std::string& family, std::optional<int> param,
+                                  unsigned seed, const std::string& path) {
+  namespace fs = std::filesystem;
+  const std::string text = generate_scene_json(family, param, seed);
+  // Written beside the target and validated there (the loader checks everything SPEC §2 lists),
+  // then renamed: a scene that does not load is never published.
+  const std::string check = path + ".check" + std::to_string(::getpid());
+  try {
+    core::write_file_atomically(check, text);
+  } catch (const std::exception& e) {
+    throw core::InputError("command line", "--out", e.what());
+  }
+  try {
+    (void)core::load_scene(check);
+  } catch (const std::exception& e) {
+    std::error_code ec;
+    fs::remove(check, ec);
+    throw std::logic_error("internal error: the generated scene does not load: " +
+                           std::string(e.what()));
+  }
+  std::error_code ec;
+  fs::rename(check, path, ec);
+  if (ec) {
+    fs::remove(check, ec);
+    throw core::InputError("command line", "--out", path + ": cannot write: " + ec.message());
+  }
+  return nlohmann::json::parse(text)["description"].get<std::string>();
+}
+
+}  // namespace camplace::compare

@@ -1,0 +1,98 @@
+#pragma once
+/// The exact reference pipeline of SPEC §6: the model of SPEC §3–4 built with CGAL Nef polyhedra
+/// (Epeck) on the inscribed k-sided camera pyramids, exact component volumes and z-extents for the
+/// plausibility filter, exact squared distances. No CGAL type appears here.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "camplace/core/camera.hpp"
+#include "camplace/core/geometry.hpp"
+#include "camplace/core/scene.hpp"
+
+namespace camplace::exact {
+
+/// Options of the exact evaluation.
+struct ExactOptions {
+  /// Empty: no export. Otherwise a directory (created if missing) that receives each state's
+  /// model as `state-h<H>-e<L>-model.off` and each camera's pyramid (clipped to S) as
+  /// `camera-<i>-pyramid.off` (triangle meshes, metres, world frame; readable by MeshLab).
+  std::string export_dir;
+  /// Keep each state's model in ExactEvaluation::models (for validation).
+  bool keep_models = false;
+};
+
+/// One state's exact result. Distances in metres, squared distances as exact fractions "p/q".
+struct ExactStateResult {
+  int time_step = 0;
+  int event = 0;
+  double weight = 0.0;
+  double d_true = 0.0;
+  double d_model = 0.0;
+  double model_volume = 0.0;   ///< m³, after the plausibility filter
+  int components = 0;          ///< components kept by the plausibility filter
+  int components_removed = 0;  ///< components the filter discarded
+  std::string d_true_sq_exact;
+  std::string d_model_sq_exact;
+};
+
+/// Wall-clock split of one evaluation (milliseconds).
+struct ExactTiming {
+  double model_ms = 0.0;       ///< FOVs, shadows, silhouette cones and the Nef model
+  double clustering_ms = 0.0;  ///< components, exact volumes and heights, filter
+  double distance_ms = 0.0;    ///< exact distances (d_model and d_true)
+  double total_ms = 0.0;
+};
+
+/// One connected component of a model (connected through interiors), before the filter.
+struct ExactComponent {
+  double volume = 0.0;  ///< m³ (exact value rounded)
+  double z_min = 0.0, z_max = 0.0;  ///< m
+  bool kept = true;  ///< survived the plausibility filter
+};
+
+/// The exact model M of one state after the plausibility filter (SPEC §4). Cheap to copy
+/// (shared, immutable).
+class ExactModel {
+ public:
+  ExactModel();
+  /// True when p (m, world frame) lies in the closed model (points on the boundary count).
+  bool contains(const core::Vec3& p) const;
+  /// True when the model is empty.
+  bool empty() const;
+  /// Exact volume rounded to double (m³).
+  double volume() const;
+  /// Number of connected components (connected through interiors) kept by the filter.
+  int components() const;
+  /// Every component found before the filter, kept or not.
+  std::vector<ExactComponent> component_info() const;
+  /// The model's boundary as a triangle soup rounded to double (outward orientation).
+  core::TriangleMesh boundary_mesh() const;
+
+  struct Impl;
+  explicit ExactModel(std::shared_ptr<const Impl> impl);
+
+ private:
+  std::shared_ptr<const Impl> impl_;
+};
+
+/// Exact evaluation of every state (SPEC §6) with the given camera configuration.
+struct ExactEvaluation {
+  double err = 0.0;  ///< Σ ω (d_true − d_model)², m²
+  std::vector<ExactStateResult> states;
+  ExactTiming timing;
+  std::vector<ExactModel> models;  ///< one per state when ExactOptions::keep_models
+};
+
+/// Evaluates Err exactly for `config` (one setting per camera of `scene`). The FOV is always
+/// the inscribed pyramid with `scene.cameras.sides` sides (SPEC §1), cut at the optional range.
+/// Throws std::invalid_argument when the configuration does not match the scene and
+/// std::runtime_error when an export file cannot be written.
+ExactEvaluation evaluate_exact(const core::Scene& scene, const core::CameraConfig& config,
+                               const ExactOptions& options = {});
+
+/// The exact model of one state (for validation). Same semantics as evaluate_exact.
+ExactModel build_exact_model(const core::Scene& scene, const core::CameraConfig& config,
+                             const core::StateIndex& state);
+
+}  // namespace camplace::exact

@@ -1,0 +1,20 @@
+#include "camplace/optimize/objective.hpp"
+
+#include "camplace/core/err.hpp"
+
+namespace camplace::optimize {
+
+VoxelObjective::VoxelObjective(const core::Scene& scene, const voxel::VoxelOptions& options)
+    : evaluator_(scene, options) {}
+
+double VoxelObjective::evaluate(const core::CameraConfig& config, voxel::Timing& timing) const {
+  voxel::Evaluation evaluation = evaluator_.evaluate(config);
+  timing = evaluation.timing;
+  return evaluation.err;
+}
+
+double VoxelObjective::default_tolerance() const {
+  return core::default_tolerance(evaluator_.grid().area, evaluator_.grid().n);
+}
+
+}  // namespace camplace::optimize

@@ -1,0 +1,190 @@
+#include "camplace/optimize/optimizer.hpp"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <pagmo/population.hpp>
+#include <pagmo/problem.hpp>
+
+#include "camplace/core/error.hpp"
+#include "camplace/optimize/encoding.hpp"
+#include "problem.hpp"
+#include "solvers.hpp"
+
+namespace camplace::optimize {
+namespace {
+
+using detail::RunState;
+using detail::Solver;
+using detail::StopRequested;
+
+/// The configuration as `camplace evaluate --cameras` will read it back from the run file.
+/// Angles are stored in degrees, so rad → deg → rad may move them by an ulp; re-reading through
+/// the real reader makes the reported Err exactly the one evaluate computes (issue 4).
+core::CameraConfig json_round_trip(const core::CameraConfig& config, const core::Scene& scene) {
+  namespace fs = std::filesystem;
+  std::string pattern = (fs::temp_directory_path() / "camplace-cameras-XXXXXX.json").string();
+  std::vector<char> name(pattern.begin(), pattern.end());
+  name.push_back('\0');
+  const int fd = ::mkstemps(name.data(), 5);
+  if (fd < 0) return config;  // no temporary directory: keep the in-memory configuration
+  ::close(fd);
+  const std::string path(name.data());
+  {
+    std::ofstream out(path);
+    out << core::camera_config_json(config) << '\n';
+  }
+  core::CameraConfig reread = core::load_camera_config(path, scene);
+  std::error_code ignored;
+  fs::remove(path, ignored);
+  return reread;
+}
+
+/// Fills pop with its initial individuals: the start (if any) and random ones, evaluated as a
+/// batch when the solver evaluates batches.
+void fill_population(pagmo::population& pop, const std::vector<pagmo::vector_double>& xs,
+                     bool batch) {
+  if (batch) {
+    pagmo::vector_double flat;
+    for (const auto& x : xs) flat.insert(flat.end(), x.begin(), x.end());
+    const pagmo::vector_double f = pop.get_problem().batch_fitness(flat);
+    for (std::size_t i = 0; i < xs.size(); ++i) pop.push_back(xs[i], {f[i]});
+  } else {
+    for (const auto& x : xs) pop.push_back(x);
+  }
+}
+
+std::vector<pagmo::vector_double> initial_points(pagmo::population& pop, unsigned size,
+                                                 const std::optional<pagmo::vector_double>& start) {
+  std::vector<pagmo::vector_double> xs;
+  if (start) xs.push_back(*start);
+  while (xs.size() < size) xs.push_back(pop.random_decision_vector());
+  return xs;
+}
+
+}  // namespace
+
+const char* to_string(StopReason reason) {
+  switch (reason) {
+    case StopReason::tolerance: return "tolerance";
+    case StopReason::time_limit: return "time_limit";
+    case StopReason::max_evaluations: return "max_evaluations";
+    case StopReason::interrupted: return "interrupted";
+  }
+  return "unknown";
+}
+
+MemoryUsage peak_memory() {
+  MemoryUsage usage;
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line)) {
+    std::istringstream fields(line);
+    std::string key;
+    std::uint64_t kb = 0;
+    fields >> key >> kb;
+    if (key == "VmHWM:") usage.vm_hwm_kb = kb;
+    if (key == "VmPeak:") usage.vm_peak_kb = kb;
+  }
+  return usage;
+}
+
+RunResult optimize(const core::Scene& scene, const Objective& objective,
+                   const OptimizeOptions& options) {
+  const Encoding encoding(scene);
+  if (encoding.dimension() == 0) {
+    throw core::InputError(scene.file, "/cameras",
+                           "the domain fixes every camera setting; there is nothing to optimise");
+  }
+  const double tolerance = options.tolerance.value_or(objective.default_tolerance());
+
+  std::optional<pagmo::vector_double> start;
+  if (options.start.kind == StartKind::corners) {
+    start = encoding.encode(corner_start(scene));
+  } else if (options.start.kind == StartKind::file) {
+    start = encoding.encode(core::load_camera_config(options.start.file, scene));
+  }
+
+  Solver solver =
+      detail::make_solver(options.algorithm, options.seed, options.population,
+                          encoding.dimension());
+  auto state = std::make_shared<RunState>(objective, encoding, options, tolerance);
+  const pagmo::problem problem{detail::CameraProblem{state}};
+
+  RunResult result;
+  result.algorithm = options.algorithm;
+  result.seed = options.seed;
+  result.threads = state->threads();
+  result.population = static_cast<int>(solver.population);
+  result.dimension = encoding.dimension();
+  result.tolerance = tolerance;
+
+  pagmo::vector_double first_point;
+  bool have_start_err = false;
+  try {
+    pagmo::population pop(problem, 0u, options.seed);
+    std::vector<pagmo::vector_double> xs = initial_points(pop, solver.population, start);
+    first_point = xs.front();
+    fill_population(pop, xs, solver.batch);
+    result.start_err = state->best_err();
+    have_start_err = true;
+    for (;;) {
+      if (auto reason = state->external_stop()) {
+        state->stop(*reason);
+        break;
+      }
+      const std::uint64_t before = state->evaluations();
+      pop = solver.algorithm.evolve(pop);
+      if (state->evaluations() == before) {
+        // The solver has converged and stopped evaluating: restart it (deterministically
+        // reseeded) from a fresh population that keeps the best point found so far.
+        ++result.restarts;
+        const unsigned seed = options.seed + 7919u * static_cast<unsigned>(result.restarts);
+        solver = detail::make_solver(options.algorithm, seed, options.population,
+                                     encoding.dimension());
+        pagmo::population fresh(problem, 0u, seed);
+        fill_population(fresh, initial_points(fresh, solver.population, state->best_x()),
+                        solver.batch);
+        pop = std::move(fresh);
+      }
+    }
+  } catch (const StopRequested&) {
+    // A stop criterion fired inside an evaluation; the run state holds the best so far.
+  }
+
+  if (state->evaluations() == 0) {
+    // Stopped before the first evaluation (an immediate Ctrl-C or a tiny time limit): evaluate
+    // the first initial point so the run still has a result.
+    if (first_point.empty()) first_point = encoding.encode(corner_start(scene));
+    voxel::Timing timing;
+    const double err = objective.evaluate(encoding.decode(first_point), timing);
+    state->record(first_point, err, timing);
+  }
+  if (!have_start_err) result.start_err = state->best_err();
+
+  result.seconds = state->seconds();
+  result.stop_reason = state->stop_reason().value_or(StopReason::interrupted);
+  result.evaluations = state->evaluations();
+  result.evaluations_to_best = state->best_index();
+  result.history = state->history();
+  result.search_err = state->best_err();
+  const double n = static_cast<double>(result.evaluations);
+  const voxel::Timing& sum = state->timing_sum();
+  result.mean_timing = {sum.labelling_ms / n, sum.clustering_ms / n, sum.distance_ms / n,
+                        sum.total_ms / n};
+  result.wall_ms_per_evaluation = result.seconds * 1000.0 / n;
+
+  result.best = json_round_trip(encoding.decode(state->best_x()), scene);
+  voxel::Timing timing;
+  result.err = objective.evaluate(result.best, timing);
+  result.reached_tolerance = result.err <= tolerance;
+  result.memory = peak_memory();
+  return result;
+}
+
+}  // namespace camplace::optimize

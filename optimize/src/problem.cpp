@@ -1,0 +1,139 @@
+#include "problem.hpp"
+
+#include <algorithm>
+#include <thread>
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "camplace/core/error.hpp"
+
+namespace camplace::optimize::detail {
+
+RunState::RunState(const Objective& objective, const Encoding& encoding,
+                   const OptimizeOptions& options, double tolerance)
+    : objective_(objective),
+      encoding_(encoding),
+      tolerance_(tolerance),
+      max_evaluations_(options.max_evaluations),
+      interrupt_(options.interrupt),
+      on_progress_(options.on_progress),
+      start_(Clock::now()) {
+  if (options.time_limit > 0.0) {
+    deadline_ = start_ + std::chrono::duration_cast<Clock::duration>(
+                             std::chrono::duration<double>(options.time_limit));
+  }
+  threads_ = options.threads > 0 ? options.threads
+                                 : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  arena_ = std::make_unique<tbb::task_arena>(threads_);
+}
+
+RunState::~RunState() = default;
+
+double RunState::seconds() const {
+  return std::chrono::duration<double>(Clock::now() - start_).count();
+}
+
+std::optional<StopReason> RunState::external_stop() const {
+  if (interrupt_ != nullptr && interrupt_->load(std::memory_order_relaxed)) {
+    return StopReason::interrupted;
+  }
+  if (deadline_ && Clock::now() >= *deadline_) return StopReason::time_limit;
+  return std::nullopt;
+}
+
+std::uint64_t RunState::remaining_budget() const {
+  if (max_evaluations_ == 0) return std::numeric_limits<std::uint64_t>::max();
+  const std::uint64_t done = evaluations_.load();
+  return done >= max_evaluations_ ? 0 : max_evaluations_ - done;
+}
+
+void RunState::stop(StopReason reason) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!stop_reason_) stop_reason_ = reason;
+}
+
+bool RunState::record(const pagmo::vector_double& x, double err, const voxel::Timing& timing) {
+  Progress progress;
+  bool must_stop = false;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const std::uint64_t index = ++evaluations_;
+    timing_sum_.labelling_ms += timing.labelling_ms;
+    timing_sum_.clustering_ms += timing.clustering_ms;
+    timing_sum_.distance_ms += timing.distance_ms;
+    timing_sum_.total_ms += timing.total_ms;
+    const double now = seconds();
+    // Strictly less: on ties the earlier evaluation stays the best (deterministic order).
+    if (err < best_err_) {
+      best_err_ = err;
+      best_x_ = x;
+      best_index_ = index;
+      history_.push_back({index, now, err});
+    }
+    if (!stop_reason_) {
+      if (best_err_ <= tolerance_) {
+        stop_reason_ = StopReason::tolerance;
+      } else if (max_evaluations_ != 0 && index >= max_evaluations_) {
+        stop_reason_ = StopReason::max_evaluations;
+      }
+    }
+    must_stop = stop_reason_.has_value();
+    progress = {index, best_err_, now};
+    if (on_progress_) on_progress_(progress);
+  }
+  return must_stop;
+}
+
+pagmo::vector_double CameraProblem::fitness(const pagmo::vector_double& x) const {
+  RunState& s = *state_;
+  if (auto reason = s.external_stop()) {
+    s.stop(*reason);
+    throw StopRequested{};
+  }
+  voxel::Timing timing;
+  const double err = s.objective().evaluate(s.encoding().decode(x), timing);
+  if (s.record(x, err, timing)) throw StopRequested{};
+  return {err};
+}
+
+pagmo::vector_double CameraProblem::batch_fitness(const pagmo::vector_double& dvs) const {
+  RunState& s = *state_;
+  const std::size_t nx = s.encoding().dimension();
+  CAMPLACE_ASSERT(nx > 0 && dvs.size() % nx == 0);
+  const std::size_t n = dvs.size() / nx;
+  if (auto reason = s.external_stop()) {
+    s.stop(*reason);
+    throw StopRequested{};
+  }
+  // The budget cuts the batch at a fixed index, so a budget-limited run is reproducible.
+  const std::size_t count = static_cast<std::size_t>(
+      std::min<std::uint64_t>(n, s.remaining_budget()));
+  std::vector<double> errs(count);
+  std::vector<voxel::Timing> timings(count);
+  std::vector<char> done(count, 0);
+  s.arena().execute([&] {
+    tbb::parallel_for(std::size_t{0}, count, [&](std::size_t i) {
+      if (s.external_stop()) return;  // Ctrl-C or time limit: skip what has not started
+      const pagmo::vector_double x(dvs.begin() + i * nx, dvs.begin() + (i + 1) * nx);
+      errs[i] = s.objective().evaluate(s.encoding().decode(x), timings[i]);
+      done[i] = 1;
+    });
+  });
+  bool must_stop = count < n;
+  for (std::size_t i = 0; i < count; ++i) {
+    if (!done[i]) continue;
+    const pagmo::vector_double x(dvs.begin() + i * nx, dvs.begin() + (i + 1) * nx);
+    must_stop = s.record(x, errs[i], timings[i]) || must_stop;
+  }
+  if (auto reason = s.external_stop()) s.stop(*reason);
+  if (must_stop || s.stop_reason()) throw StopRequested{};
+  return errs;
+}
+
+std::pair<pagmo::vector_double, pagmo::vector_double> CameraProblem::get_bounds() const {
+  if (!state_) return {{0.0}, {1.0}};
+  return state_->encoding().bounds();
+}
+
+}  // namespace camplace::optimize::detail

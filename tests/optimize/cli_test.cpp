@@ -1,0 +1,99 @@
+// Runs the real `camplace` binary: SIGINT during `camplace optimize` must leave a complete run
+// file whose configuration `camplace evaluate` accepts and whose Err it reproduces (issue 4).
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kBinary = CAMPLACE_BINARY;
+const std::string kScene = std::string(CAMPLACE_SOURCE_DIR) + "/data/paper_basic.json";
+
+/// Output of a command (stdout only).
+std::string capture(const std::string& command) {
+  std::string out;
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (pipe == nullptr) return out;
+  char buffer[4096];
+  std::size_t n;
+  while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) out.append(buffer, n);
+  ::pclose(pipe);
+  return out;
+}
+
+/// Waits up to `seconds` for pid; returns its wait status or -1 on timeout (then kills it).
+int wait_for(pid_t pid, double seconds) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  int status = 0;
+  while (std::chrono::steady_clock::now() < end) {
+    if (::waitpid(pid, &status, WNOHANG) == pid) return status;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ::kill(pid, SIGKILL);
+  ::waitpid(pid, &status, 0);
+  return -1;
+}
+
+TEST(Cli, SigintLeavesACompleteRunFileThatEvaluateReproduces) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("camplace-cli-test-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const std::string log = (dir.string() + ".log");
+
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    std::freopen(log.c_str(), "w", stdout);
+    std::freopen((log + ".err").c_str(), "w", stderr);
+    ::execl(kBinary.c_str(), kBinary.c_str(), "optimize", kScene.c_str(), "--out",
+            dir.c_str(), "--seed", "3", "--runs", "5", "--time-limit", "60", "--threads", "2",
+            static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  ASSERT_EQ(::kill(pid, SIGINT), 0);
+  const int status = wait_for(pid, 20.0);
+  ASSERT_NE(status, -1) << "camplace optimize did not stop after SIGINT";
+  ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
+  EXPECT_EQ(WEXITSTATUS(status), 0);
+
+  // The run file is complete JSON (written through a temporary file and a rename).
+  const fs::path run_file = dir / "run-3.json";
+  ASSERT_TRUE(fs::exists(run_file));
+  EXPECT_FALSE(fs::exists(dir / "run-3.json.tmp"));
+  EXPECT_FALSE(fs::exists(dir / "run-4.json"));  // Ctrl-C ends the whole job
+  std::ifstream in(run_file);
+  const nlohmann::json run = nlohmann::json::parse(in);  // throws on a truncated file
+  EXPECT_EQ(run.at("stop_reason"), "interrupted");
+  EXPECT_GT(run.at("evaluations").get<int>(), 0);
+  EXPECT_EQ(run.at("cameras").size(), 6u);
+  const nlohmann::json summary = nlohmann::json::parse(std::ifstream(dir / "summary.json"));
+  EXPECT_TRUE(summary.at("interrupted").get<bool>());
+  EXPECT_EQ(summary.at("runs"), 1);
+  EXPECT_TRUE(fs::exists(dir / "summary.csv"));
+
+  // `camplace evaluate` accepts the run file and reproduces its Err.
+  const std::string output =
+      capture("'" + kBinary + "' evaluate '" + kScene + "' --cameras '" + run_file.string() +
+              "' --json");
+  const nlohmann::json evaluated = nlohmann::json::parse(output);
+  EXPECT_EQ(evaluated.at("err").get<double>(), run.at("err").get<double>());
+
+  fs::remove_all(dir);
+  fs::remove(log);
+  fs::remove(log + ".err");
+}
+
+}  // namespace
