@@ -19,11 +19,14 @@
 #include "camplace/core/files.hpp"
 #include "camplace/core/json_reader.hpp"
 #include "camplace/core/scene.hpp"
+#include "format.hpp"
 #include "gnuplot.hpp"
 
 namespace camplace::compare {
 
 namespace {
+
+using detail::num;
 
 namespace fs = std::filesystem;
 
@@ -159,11 +162,6 @@ bool read_run(const std::string& path, RunRow& row) {
   return true;
 }
 
-std::string num(double v, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-  return buf;
-}
 
 double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
@@ -245,7 +243,7 @@ std::string plot(const std::string& dir, const std::string& name, const std::str
   std::ostringstream dat, cmd;
   int blocks = 0;
   cmd << "set title '" << title << "'\nset xlabel '" << xlabel << "'\nset ylabel '" << ylabel
-      << "'\nset grid\nset key top left\n";
+      << "'\nset grid\nset key top left box opaque\n";
   if (bars) cmd << "set style fill solid 0.6\nset boxwidth 0.6 relative\nset yrange [0:*]\n";
   std::string plot_cmd;
   for (const auto& [family, label] : series) {
@@ -275,6 +273,10 @@ StudyOutcome run_study(const StudyOptions& options) {
   fs::create_directories(dir + "/scenes");
   StudyOutcome outcome;
   std::vector<RunRow> rows;
+  int total_runs = 0;
+  for (const Examination& ex : spec.examinations) {
+    total_runs += static_cast<int>(ex.params.size()) * spec.runs_per_group;
+  }
   for (const Examination& ex : spec.examinations) {
     for (const std::optional<int>& param : ex.params) {
       const std::string group = group_name(ex, param);
@@ -298,8 +300,8 @@ StudyOutcome run_study(const StudyOptions& options) {
           continue;
         }
         if (outcome.interrupted) continue;
-        std::fprintf(stderr, "study: %s seed %u (%d of %d)\n", group.c_str(), row.seed,
-                     outcome.runs_total, spec.runs_per_group);
+        std::fprintf(stderr, "study: %s seed %u (run %d of %d)\n", group.c_str(), row.seed,
+                     outcome.runs_total, total_runs);
         const std::string cmd =
             quote(options.camplace) + " optimize " + quote(scene_path) + " --algorithm " + spec.algorithm +
             " --seed " + std::to_string(row.seed) + " --runs 1 --threads " + std::to_string(spec.threads) +
@@ -412,7 +414,7 @@ StudyOutcome run_study(const StudyOptions& options) {
       core::write_file_atomically(dir + "/time_vs_cameras.dat", dat.str());
       detail::gnuplot_png(dir + "/time_vs_cameras.png",
                           "set title 'Time per iteration against cameras (timing: varies between runs)'\n"
-                          "set xlabel 'cameras'\nset ylabel 'ms per evaluation'\nset grid\nset key top left\n"
+                          "set xlabel 'cameras'\nset ylabel 'ms per evaluation'\nset grid\nset key top left box opaque\n"
                           "set style data histograms\nset style histogram rowstacked\nset style fill solid 0.7\n"
                           "set boxwidth 0.6\nset yrange [0:*]\n"
                           "plot '" + dir + "/time_vs_cameras.dat' using 2:xtic(1) title 'intersection (labelling)', "

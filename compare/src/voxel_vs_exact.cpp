@@ -12,11 +12,15 @@
 #include "camplace/core/geometry.hpp"
 #include "camplace/exact/evaluator.hpp"
 #include "camplace/voxel/evaluator.hpp"
+#include "format.hpp"
 #include "gnuplot.hpp"
 
 namespace camplace::compare {
 
 namespace {
+
+using detail::num;
+using detail::resolution_text;
 
 using core::Vec3;
 
@@ -25,15 +29,7 @@ constexpr double kDistanceSlack = 1e-9;
 // Faces of the exact model lying on a voxel's boundary are not "inside" it.
 constexpr double kBoundarySlack = 1e-9;
 
-std::string resolution_text(const std::array<int, 3>& n) {
-  return std::to_string(n[0]) + "x" + std::to_string(n[1]) + "x" + std::to_string(n[2]);
-}
 
-std::string num(double v, int digits = 6) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-  return buf;
-}
 
 /// Counts voxels outside the voxel model that hold points of the exact model: a boundary
 /// triangle of the exact model reaching into the voxel's interior (shrunk by 1e-9 m), or the
@@ -76,8 +72,16 @@ int exact_outside_voxel_model(const exact::ExactModel& model, const voxel::Grid&
 
 }  // namespace
 
-CompareResult compare_voxel_exact(const core::Scene& scene, const core::CameraConfig& config,
+core::Scene with_pyramid_fov(const core::Scene& scene) {
+  // SPEC §1: whenever voxel and exact results are compared, both use the inscribed pyramid.
+  core::Scene out = scene;
+  out.cameras.fov = core::FovShape::pyramid;
+  return out;
+}
+
+CompareResult compare_voxel_exact(const core::Scene& original, const core::CameraConfig& config,
                                   const CompareOptions& options) {
+  const core::Scene scene = with_pyramid_fov(original);
   CompareResult result;
   exact::ExactOptions exact_options;
   exact_options.keep_models = true;
@@ -164,8 +168,8 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
   core::write_file_atomically(dir + "/error_vs_resolution.dat", dat.str());
   detail::gnuplot_png(dir + "/error_vs_resolution.png",
                       "set title 'Voxelisation error of d(C, M) against the exact pipeline'\n"
-                      "set xlabel 'voxel diagonal [m]'\nset ylabel '|d_{voxel} - d_{exact}| [m]'\n"
-                      "set key top left\nset grid\n"
+                      "set xlabel 'voxel diagonal [m]'\nset ylabel '|d_{voxel} - d_{exact}| [m] (log scale; 0 not shown)'\n"
+                      "set key top left box opaque\nset grid\nset logscale y\n"
                       "plot '" + dir + "/error_vs_resolution.dat' index 0 using 1:2 with linespoints title 'center: mean', "
                       "'' index 0 using 1:3 with linespoints title 'center: max', "
                       "'' index 1 using 1:2 with linespoints title 'conservative: mean', "
@@ -184,7 +188,7 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
   core::write_file_atomically(dir + "/d_voxel_vs_d_exact.dat", scatter.str());
   detail::gnuplot_png(dir + "/d_voxel_vs_d_exact.png",
                       "set title 'd(C, M) per state: voxel pipeline against exact'\n"
-                      "set xlabel 'd_{exact} [m]'\nset ylabel 'd_{voxel} [m]'\nset key top left\nset grid\n"
+                      "set xlabel 'd_{exact} [m]'\nset ylabel 'd_{voxel} [m]'\nset key bottom right box opaque\nset grid\n"
                       "set size square\n"
                       "plot '" + dir + "/d_voxel_vs_d_exact.dat' index 0 using 1:2 with points pt 7 title 'center', "
                       "'' index 1 using 1:2 with points pt 6 ps 1.5 title 'conservative', "
@@ -196,13 +200,10 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
   md << "# Voxel pipeline against the exact pipeline\n\n"
      << "Scene: `" << scene.file << "`\n\n"
      << "Made by:\n\n    " << options.command << "\n\n"
-     << "The exact pipeline (CGAL Nef polyhedra, inscribed " << scene.cameras.sides
-     << "-sided pyramids, SPEC §6) is the reference. The voxel pipeline uses the scene's FOV shape ("
-     << (scene.cameras.fov == core::FovShape::cone ? "cone" : "pyramid") << ")"
-     << (scene.cameras.fov == core::FovShape::cone
-             ? "; compare with `\"fov\": \"pyramid\"` for like-for-like FOVs (SPEC §1)"
-             : "")
-     << ".\n\n## Checks (SPEC §8)\n\n"
+     << "The exact pipeline (CGAL Nef polyhedra, SPEC §6) is the reference. Both pipelines use the "
+     << scene.cameras.sides << "-sided pyramid inscribed in each camera's "
+     << scene.cameras.half_angle * 180.0 / 3.14159265358979323846
+     << "° cone (SPEC §1: whenever voxel and exact results are compared).\n\n## Checks (SPEC §8)\n\n"
      << "| mode | rows | exact model outside voxel model | d_voxel > d_exact | violations |\n|---|---|---|---|---|\n";
   for (const char* mode : {"conservative", "center"}) {
     int rows = 0, outside = 0, over = 0, bad = 0;

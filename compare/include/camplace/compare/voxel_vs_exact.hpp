@@ -48,9 +48,13 @@ struct CompareResult {
   int center_violations = 0;        ///< the same for center mode (expected: it is not conservative)
 };
 
-/// Runs the exact pipeline once and the voxel pipeline in both modes at every resolution.
+/// Runs the exact pipeline once and the voxel pipeline in both modes at every resolution, both
+/// with the scene's inscribed k-sided pyramid as FOV (SPEC §1).
 CompareResult compare_voxel_exact(const core::Scene& scene, const core::CameraConfig& config,
                                   const CompareOptions& options);
+
+/// The scene with its cone FOV replaced by the inscribed pyramid (SPEC §1).
+core::Scene with_pyramid_fov(const core::Scene& scene);
 
 /// Writes DIR/report.md, DIR/compare.csv, DIR/err.csv and the plots (gnuplot, PNG):
 /// DIR/error_vs_resolution.png and DIR/d_voxel_vs_d_exact.png. Timing only in err.csv's `ms`
