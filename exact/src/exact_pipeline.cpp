@@ -15,11 +15,14 @@
 // Cones and shadows are convex hulls of exact points: K(P) = conv(c, c + T(P − c)) and
 // shadow(P) = conv(P, c + T(P − c)) for a convex P, with T large enough that the far cap lies
 // outside S (only M ⊂ S matters). Every double input is converted exactly to a rational.
+#include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Nef_polyhedron_3.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Projection_traits_3.h>
 #include <CGAL/Surface_mesh.h>
-#include <CGAL/boost/graph/convert_nef_polyhedron_to_polygon_mesh.h>
+#include <CGAL/Triangulation_face_base_with_info_2.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
 #include <CGAL/convex_hull_3.h>
 #include <CGAL/intersections.h>
 #include <CGAL/squared_distance_3.h>
@@ -36,6 +39,7 @@
 #include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <unordered_map>
 
 #include "camplace/core/distance.hpp"
 #include "camplace/core/err.hpp"
@@ -197,31 +201,132 @@ Nef box_nef(const core::Box3& box) {
   return hull_nef(pts);
 }
 
-/// Collects the boundary triangles of a set of shells (identity point conversion).
-struct IdentityConverter {
-  Point operator()(const Point& p) const { return p; }
-};
-
+/// The boundary of marked volumes as an exact triangle soup.
+///
+/// CGAL 5.5's nef_to_pm::collect_polygon_mesh_info (convert_nef_polyhedron_to_polygon_mesh) is
+/// not used: it takes every halffacet cycle for an SHalfedge cycle, but a cycle may also be an
+/// SHalfloop — a vertex isolated in the facet's relative interior, e.g. the apex of a camera
+/// pyramid on S's boundary (the free cone touches the model's facet on S's face only there).
+/// For such a cycle it reads an empty polygon and calls front() on it (a crash). Here each
+/// halffacet is triangulated in its own plane: a constrained Delaunay triangulation of its
+/// boundary cycles (outer and holes) and isolated vertices under the exact projection along the
+/// facet normal, keeping the faces of odd nesting depth (inside the outer cycle and outside the
+/// holes). Only vertices of the Nef polyhedron are used, so the soup is exact.
 struct TriangleSoup {
   std::vector<Point> points;
-  std::vector<std::vector<std::size_t>> triangles;
+  std::vector<std::array<std::size_t, 3>> triangles;
+  /// Appends the triangles of halffacet f, oriented outward of f's incident volume (Nef_3: the
+  /// incident volume lies on the positive side of the halffacet's plane, cf. the point locator).
+  void add_halffacet(Nef::Halffacet_const_handle f);
+
+ private:
+  std::unordered_map<const void*, std::size_t> index_;
+  std::size_t index_of(Nef::Vertex_const_handle v) {
+    const auto [it, inserted] = index_.emplace(&*v, points.size());
+    if (inserted) points.push_back(v->point());
+    return it->second;
+  }
+  /// Appends triangle abc with its normal pointing the way of `outward`.
+  void add_triangle(std::size_t a, std::size_t b, std::size_t c, const Vector& outward) {
+    const Vector cross = CGAL::cross_product(points[b] - points[a], points[c] - points[a]);
+    const auto side = CGAL::sign(cross * outward);
+    CAMPLACE_ASSERT(side != CGAL::ZERO);
+    if (side == CGAL::NEGATIVE) std::swap(b, c);
+    triangles.push_back({a, b, c});
+  }
 };
 
-void append_shell(const Nef& nef, Nef::Shell_entry_const_iterator shell, TriangleSoup& soup) {
-  CGAL::nef_to_pm::collect_polygon_mesh_info(soup.points, soup.triangles, nef, shell,
-                                             IdentityConverter{}, true);
+struct FacetTriangulation {
+  using Traits = CGAL::Projection_traits_3<Kernel>;
+  using Vb = CGAL::Triangulation_vertex_base_with_info_2<std::size_t, Traits>;
+  using Fbi = CGAL::Triangulation_face_base_with_info_2<int, Traits>;  ///< nesting depth
+  using Fb = CGAL::Constrained_triangulation_face_base_2<Traits, Fbi>;
+  using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
+  // Constraints of a valid facet meet only at common vertices; anything else throws rather than
+  // inserting an inexact intersection point.
+  using Cdt = CGAL::Constrained_Delaunay_triangulation_2<Traits, Tds,
+                                                         CGAL::No_constraint_intersection_tag>;
+};
+
+void TriangleSoup::add_halffacet(Nef::Halffacet_const_handle f) {
+  const Vector normal = -f->plane().orthogonal_vector();  // outward of the incident volume
+  std::vector<std::vector<Nef::Vertex_const_handle>> cycles;
+  std::vector<Nef::Vertex_const_handle> isolated;
+  for (auto fc = f->facet_cycles_begin(); fc != f->facet_cycles_end(); ++fc) {
+    if (fc.is_shalfedge()) {
+      Nef::SHalfedge_const_handle se(fc);
+      Nef::SHalfedge_around_facet_const_circulator c(se), end(c);
+      cycles.emplace_back();
+      CGAL_For_all(c, end) cycles.back().push_back(c->source()->center_vertex());
+    } else if (fc.is_shalfloop()) {
+      Nef::SHalfloop_const_handle loop(fc);
+      isolated.push_back(loop->incident_sface()->center_vertex());
+    }
+  }
+  if (cycles.empty())
+    throw std::logic_error("exact pipeline: a facet without a boundary cycle");
+  if (cycles.size() == 1 && isolated.empty() && cycles[0].size() == 3) {
+    add_triangle(index_of(cycles[0][0]), index_of(cycles[0][1]), index_of(cycles[0][2]), normal);
+    return;
+  }
+  using Cdt = FacetTriangulation::Cdt;
+  Cdt cdt{FacetTriangulation::Traits(normal)};
+  try {
+    for (const auto& cycle : cycles) {
+      std::vector<Cdt::Vertex_handle> handles;
+      for (const auto& v : cycle) {
+        handles.push_back(cdt.insert(v->point()));
+        handles.back()->info() = index_of(v);
+      }
+      for (std::size_t i = 0; i < handles.size(); ++i)
+        cdt.insert_constraint(handles[i], handles[(i + 1) % handles.size()]);
+    }
+    for (const auto& v : isolated) cdt.insert(v->point())->info() = index_of(v);
+  } catch (const Cdt::Intersection_of_constraints_exception&) {
+    throw std::logic_error("exact pipeline: a facet whose boundary cycles cross");
+  }
+  if (cdt.dimension() != 2) throw std::logic_error("exact pipeline: a degenerate facet");
+  // Nesting depth: 0 for the faces reachable from the infinite face without crossing a
+  // constraint, +1 for each constraint crossed. Each constrained edge bounds the facet on
+  // exactly one side, so the facet is the union of the faces of odd depth.
+  for (auto fh : cdt.all_face_handles()) fh->info() = -1;
+  std::vector<Cdt::Face_handle> stack{cdt.infinite_face()}, next;
+  cdt.infinite_face()->info() = 0;
+  for (int depth = 0; !stack.empty(); ++depth) {
+    while (!stack.empty()) {
+      const Cdt::Face_handle fh = stack.back();
+      stack.pop_back();
+      for (int i = 0; i < 3; ++i) {
+        const Cdt::Face_handle nb = fh->neighbor(i);
+        if (nb->info() != -1) continue;
+        if (cdt.is_constrained(Cdt::Edge(fh, i))) {
+          next.push_back(nb);
+        } else {
+          nb->info() = depth;
+          stack.push_back(nb);
+        }
+      }
+    }
+    for (auto fh : next)
+      if (fh->info() == -1) {
+        fh->info() = depth + 1;
+        stack.push_back(fh);
+      }
+    next.clear();
+  }
+  for (auto fh : cdt.finite_face_handles()) {
+    CAMPLACE_ASSERT(fh->info() >= 0);
+    if (fh->info() % 2 == 1)
+      add_triangle(fh->vertex(0)->info(), fh->vertex(1)->info(), fh->vertex(2)->info(), normal);
+  }
 }
 
-/// Boundary triangles of every marked volume of nef.
+/// Boundary triangles of every marked volume of nef (the halffacets incident to them).
 TriangleSoup nef_soup(const Nef& nef) {
   TriangleSoup soup;
-  auto vol = nef.volumes_begin();
-  if (vol == nef.volumes_end()) return soup;
-  for (++vol; vol != nef.volumes_end(); ++vol) {
-    if (!vol->mark()) continue;
-    for (auto sh = vol->shells_begin(); sh != vol->shells_end(); ++sh)
-      append_shell(nef, sh, soup);
-  }
+  for (auto f = nef.halffacets_begin(); f != nef.halffacets_end(); ++f)
+    if (f->incident_volume()->mark() && !f->twin()->incident_volume()->mark())
+      soup.add_halffacet(f);
   return soup;
 }
 
@@ -350,24 +455,36 @@ std::shared_ptr<ExactModel::Impl> cluster(Nef model, const core::Plausibility& f
   // are exactly the components connected through interiors.
   for (auto f = nef.halffacets_begin(); f != nef.halffacets_end(); ++f)
     CAMPLACE_ASSERT(!(f->incident_volume()->mark() && f->twin()->incident_volume()->mark()));
+  // The boundary of a marked volume (outer and inner shells) is the set of halffacets incident
+  // to it; one pass over the halffacets sorts them by volume.
+  std::vector<TriangleSoup> soups;
+  std::unordered_map<const void*, std::size_t> soup_of;
   auto vol = nef.volumes_begin();
   if (vol != nef.volumes_end()) ++vol;  // the unbounded outer volume
   for (; vol != nef.volumes_end(); ++vol) {
     if (!vol->mark()) continue;
-    TriangleSoup soup;
-    for (auto sh = vol->shells_begin(); sh != vol->shells_end(); ++sh)
-      append_shell(nef, sh, soup);
+    soup_of.emplace(&*vol, soups.size());
+    soups.emplace_back();
     ExactModel::Impl::Component comp;
     comp.volume = vol;
-    comp.points = std::move(soup.points);
+    impl->components.push_back(std::move(comp));
+  }
+  for (auto f = nef.halffacets_begin(); f != nef.halffacets_end(); ++f) {
+    const auto it = soup_of.find(&*f->incident_volume());
+    if (it != soup_of.end()) soups[it->second].add_halffacet(f);
+  }
+  for (std::size_t k = 0; k < soups.size(); ++k) {
+    ExactModel::Impl::Component& comp = impl->components[k];
+    comp.points = std::move(soups[k].points);
+    comp.triangles = std::move(soups[k].triangles);
     FT six_volume = 0;
-    for (const auto& t : soup.triangles) {
-      CAMPLACE_ASSERT(t.size() == 3);
-      comp.triangles.push_back({t[0], t[1], t[2]});
+    for (const auto& t : comp.triangles) {
       const Vector a = comp.points[t[0]] - CGAL::ORIGIN, b = comp.points[t[1]] - CGAL::ORIGIN,
                    c = comp.points[t[2]] - CGAL::ORIGIN;
       six_volume += CGAL::determinant(a, b, c);
     }
+    // The triangles are outward (TriangleSoup), so six_volume > 0; kept as a safeguard.
+    CAMPLACE_ASSERT(!CGAL::is_negative(six_volume));
     if (CGAL::is_negative(six_volume)) {
       six_volume = -six_volume;
       for (auto& t : comp.triangles) std::swap(t[1], t[2]);
@@ -385,7 +502,6 @@ std::shared_ptr<ExactModel::Impl> cluster(Nef model, const core::Plausibility& f
       impl->kept_volume += comp.volume_exact;
     else
       impl->any_removed = true;
-    impl->components.push_back(std::move(comp));
   }
   return impl;
 }

@@ -3,9 +3,14 @@
 // camera reports it free and it lies inside no obstacle (SPEC §4, filter off).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdlib>
 #include <random>
 
 #include "camplace/core/camera.hpp"
+#include "camplace/core/geometry.hpp"
 #include "camplace/exact/evaluator.hpp"
 #include "reference.hpp"
 #include "scene_builder.hpp"
@@ -129,6 +134,148 @@ TEST(ExactOracle, PaperBasicAgreesWithTheBruteForceSensorModel) {
   EXPECT_GT(a.inside, 0);
   EXPECT_EQ(a.mismatches, 0);
 
+}
+
+// Regression (a crash): cameras on S's boundary — (0,0,2) on an edge of the ceiling, (2,0.1,1.8)
+// on the face x = 2. The apex of such a camera's free pyramid touches the model's facet on S's
+// face in a single point, a vertex isolated in that facet (a Nef facet cycle that is an
+// SHalfloop), on which CGAL 5.5's Nef → polygon-mesh conversion dereferenced an empty polygon.
+TEST(ExactModel, CamerasOnTheBoundaryOfTheArea) {
+  using testing::box_object;
+  const core::Box3 area{Vec3(0, 0, 0), Vec3(2, 2, 2)};
+  auto scene = testing::simple_scene(
+      area, {4, 4, 4}, 2, 35.0, {},
+      {box_object("person", Vec3(0.3, 0.3, 0), Vec3(0.7, 0.6, 1.6))});
+  scene.cameras.fov = core::FovShape::pyramid;
+  scene.cameras.sides = 4;
+  scene.dynamic_mode = core::DynamicMode::modelled;
+  auto& step = scene.time_steps[0];
+  step.dynamic_obstacles = {box_object("robot", Vec3(1.5, 1.5, 0), Vec3(1.9, 1.9, 0.6))};
+  step.critical = step.dynamic_obstacles;
+  step.events[0].weight = 0.7;
+  core::Event second;
+  second.weight = 0.3;
+  second.targets = {box_object("person", Vec3(0.2, 1.2, 0), Vec3(0.5, 1.5, 1.6))};
+  step.events.push_back(second);
+  const core::CameraConfig config{testing::camera_at(Vec3(0, 0, 2), 45, -40),
+                                  testing::camera_at(Vec3(2, 0.1, 1.8), 135, -30)};
+
+  exact::ExactOptions options;
+  options.keep_models = true;
+  const auto eval = exact::evaluate_exact(scene, config, options);
+  ASSERT_EQ(eval.states.size(), 2u);
+  for (std::size_t s = 0; s < eval.states.size(); ++s) {
+    const auto& r = eval.states[s];
+    EXPECT_GT(r.model_volume, 0.0) << "state " << s;
+    EXPECT_LE(r.model_volume, 8.0) << "state " << s;
+    EXPECT_GE(r.components, 1) << "state " << s;
+    EXPECT_LE(r.d_model, r.d_true + 1e-12) << "state " << s;
+    // The boundary is a closed outward mesh enclosing the exact volume.
+    EXPECT_NEAR(core::signed_volume(eval.models[s].boundary_mesh()), r.model_volume, 1e-9)
+        << "state " << s;
+  }
+  std::mt19937 rng(5);
+  const auto a = compare_with_oracle(scene, config, 2000, rng);
+  EXPECT_GT(a.inside, 200);
+  EXPECT_EQ(a.mismatches, 0);
+}
+
+// A camera position on S's boundary: on a corner, an edge, a face (the ceiling z = S.max.z
+// often, as in the `ceiling` preset) or inside; coordinates often on a 1/4 grid so that they
+// line up with object coordinates. Directions sometimes axis-aligned (pyramid faces parallel to
+// S's faces) or vertical.
+core::CameraSetting boundary_camera(std::mt19937& rng, const core::Box3& area) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const int fixed = std::uniform_int_distribution<int>(0, 3)(rng);  // coordinates on the boundary
+  std::array<int, 3> axes{0, 1, 2};
+  std::shuffle(axes.begin(), axes.end(), rng);
+  if (fixed == 1 && unit(rng) < 0.5) axes = {2, 0, 1};  // the ceiling (or floor)
+  Vec3 p;
+  for (int k = 0; k < 3; ++k) {
+    const int i = axes[k];
+    const double lo = area.min[i], hi = area.max[i];
+    if (k < fixed) {
+      p[i] = (i == 2 || unit(rng) < 0.5) ? hi : lo;
+    } else if (unit(rng) < 0.4) {
+      p[i] = lo + (hi - lo) * std::uniform_int_distribution<int>(1, 3)(rng) / 4.0;
+    } else {
+      p[i] = lo + (hi - lo) * unit(rng);
+    }
+  }
+  double yaw = -180 + 360 * unit(rng), pitch = -90 + 90 * unit(rng);
+  if (unit(rng) < 0.5) {
+    // Aimed into S: the pyramid then touches S's boundary only at its apex (an isolated vertex
+    // of the model's facet there), the case that used to crash.
+    const Vec3 aim = area.min + (Vec3::Constant(0.25) + 0.5 * Vec3(unit(rng), unit(rng), unit(rng)))
+                                    .cwiseProduct(area.max - area.min);
+    const Vec3 d = (aim - p).normalized();
+    constexpr double kToDeg = 180.0 / 3.14159265358979323846;
+    yaw = std::atan2(d.y(), d.x()) * kToDeg;
+    pitch = std::asin(std::clamp(d.z(), -1.0, 1.0)) * kToDeg;
+  } else {
+    if (unit(rng) < 0.3) yaw = 45.0 * std::uniform_int_distribution<int>(-4, 4)(rng);
+    if (unit(rng) < 0.2) pitch = std::array<double, 3>{-90.0, -45.0, 0.0}[rng() % 3];
+  }
+  return testing::camera_at(p, yaw, pitch);
+}
+
+// A small room S = [0,2]³ with boxes standing on the floor, one per quadrant of the floor (so
+// targets never meet obstacles), often flush with a wall: a static box, a robot and one target
+// per event; 2 events.
+core::Scene small_room_scene(std::mt19937& rng) {
+  using testing::box_object;
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::array<int, 4> quadrants{0, 1, 2, 3};
+  std::shuffle(quadrants.begin(), quadrants.end(), rng);
+  auto box_in = [&](const std::string& name, int q, double height) {
+    const Vec3 lo(q % 2, q / 2, 0.0);
+    Vec3 a(lo.x() + 0.8 * unit(rng), lo.y() + 0.8 * unit(rng), 0.0);
+    Vec3 b(a.x() + 0.1 + (lo.x() + 1 - a.x() - 0.1) * unit(rng),
+           a.y() + 0.1 + (lo.y() + 1 - a.y() - 0.1) * unit(rng), height);
+    if (unit(rng) < 0.3) a.x() = lo.x();  // flush with the wall x = 0 or with the neighbour
+    if (unit(rng) < 0.3) b.y() = lo.y() + 1;
+    return box_object(name, a, b);
+  };
+  const core::Box3 area{Vec3(0, 0, 0), Vec3(2, 2, 2)};
+  auto scene = testing::simple_scene(area, {4, 4, 4}, 2 + int(rng() % 2), 25 + 20 * unit(rng), {},
+                                     {box_in("person", quadrants[0], 1.6)});
+  scene.cameras.fov = core::FovShape::pyramid;
+  scene.cameras.sides = 3 + int(rng() % 6);
+  scene.dynamic_mode = unit(rng) < 0.5 ? core::DynamicMode::masked : core::DynamicMode::modelled;
+  scene.static_obstacles.push_back(box_in("shelf", quadrants[3], 0.5 + unit(rng)));
+  auto& step = scene.time_steps[0];
+  step.dynamic_obstacles = {box_in("robot", quadrants[1], 0.3 + 0.5 * unit(rng))};
+  step.critical = step.dynamic_obstacles;
+  core::Event second;
+  second.weight = 0.5;
+  second.targets = {box_in("person", quadrants[2], 1.6)};
+  step.events.push_back(second);
+  return scene;
+}
+
+TEST(ExactOracle, CamerasOnTheBoundaryOfTheAreaAgreeWithTheBruteForceSensorModel) {
+  // CAMPLACE_EXACT_FUZZ_TRIALS=N runs N trials (longer fuzzing by hand); default 20 (~6 s).
+  const char* env = std::getenv("CAMPLACE_EXACT_FUZZ_TRIALS");
+  const int trials = env ? std::atoi(env) : 20;
+  const char* seed = std::getenv("CAMPLACE_EXACT_FUZZ_SEED");
+  std::mt19937 rng(seed ? unsigned(std::atol(seed)) : 20240612u);
+  for (int trial = 0; trial < trials; ++trial) {
+    core::Scene scene;
+    if (trial % 2 == 0) {
+      scene = small_room_scene(rng);
+    } else {
+      scene = testing::random_scene(rng, {8, 6, 6});
+      scene.cameras.fov = core::FovShape::pyramid;
+      scene.plausibility = {};
+      scene.time_steps.resize(1);  // 2 states per trial
+    }
+    core::CameraConfig config;
+    for (int c = 0; c < scene.cameras.count; ++c)
+      config.push_back(boundary_camera(rng, scene.area));
+    const auto a = compare_with_oracle(scene, config, 200, rng);
+    EXPECT_GT(a.checked, 0);
+    EXPECT_EQ(a.mismatches, 0) << "trial " << trial;
+  }
 }
 
 }  // namespace
