@@ -26,19 +26,23 @@ struct EvaluateArgs {
   bool json = false, exact_fractions = false;
 };
 
+/// The per-state fields both pipelines report (voxel::StateResult, exact::ExactStateResult).
+template <class StateResult>
+nlohmann::json state_json(const StateResult& s) {
+  return {{"time_step", s.time_step},
+          {"event", s.event},
+          {"weight", s.weight},
+          {"d_true", s.d_true},
+          {"d_model", s.d_model},
+          {"model_volume", s.model_volume},
+          {"components", s.components},
+          {"components_removed", s.components_removed}};
+}
+
 nlohmann::json voxel_json(const voxel::VoxelEvaluator& evaluator, const voxel::Evaluation& e) {
   const auto& n = evaluator.grid().n;
   nlohmann::json states = nlohmann::json::array();
-  for (const auto& s : e.states) {
-    states.push_back({{"time_step", s.time_step},
-                      {"event", s.event},
-                      {"weight", s.weight},
-                      {"d_true", s.d_true},
-                      {"d_model", s.d_model},
-                      {"model_volume", s.model_volume},
-                      {"components", s.components},
-                      {"components_removed", s.components_removed}});
-  }
+  for (const auto& s : e.states) states.push_back(state_json(s));
   return {{"pipeline", "voxel"},
           {"mode", evaluator.options().mode == voxel::LabelMode::center ? "center" : "conservative"},
           {"resolution", {n[0], n[1], n[2]}},
@@ -57,6 +61,7 @@ nlohmann::json voxel_json(const voxel::VoxelEvaluator& evaluator, const voxel::E
 void print_table(const nlohmann::json& r) {
   std::printf("pipeline %s", r["pipeline"].get<std::string>().c_str());
   if (r.contains("mode")) {
+    if (r.contains("fov")) std::printf(", fov %s", r["fov"].get<std::string>().c_str());
     std::printf(", mode %s, resolution %dx%dx%d", r["mode"].get<std::string>().c_str(),
                 r["resolution"][0].get<int>(), r["resolution"][1].get<int>(),
                 r["resolution"][2].get<int>());
@@ -88,14 +93,7 @@ void print_table(const nlohmann::json& r) {
 nlohmann::json exact_json(const exact::ExactEvaluation& e, bool fractions) {
   nlohmann::json states = nlohmann::json::array();
   for (const auto& s : e.states) {
-    nlohmann::json j = {{"time_step", s.time_step},
-                        {"event", s.event},
-                        {"weight", s.weight},
-                        {"d_true", s.d_true},
-                        {"d_model", s.d_model},
-                        {"model_volume", s.model_volume},
-                        {"components", s.components},
-                        {"components_removed", s.components_removed}};
+    nlohmann::json j = state_json(s);
     if (fractions) {
       j["d_true_sq_exact"] = s.d_true_sq_exact;
       j["d_model_sq_exact"] = s.d_model_sq_exact;
@@ -167,8 +165,13 @@ void run_evaluate(const EvaluateArgs& args) {
 #endif
   nlohmann::json vox, ex;
   if (want_voxel) {
-    const voxel::VoxelEvaluator evaluator(scene, options);
+    // SPEC §1: when voxel and exact results are compared, the voxel pipeline also uses the
+    // inscribed pyramid.
+    core::Scene voxel_scene = scene;
+    if (want_exact) voxel_scene.cameras.fov = core::FovShape::pyramid;
+    const voxel::VoxelEvaluator evaluator(voxel_scene, options);
     vox = voxel_json(evaluator, evaluator.evaluate(config));
+    vox["fov"] = voxel_scene.cameras.fov == core::FovShape::cone ? "cone" : "pyramid";
     if (!args.voxels_out.empty()) write_voxels(evaluator, config, args.voxels_out);
   }
 #ifdef CAMPLACE_HAVE_EXACT
