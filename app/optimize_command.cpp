@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "camplace/core/error.hpp"
+#include "camplace/core/files.hpp"
 #include "camplace/core/scene.hpp"
 #include "camplace/optimize/objective.hpp"
 #include "camplace/optimize/optimizer.hpp"
@@ -149,15 +150,14 @@ void run_optimize(const OptimizeArgs& args) {
     const std::string file =
         (std::filesystem::path(args.out) / ("run-" + std::to_string(result.seed) + ".json"))
             .string();
-    optimize::write_file_atomically(file, optimize::run_json(result, context).dump(2) + "\n");
+    core::write_file_atomically(file, optimize::run_json(result, context).dump(2) + "\n");
     results.push_back(std::move(result));
   }
   const bool interrupted = g_interrupted.load();
   const std::filesystem::path out(args.out);
-  optimize::write_file_atomically((out / "summary.json").string(),
-                                  optimize::summary_json(results, context, interrupted).dump(2) +
-                                      "\n");
-  optimize::write_file_atomically((out / "summary.csv").string(), optimize::summary_csv(results));
+  core::write_file_atomically((out / "summary.json").string(),
+                              optimize::summary_json(results, context, interrupted).dump(2) + "\n");
+  core::write_file_atomically((out / "summary.csv").string(), optimize::summary_csv(results));
   signal(SIGINT, SIG_DFL);
 
   if (interrupted) {
@@ -173,7 +173,11 @@ void register_optimize_command(CLI::App& app) {
   auto args = std::make_shared<OptimizeArgs>();
   CLI::App* cmd = app.add_subcommand(
       "optimize", "find camera settings that minimise the voxel Err (pagmo solvers)");
-  cmd->footer("Solvers:\n" + optimize::algorithm_help());
+  cmd->footer(
+      "A run stops at the first of: tolerance reached, the conservative lower bound of Err\n"
+      "reached (provably optimal), time limit, evaluation budget, Ctrl-C. Ctrl-C and the time\n"
+      "limit write the best result so far.\n\nSolvers:\n" +
+      optimize::algorithm_help());
   cmd->add_option("scene", args->scene, "scene JSON file")->required();
   cmd->add_option("--out", args->out, "directory for run-<seed>.json, summary.json, summary.csv")
       ->required();
@@ -183,8 +187,8 @@ void register_optimize_command(CLI::App& app) {
   cmd->add_option("--runs", args->runs, "number of runs R");
   cmd->add_option("--time-limit", args->time_limit, "seconds per run, 0 = none (default 300)");
   cmd->add_option("--max-evals", args->max_evals, "objective evaluations per run, 0 = none");
-  CLI::Option* tolerance = cmd->add_option(
-      "--tolerance", args->tolerance, "stop when Err <= X m² (default (½ voxel diagonal)²)");
+  CLI::Option* tolerance = cmd->add_option("--tolerance", args->tolerance,
+                                           "stop when Err <= X m² (default (½ voxel diagonal)²)");
   cmd->add_option("--start", args->start, "random, corners or a camera configuration FILE");
   cmd->add_option("--threads", args->threads,
                   "threads for batch evaluation (gaco, pso_gen), 0 = all cores");

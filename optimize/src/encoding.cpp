@@ -10,22 +10,32 @@ namespace {
 
 const core::Interval& interval(const core::CameraDomain& domain, Component c) {
   switch (c) {
-    case Component::x: return domain.x;
-    case Component::y: return domain.y;
-    case Component::z: return domain.z;
-    case Component::yaw: return domain.yaw;
-    case Component::pitch: return domain.pitch;
+    case Component::x:
+      return domain.x;
+    case Component::y:
+      return domain.y;
+    case Component::z:
+      return domain.z;
+    case Component::yaw:
+      return domain.yaw;
+    case Component::pitch:
+      return domain.pitch;
   }
   return domain.x;
 }
 
 double& component(core::CameraSetting& camera, Component c) {
   switch (c) {
-    case Component::x: return camera.position.x();
-    case Component::y: return camera.position.y();
-    case Component::z: return camera.position.z();
-    case Component::yaw: return camera.yaw;
-    case Component::pitch: return camera.pitch;
+    case Component::x:
+      return camera.position.x();
+    case Component::y:
+      return camera.position.y();
+    case Component::z:
+      return camera.position.z();
+    case Component::yaw:
+      return camera.yaw;
+    case Component::pitch:
+      return camera.pitch;
   }
   return camera.position.x();
 }
@@ -93,7 +103,7 @@ core::CameraConfig corner_start(const core::Scene& scene) {
   const core::Vec3 centre = s.center();
   const double height = s.size().z();
   // (u, v) in {0, ½, 1}² on the top face: diagonal corner pairs first, then edge midpoints.
-  static constexpr double kSpots[8][2] = {{0, 0}, {1, 1}, {0, 1}, {1, 0},
+  static constexpr double kSpots[8][2] = {{0, 0},   {1, 1},   {0, 1},   {1, 0},
                                           {0.5, 0}, {0.5, 1}, {0, 0.5}, {1, 0.5}};
   const auto& domains = scene.cameras.domains;
   core::CameraConfig config(domains.size());

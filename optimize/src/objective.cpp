@@ -17,4 +17,6 @@ double VoxelObjective::default_tolerance() const {
   return core::default_tolerance(evaluator_.grid().area, evaluator_.grid().n);
 }
 
+double VoxelObjective::err_lower_bound() const { return evaluator_.err_lower_bound(); }
+
 }  // namespace camplace::optimize

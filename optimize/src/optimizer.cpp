@@ -6,10 +6,9 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
-
 #include <pagmo/population.hpp>
 #include <pagmo/problem.hpp>
+#include <sstream>
 
 #include "camplace/core/error.hpp"
 #include "camplace/optimize/encoding.hpp"
@@ -71,10 +70,16 @@ std::vector<pagmo::vector_double> initial_points(pagmo::population& pop, unsigne
 
 const char* to_string(StopReason reason) {
   switch (reason) {
-    case StopReason::tolerance: return "tolerance";
-    case StopReason::time_limit: return "time_limit";
-    case StopReason::max_evaluations: return "max_evaluations";
-    case StopReason::interrupted: return "interrupted";
+    case StopReason::tolerance:
+      return "tolerance";
+    case StopReason::time_limit:
+      return "time_limit";
+    case StopReason::max_evaluations:
+      return "max_evaluations";
+    case StopReason::interrupted:
+      return "interrupted";
+    case StopReason::lower_bound:
+      return "lower_bound";
   }
   return "unknown";
 }
@@ -110,10 +115,10 @@ RunResult optimize(const core::Scene& scene, const Objective& objective,
     start = encoding.encode(core::load_camera_config(options.start.file, scene));
   }
 
-  Solver solver =
-      detail::make_solver(options.algorithm, options.seed, options.population,
-                          encoding.dimension());
-  auto state = std::make_shared<RunState>(objective, encoding, options, tolerance);
+  Solver solver = detail::make_solver(options.algorithm, options.seed, options.population,
+                                      encoding.dimension());
+  const double lower_bound = options.stop_at_lower_bound ? objective.err_lower_bound() : 0.0;
+  auto state = std::make_shared<RunState>(objective, encoding, options, tolerance, lower_bound);
   const pagmo::problem problem{detail::CameraProblem{state}};
 
   RunResult result;
@@ -123,6 +128,7 @@ RunResult optimize(const core::Scene& scene, const Objective& objective,
   result.population = static_cast<int>(solver.population);
   result.dimension = encoding.dimension();
   result.tolerance = tolerance;
+  result.err_lower_bound = objective.err_lower_bound();
 
   pagmo::vector_double first_point;
   bool have_start_err = false;
@@ -145,8 +151,8 @@ RunResult optimize(const core::Scene& scene, const Objective& objective,
         // reseeded) from a fresh population that keeps the best point found so far.
         ++result.restarts;
         const unsigned seed = options.seed + 7919u * static_cast<unsigned>(result.restarts);
-        solver = detail::make_solver(options.algorithm, seed, options.population,
-                                     encoding.dimension());
+        solver =
+            detail::make_solver(options.algorithm, seed, options.population, encoding.dimension());
         pagmo::population fresh(problem, 0u, seed);
         fill_population(fresh, initial_points(fresh, solver.population, state->best_x()),
                         solver.batch);

@@ -1,20 +1,21 @@
 #include "problem.hpp"
 
-#include <algorithm>
-#include <thread>
-
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <thread>
 
 #include "camplace/core/error.hpp"
 
 namespace camplace::optimize::detail {
 
 RunState::RunState(const Objective& objective, const Encoding& encoding,
-                   const OptimizeOptions& options, double tolerance)
+                   const OptimizeOptions& options, double tolerance, double lower_bound)
     : objective_(objective),
       encoding_(encoding),
       tolerance_(tolerance),
+      lower_bound_(lower_bound),
       max_evaluations_(options.max_evaluations),
       interrupt_(options.interrupt),
       on_progress_(options.on_progress),
@@ -23,8 +24,9 @@ RunState::RunState(const Objective& objective, const Encoding& encoding,
     deadline_ = start_ + std::chrono::duration_cast<Clock::duration>(
                              std::chrono::duration<double>(options.time_limit));
   }
-  threads_ = options.threads > 0 ? options.threads
-                                 : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  threads_ = options.threads > 0
+                 ? options.threads
+                 : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   arena_ = std::make_unique<tbb::task_arena>(threads_);
 }
 
@@ -74,6 +76,9 @@ bool RunState::record(const pagmo::vector_double& x, double err, const voxel::Ti
     if (!stop_reason_) {
       if (best_err_ <= tolerance_) {
         stop_reason_ = StopReason::tolerance;
+      } else if (lower_bound_ > 0.0 && best_err_ <= lower_bound_ * (1.0 + 1e-12)) {
+        // Err cannot fall below the bound (the relative slack absorbs summation rounding).
+        stop_reason_ = StopReason::lower_bound;
       } else if (max_evaluations_ != 0 && index >= max_evaluations_) {
         stop_reason_ = StopReason::max_evaluations;
       }
@@ -107,8 +112,8 @@ pagmo::vector_double CameraProblem::batch_fitness(const pagmo::vector_double& dv
     throw StopRequested{};
   }
   // The budget cuts the batch at a fixed index, so a budget-limited run is reproducible.
-  const std::size_t count = static_cast<std::size_t>(
-      std::min<std::uint64_t>(n, s.remaining_budget()));
+  const std::size_t count =
+      static_cast<std::size_t>(std::min<std::uint64_t>(n, s.remaining_budget()));
   std::vector<double> errs(count);
   std::vector<voxel::Timing> timings(count);
   std::vector<char> done(count, 0);

@@ -1,26 +1,25 @@
 #pragma once
 // Private: the pagmo user-defined problem and the shared state of one run (counters, best,
 // history, stop criteria). Not part of the public interface.
+#include <tbb/task_arena.h>
+
 #include <atomic>
 #include <chrono>
-#include <functional>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <pagmo/problem.hpp>
+#include <pagmo/types.hpp>
 #include <string>
 #include <utility>
 #include <vector>
 
-#include <pagmo/problem.hpp>
-#include <tbb/task_arena.h>
-#include <pagmo/types.hpp>
-
 #include "camplace/optimize/encoding.hpp"
 #include "camplace/optimize/objective.hpp"
 #include "camplace/optimize/optimizer.hpp"
-
 
 namespace camplace::optimize::detail {
 
@@ -33,7 +32,7 @@ class RunState {
   using Clock = std::chrono::steady_clock;
 
   RunState(const Objective& objective, const Encoding& encoding, const OptimizeOptions& options,
-           double tolerance);
+           double tolerance, double lower_bound);
   ~RunState();
 
   const Encoding& encoding() const { return encoding_; }
@@ -46,7 +45,7 @@ class RunState {
   /// Evaluations still allowed by the budget (max of uint64 when there is none).
   std::uint64_t remaining_budget() const;
   /// Records one finished evaluation (in a deterministic order); returns true when the run
-  /// must stop (tolerance reached or budget used up).
+  /// must stop (tolerance or lower bound reached, or budget used up).
   bool record(const pagmo::vector_double& x, double err, const voxel::Timing& timing);
   /// Marks the run as stopped for `reason` unless a reason is already set.
   void stop(StopReason reason);
@@ -66,6 +65,7 @@ class RunState {
   const Objective& objective_;
   const Encoding& encoding_;
   double tolerance_;
+  double lower_bound_;  ///< stop when the best Err reaches it; 0 = never
   std::uint64_t max_evaluations_;
   const std::atomic<bool>* interrupt_;
   std::function<void(const Progress&)> on_progress_;

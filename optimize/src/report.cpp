@@ -29,12 +29,9 @@ nlohmann::ordered_json cameras_json(const core::CameraConfig& config) {
 }
 
 nlohmann::ordered_json context_json(const RunContext& context) {
-  return {{"scene", context.scene_file},
-          {"mode", context.mode},
-          {"resolution", context.resolution},
-          {"start", context.start},
-          {"time_limit_s", context.time_limit},
-          {"max_evaluations", context.max_evaluations}};
+  return {{"scene", context.scene_file},        {"mode", context.mode},
+          {"resolution", context.resolution},   {"start", context.start},
+          {"time_limit_s", context.time_limit}, {"max_evaluations", context.max_evaluations}};
 }
 
 std::string fixed(double value, int digits) {
@@ -58,6 +55,7 @@ nlohmann::ordered_json run_json(const RunResult& run, const RunContext& context)
   j["seconds"] = run.seconds;
   j["stop_reason"] = to_string(run.stop_reason);
   j["tolerance"] = run.tolerance;
+  j["err_lower_bound"] = run.err_lower_bound;
   j["start_err"] = run.start_err;
   j["search_err"] = run.search_err;
   j["evaluations_to_best"] = run.evaluations_to_best;
@@ -86,6 +84,7 @@ Summary summarize(const std::vector<RunResult>& runs) {
     const RunResult& r = runs[i];
     evals.push_back(static_cast<double>(r.evaluations));
     secs.push_back(r.seconds);
+    if (r.stop_reason == StopReason::lower_bound) ++s.reached_lower_bound;
     if (r.reached_tolerance) {
       ++s.reached;
       evals_ok.push_back(static_cast<double>(r.evaluations));
@@ -103,7 +102,7 @@ Summary summarize(const std::vector<RunResult>& runs) {
 }
 
 nlohmann::ordered_json summary_json(const std::vector<RunResult>& runs, const RunContext& context,
-                            bool interrupted) {
+                                    bool interrupted) {
   const Summary s = summarize(runs);
   nlohmann::ordered_json rows = nlohmann::ordered_json::array();
   for (const RunResult& r : runs) {
@@ -126,10 +125,12 @@ nlohmann::ordered_json summary_json(const std::vector<RunResult>& runs, const Ru
     j["threads"] = runs.front().threads;
     j["population"] = runs.front().population;
     j["tolerance"] = runs.front().tolerance;
+    j["err_lower_bound"] = runs.front().err_lower_bound;
   }
   j["interrupted"] = interrupted;
   j["runs"] = s.runs;
   j["reached_tolerance"] = s.reached;
+  j["reached_lower_bound"] = s.reached_lower_bound;
   j["success_rate"] = s.runs > 0 ? static_cast<double>(s.reached) / s.runs : 0.0;
   j["median_evaluations"] = s.median_evaluations;
   j["median_seconds"] = s.median_seconds;
@@ -152,10 +153,10 @@ std::string summary_csv(const std::vector<RunResult>& runs) {
   for (const RunResult& r : runs) {
     out << r.seed << ',' << r.err << ',' << r.start_err << ',' << r.evaluations << ','
         << r.evaluations_to_best << ',' << (r.reached_tolerance ? "true" : "false") << ','
-        << r.seconds << ',' << to_string(r.stop_reason) << ',' << r.mean_timing.labelling_ms
-        << ',' << r.mean_timing.clustering_ms << ',' << r.mean_timing.distance_ms << ','
-        << r.mean_timing.total_ms << ',' << r.wall_ms_per_evaluation << ','
-        << r.memory.vm_hwm_kb << ',' << r.memory.vm_peak_kb << '\n';
+        << r.seconds << ',' << to_string(r.stop_reason) << ',' << r.mean_timing.labelling_ms << ','
+        << r.mean_timing.clustering_ms << ',' << r.mean_timing.distance_ms << ','
+        << r.mean_timing.total_ms << ',' << r.wall_ms_per_evaluation << ',' << r.memory.vm_hwm_kb
+        << ',' << r.memory.vm_peak_kb << '\n';
   }
   return out.str();
 }
@@ -167,55 +168,46 @@ void print_summary(std::ostream& out, const std::vector<RunResult>& runs) {
   }
   const Summary s = summarize(runs);
   out << std::left << std::setw(6) << "seed" << std::right << std::setw(12) << "Err [m²]"
-      << std::setw(13) << "evaluations" << std::setw(10) << "seconds" << std::setw(11)
-      << "ms/eval" << "  " << "stop\n";
+      << std::setw(13) << "evaluations" << std::setw(10) << "seconds" << std::setw(11) << "ms/eval"
+      << "  "
+      << "stop\n";
   for (const RunResult& r : runs) {
     out << std::left << std::setw(6) << r.seed << std::right << std::setw(11) << fixed(r.err, 5)
-        << std::setw(13) << r.evaluations << std::setw(10) << fixed(r.seconds, 1)
-        << std::setw(11) << fixed(r.mean_timing.total_ms, 2) << "  "
-        << to_string(r.stop_reason) << '\n';
+        << std::setw(13) << r.evaluations << std::setw(10) << fixed(r.seconds, 1) << std::setw(11)
+        << fixed(r.mean_timing.total_ms, 2) << "  " << to_string(r.stop_reason) << '\n';
   }
   const double rate = 100.0 * s.reached / s.runs;
-  out << "\nreached tolerance " << fixed(runs.front().tolerance, 4) << " m²: " << s.reached
-      << "/" << s.runs << " (" << fixed(rate, 0) << "%)\n";
+  out << "\nreached tolerance " << fixed(runs.front().tolerance, 4) << " m²: " << s.reached << "/"
+      << s.runs << " (" << fixed(rate, 0) << "%)\n";
   out << "median evaluations " << fixed(s.median_evaluations, 0) << ", median seconds "
       << fixed(s.median_seconds, 1) << " (all runs)";
   if (s.reached > 0) {
     out << "; " << fixed(s.median_evaluations_reached, 0) << " evaluations, "
         << fixed(s.median_seconds_reached, 1) << " s (runs that reached it)";
   }
-  out << "\n\n";
+  out << "\n";
+  const RunResult& first = runs.front();
+  if (first.err_lower_bound > first.tolerance) {
+    // Conservative mode: voxels touching a target are always in the model (SPEC §5), so Err
+    // cannot fall below this bound whatever the cameras.
+    out << "no configuration can reach the tolerance: Err >= " << fixed(first.err_lower_bound, 4)
+        << " m² for every configuration at this resolution (conservative lower bound)\n";
+    out << "reached that lower bound (provably optimal): " << s.reached_lower_bound << "/" << s.runs
+        << "\n";
+  }
+  out << "\n";
   const RunResult& best = runs[static_cast<std::size_t>(s.best_run)];
-  out << "best configuration (seed " << best.seed << "), Err = " << fixed(best.err, 5)
-      << " m²\n";
+  out << "best configuration (seed " << best.seed << "), Err = " << fixed(best.err, 5) << " m²\n";
   out << std::left << std::setw(8) << "camera" << std::right << std::setw(9) << "x [m]"
       << std::setw(9) << "y [m]" << std::setw(9) << "z [m]" << std::setw(11) << "yaw [°]"
       << std::setw(12) << "pitch [°]" << '\n';
   for (std::size_t i = 0; i < best.best.size(); ++i) {
     const core::CameraSetting& c = best.best[i];
-    out << std::left << std::setw(8) << i << std::right << std::setw(9)
-        << fixed(c.position.x(), 3) << std::setw(9) << fixed(c.position.y(), 3) << std::setw(9)
-        << fixed(c.position.z(), 3) << std::setw(10) << fixed(c.yaw * kRadToDeg, 2)
-        << std::setw(11) << fixed(c.pitch * kRadToDeg, 2) << '\n';
+    out << std::left << std::setw(8) << i << std::right << std::setw(9) << fixed(c.position.x(), 3)
+        << std::setw(9) << fixed(c.position.y(), 3) << std::setw(9) << fixed(c.position.z(), 3)
+        << std::setw(10) << fixed(c.yaw * kRadToDeg, 2) << std::setw(11)
+        << fixed(c.pitch * kRadToDeg, 2) << '\n';
   }
-}
-
-void write_file_atomically(const std::string& path, const std::string& text) {
-  namespace fs = std::filesystem;
-  const fs::path target(path);
-  fs::path tmp = target;
-  tmp += ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(tmp.string() + ": cannot open for writing");
-    out << text;
-    out.flush();
-    if (!out) throw std::runtime_error(tmp.string() + ": write failed");
-  }
-  std::error_code ec;
-  fs::rename(tmp, target, ec);
-  if (ec) throw std::runtime_error(path + ": cannot rename from " + tmp.string() + ": " +
-                                   ec.message());
 }
 
 }  // namespace camplace::optimize

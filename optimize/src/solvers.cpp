@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
-
 #include <pagmo/algorithms/bee_colony.hpp>
 #include <pagmo/algorithms/cmaes.hpp>
 #include <pagmo/algorithms/de.hpp>
@@ -18,6 +16,7 @@
 #include <pagmo/algorithms/xnes.hpp>
 #include <pagmo/batch_evaluators/member_bfe.hpp>
 #include <pagmo/bfe.hpp>
+#include <sstream>
 
 #include "camplace/core/error.hpp"
 #include "camplace/optimize/optimizer.hpp"
@@ -103,9 +102,9 @@ Solver make_solver(const std::string& name, unsigned seed, int population, std::
   const unsigned pop =
       population > 0 ? static_cast<unsigned>(population) : default_population(name, dimension);
   if (pop < entry->min_population) {
-    throw core::InputError("command line", "--population",
-                           name + " needs a population of at least " +
-                               std::to_string(entry->min_population));
+    throw core::InputError(
+        "command line", "--population",
+        name + " needs a population of at least " + std::to_string(entry->min_population));
   }
 
   Solver solver;
@@ -118,8 +117,8 @@ Solver make_solver(const std::string& name, unsigned seed, int population, std::
     algo.set_bfe(pagmo::bfe{pagmo::member_bfe{}});
     solver.algorithm = pagmo::algorithm{algo};
   } else if (name == "cmaes") {
-    solver.algorithm = pagmo::algorithm{
-        pagmo::cmaes(1u, -1, -1, -1, -1, 0.5, 1e-9, 1e-9, true, true, seed)};
+    solver.algorithm =
+        pagmo::algorithm{pagmo::cmaes(1u, -1, -1, -1, -1, 0.5, 1e-9, 1e-9, true, true, seed)};
   } else if (name == "sade") {
     solver.algorithm = pagmo::algorithm{pagmo::sade(1u, 2u, 1u, 1e-9, 1e-9, true, seed)};
   } else if (name == "de") {
@@ -137,19 +136,19 @@ Solver make_solver(const std::string& name, unsigned seed, int population, std::
   } else if (name == "simulated_annealing") {
     // Temperatures on the scale of Err (m²); one annealing cycle per evolve() call, each
     // starting from the best point found so far.
-    solver.algorithm = pagmo::algorithm{
-        pagmo::simulated_annealing(1.0, 1e-3, 10u, 1u, 10u, 1.0, seed)};
+    solver.algorithm =
+        pagmo::algorithm{pagmo::simulated_annealing(1.0, 1e-3, 10u, 1u, 10u, 1.0, seed)};
   } else if (name == "abc") {
     solver.algorithm = pagmo::algorithm{pagmo::bee_colony(1u, 20u, seed)};
   } else if (name == "gwo") {
     // gwo's schedule depends on its generation count; 50 generations per call.
     solver.algorithm = pagmo::algorithm{pagmo::gwo(50u, seed)};
   } else if (name == "sga") {
-    solver.algorithm = pagmo::algorithm{pagmo::sga(1u, 0.9, 1.0, 0.02, 1.0, 2u, "exponential",
-                                                   "polynomial", "tournament", seed)};
-  } else if (name == "xnes") {
     solver.algorithm = pagmo::algorithm{
-        pagmo::xnes(1u, -1, -1, -1, -1, 1e-9, 1e-9, true, true, seed)};
+        pagmo::sga(1u, 0.9, 1.0, 0.02, 1.0, 2u, "exponential", "polynomial", "tournament", seed)};
+  } else if (name == "xnes") {
+    solver.algorithm =
+        pagmo::algorithm{pagmo::xnes(1u, -1, -1, -1, -1, 1e-9, 1e-9, true, true, seed)};
   }
   return solver;
 }

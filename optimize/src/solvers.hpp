@@ -1,9 +1,8 @@
 #pragma once
 // Private: the solver table (name → pagmo algorithm with camplace's settings).
 #include <cstddef>
-#include <string>
-
 #include <pagmo/algorithm.hpp>
+#include <string>
 
 namespace camplace::optimize::detail {
 

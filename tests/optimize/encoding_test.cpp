@@ -16,7 +16,7 @@ TEST(Encoding, RoomDomainHasAllFiveVariablesPerCamera) {
   const Encoding encoding(scene);
   EXPECT_EQ(encoding.dimension(), 15u);
   const auto [lo, hi] = encoding.bounds();
-  EXPECT_DOUBLE_EQ(lo[2], 0.0);   // camera 0 z
+  EXPECT_DOUBLE_EQ(lo[2], 0.0);  // camera 0 z
   EXPECT_DOUBLE_EQ(hi[2], 2.5);
   EXPECT_NEAR(hi[3], M_PI, 1e-12);  // camera 0 yaw
 }
@@ -37,8 +37,7 @@ TEST(Encoding, CeilingRemovesZFromTheDecisionVector) {
 }
 
 TEST(Encoding, ExplicitFixedYawIsRemovedAndKept) {
-  const core::Scene scene =
-      small_scene(R"({"preset": "room", "yaw_deg": [45, 45]})");
+  const core::Scene scene = small_scene(R"({"preset": "room", "yaw_deg": [45, 45]})");
   const Encoding encoding(scene);
   ASSERT_EQ(encoding.dimension(), 12u);
   const auto [lo, hi] = encoding.bounds();

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -215,6 +216,45 @@ TEST(Optimizer, RecordsTimingAndMemory) {
   EXPECT_GE(r.memory.vm_peak_kb, r.memory.vm_hwm_kb);
 }
 
+TEST(Optimizer, ConservativeErrNeverFallsBelowTheRecordedLowerBound) {
+  Fixture f("\"room\"", voxel::LabelMode::conservative);
+  OptimizeOptions o = budget("gaco", 300, 1);
+  o.start.kind = StartKind::corners;
+  const RunResult r = optimize(f.scene, f.objective, o);
+  EXPECT_GT(r.err_lower_bound, 0.0);
+  EXPECT_GE(r.err, r.err_lower_bound);
+  for (const HistoryPoint& h : r.history) EXPECT_GE(h.err, r.err_lower_bound);
+}
+
+/// Err = 0.5 + (max(0, |x₀ − 1| − 0.2))² for camera 0's x: its lower bound 0.5 is reached on a
+/// whole interval, so a solver can hit it exactly.
+class FlatBottomObjective : public Objective {
+ public:
+  double evaluate(const core::CameraConfig& config, voxel::Timing& timing) const override {
+    timing = voxel::Timing{};
+    const double excess = std::max(0.0, std::abs(config[0].position.x() - 1.0) - 0.2);
+    return 0.5 + excess * excess;
+  }
+  double default_tolerance() const override { return 0.1; }
+  double err_lower_bound() const override { return 0.5; }
+};
+
+TEST(Optimizer, StopsWhenErrReachesTheLowerBound) {
+  const core::Scene scene = small_scene();
+  const FlatBottomObjective objective;
+  OptimizeOptions o = budget("cmaes", 20000, 1);
+  o.tolerance.reset();  // 0.1: below the bound, never reached
+  const RunResult r = optimize(scene, objective, o);
+  EXPECT_EQ(r.stop_reason, StopReason::lower_bound);
+  EXPECT_EQ(r.err, 0.5);
+  EXPECT_FALSE(r.reached_tolerance);
+  EXPECT_LT(r.evaluations, 20000u);
+
+  o.stop_at_lower_bound = false;
+  o.max_evaluations = 300;
+  EXPECT_EQ(optimize(scene, objective, o).stop_reason, StopReason::max_evaluations);
+}
+
 TEST(Optimizer, BadAlgorithmOrPopulationIsAnInputError) {
   Fixture f;
   EXPECT_THROW(optimize(f.scene, f.objective, budget("midaco", 10, 1)), core::InputError);
@@ -224,7 +264,8 @@ TEST(Optimizer, BadAlgorithmOrPopulationIsAnInputError) {
 }
 
 TEST(Optimizer, FixedEverythingIsAnInputError) {
-  Fixture f(R"({"preset": "ceiling", "x": [1, 1], "y": [1, 1], "yaw_deg": [0, 0], "pitch_deg": [-90, -90]})");
+  Fixture f(
+      R"({"preset": "ceiling", "x": [1, 1], "y": [1, 1], "yaw_deg": [0, 0], "pitch_deg": [-90, -90]})");
   EXPECT_THROW(optimize(f.scene, f.objective, budget("gaco", 10, 1)), core::InputError);
 }
 

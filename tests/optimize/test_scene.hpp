@@ -1,8 +1,9 @@
 #pragma once
 // A small scene for the optimizer tests: S = 3 × 3 × 2.5 m at 9 × 9 × 8 voxels, 3 cameras, one
 // robot box and a person box in two events; the plausibility filter (min height 1.4 m) drops
-// model parts around the robot that could not be a person, as in data/paper_basic.json. Written to a temporary file and loaded through
-// core::load_scene, so the tests see exactly what the command line sees.
+// model parts around the robot that could not be a person, as in data/paper_basic.json. Written to
+// a temporary file and loaded through core::load_scene, so the tests see exactly what the command
+// line sees.
 #include <unistd.h>
 
 #include <filesystem>

@@ -18,6 +18,8 @@ class Objective {
   virtual double evaluate(const core::CameraConfig& config, voxel::Timing& timing) const = 0;
   /// The default optimisation tolerance for this objective (m², SPEC §4).
   virtual double default_tolerance() const = 0;
+  /// A lower bound of Err over all configurations (m²); 0 when none is known.
+  virtual double err_lower_bound() const { return 0.0; }
 };
 
 /// The voxel Err of SPEC §5 (mode and resolution from the options).
@@ -27,6 +29,8 @@ class VoxelObjective : public Objective {
   double evaluate(const core::CameraConfig& config, voxel::Timing& timing) const override;
   /// (½ · voxel diagonal)² at the evaluator's resolution.
   double default_tolerance() const override;
+  /// VoxelEvaluator::err_lower_bound(): conservative mode only (0 in center mode).
+  double err_lower_bound() const override;
   const voxel::VoxelEvaluator& evaluator() const { return evaluator_; }
 
  private:

@@ -20,9 +20,10 @@ enum class StopReason {
   tolerance,        ///< the best Err reached the tolerance
   time_limit,       ///< the wall-clock limit passed
   max_evaluations,  ///< the evaluation budget was used up
-  interrupted       ///< the interrupt flag was raised (Ctrl-C)
+  interrupted,      ///< the interrupt flag was raised (Ctrl-C)
+  lower_bound       ///< the best Err equals the objective's lower bound: provably optimal
 };
-/// "tolerance", "time_limit", "max_evaluations" or "interrupted".
+/// "tolerance", "time_limit", "max_evaluations", "interrupted" or "lower_bound".
 const char* to_string(StopReason reason);
 
 /// Where a run starts (SPEC §7).
@@ -45,9 +46,9 @@ struct Progress {
 };
 
 struct OptimizeOptions {
-  std::string algorithm = "gaco";  ///< one of algorithm_names()
-  unsigned seed = 1;               ///< seeds the population and the solver
-  double time_limit = 0.0;         ///< seconds of wall clock; 0 = none
+  std::string algorithm = "gaco";     ///< one of algorithm_names()
+  unsigned seed = 1;                  ///< seeds the population and the solver
+  double time_limit = 0.0;            ///< seconds of wall clock; 0 = none
   std::uint64_t max_evaluations = 0;  ///< objective evaluations; 0 = none
   std::optional<double> tolerance;    ///< m²; none = the objective's default
   StartOptions start;
@@ -55,6 +56,9 @@ struct OptimizeOptions {
   int population = 0;  ///< population size; 0 = the solver's default
   /// Raised (from a signal handler, say) to stop the run; the best result so far is returned.
   const std::atomic<bool>* interrupt = nullptr;
+  /// Stop when the best Err reaches the objective's lower bound (nothing better exists, so
+  /// going on cannot improve it; the tolerance may lie below the bound, SPEC §5).
+  bool stop_at_lower_bound = true;
   /// Called after evaluations with the current state (from the evaluating thread, serialised).
   std::function<void(const Progress&)> on_progress;
 };
@@ -78,13 +82,14 @@ struct RunResult {
   unsigned seed = 0;
   int threads = 0;
   int population = 0;
-  std::size_t dimension = 0;  ///< free decision variables
-  core::CameraConfig best;    ///< best configuration (as re-read from its JSON form)
-  double err = 0.0;           ///< Err of `best` (m²), as `camplace evaluate` computes it
-  double search_err = 0.0;    ///< best Err seen during the search (m²); equals err unless the
-                              ///< JSON round trip of the angles moved a voxel label
-  double start_err = 0.0;     ///< best Err of the initial population (holds the start) (m²)
-  double tolerance = 0.0;     ///< m²
+  std::size_t dimension = 0;     ///< free decision variables
+  core::CameraConfig best;       ///< best configuration (as re-read from its JSON form)
+  double err = 0.0;              ///< Err of `best` (m²), as `camplace evaluate` computes it
+  double search_err = 0.0;       ///< best Err seen during the search (m²); equals err unless the
+                                 ///< JSON round trip of the angles moved a voxel label
+  double start_err = 0.0;        ///< best Err of the initial population (holds the start) (m²)
+  double tolerance = 0.0;        ///< m²
+  double err_lower_bound = 0.0;  ///< the objective's lower bound of Err (m²); 0 = none known
   bool reached_tolerance = false;
   StopReason stop_reason = StopReason::time_limit;
   std::uint64_t evaluations = 0;          ///< objective evaluations performed
