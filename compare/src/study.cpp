@@ -3,6 +3,8 @@
 
 #include <sys/wait.h>
 
+#include <csignal>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -163,6 +165,13 @@ bool read_run(const std::string& path, RunRow& row) {
 }
 
 
+std::string read(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
 double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
@@ -314,13 +323,18 @@ StudyOutcome run_study(const StudyOptions& options) {
         if (read_run(run_file, row)) {
           ++outcome.runs_done_now;
           rows.push_back(row);
-        } else {
-          outcome.interrupted = true;
-          if (!(WIFEXITED(status) && (WEXITSTATUS(status) == 0 || WEXITSTATUS(status) == 130))) {
-            throw std::runtime_error("study: camplace optimize failed for " + group + " seed " +
-                                     std::to_string(row.seed) + " (see " + run_dir + "/last-output.txt)");
-          }
+          continue;
         }
+        // Ctrl-C reaches the whole foreground process group: the run file then says
+        // "interrupted", or the shell around the child died of SIGINT.
+        const bool by_sigint = (WIFSIGNALED(status) && WTERMSIG(status) == SIGINT) ||
+                               (WIFEXITED(status) && WEXITSTATUS(status) == 130) ||
+                               read(run_file).find("\"interrupted\"") != std::string::npos;
+        if (!by_sigint) {
+          throw std::runtime_error("study: camplace optimize failed for " + group + " seed " +
+                                   std::to_string(row.seed) + " (see " + run_dir + "/last-output.txt)");
+        }
+        outcome.interrupted = true;
       }
     }
   }
