@@ -5,5 +5,5 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/build.sh
 out=out/paper_basic
-build/release/app/camplace optimize data/paper_basic.json --seed 1 --time-limit 90 --out "$out"
+build/release/app/camplace optimize data/paper_basic.json --seed 1 --time-limit 100 --out "$out"
 echo "best configuration: $out/run-1.json"

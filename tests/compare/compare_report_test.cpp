@@ -114,6 +114,7 @@ TEST(CompareReport, KendallTauByHand) {
   EXPECT_NEAR(compare::kendall_tau_b({1, 2, 3}, {1, 3, 2}), 1.0 / 3.0, 1e-15);
   // With a tie in b: pairs (1,2) tie_b, (1,3) C, (2,3) C → 2 / sqrt(3·2).
   EXPECT_NEAR(compare::kendall_tau_b({1, 2, 3}, {1, 1, 2}), 2.0 / std::sqrt(6.0), 1e-15);
+  EXPECT_TRUE(std::isnan(compare::kendall_tau_b({1, 2, 3}, {5, 5, 5})));
 }
 
 }  // namespace

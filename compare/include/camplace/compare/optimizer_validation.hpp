@@ -18,7 +18,8 @@ struct OptimizerValidationOptions {
   std::string command;   ///< quoted in the report
 };
 
-/// Kendall's τ-b of two equally long samples (ties handled); 0 when undefined.
+/// Kendall's τ-b of two equally long samples (ties handled); NaN when undefined (one sample
+/// all tied).
 double kendall_tau_b(const std::vector<double>& a, const std::vector<double>& b);
 
 /// Writes DIR/report.md, DIR/runs.csv, DIR/samples.csv, DIR/rank_agreement.csv and
