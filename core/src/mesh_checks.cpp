@@ -43,8 +43,12 @@ TriangleMesh read_mesh_file(const std::string& path, const std::string& scene_fi
     throw InputError(scene_file, entry, "mesh file " + path + ": unsupported format \"" + ext +
                                             "\" (expected .off, .obj, .stl or .ply)");
   }
-  if (!std::filesystem::is_regular_file(path)) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) {
     throw InputError(scene_file, entry, "mesh file " + path + " does not exist");
+  }
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    throw InputError(scene_file, entry, "mesh file " + path + " is not a regular file");
   }
   std::vector<Point> points;
   std::vector<std::vector<std::size_t>> polygons;

@@ -110,6 +110,9 @@ class SceneParser {
     if (node.array_size() != 3) node.fail("expected [nx, ny, nz]");
     std::array<int, 3> n{};
     for (std::size_t i = 0; i < 3; ++i) n[i] = node.at(i).integer_in(1, 4096);
+    if (static_cast<long long>(n[0]) * n[1] * n[2] > kMaxVoxels) {
+      node.fail("too many voxels (at most " + std::to_string(kMaxVoxels) + ")");
+    }
     return n;
   }
 
@@ -343,6 +346,10 @@ std::array<int, 3> parse_resolution(const std::string& text, const std::string& 
     if (v < 1 || v > 4096) {
       throw InputError("command line", what, "every resolution must lie in [1, 4096], got \"" + text + "\"");
     }
+  }
+  if (static_cast<long long>(n[0]) * n[1] * n[2] > kMaxVoxels) {
+    throw InputError("command line", what, "too many voxels in \"" + text + "\" (at most " +
+                                               std::to_string(kMaxVoxels) + ")");
   }
   return n;
 }

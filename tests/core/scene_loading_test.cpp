@@ -206,6 +206,10 @@ TEST(SceneRejection, CameraCountAndResolutionBelowOne) {
   expect_rejected(s, "voxels", "/voxels/1", "out of range [1,");
   EXPECT_THROW(core::parse_resolution("16x0x12", "--resolution"), core::InputError);
   EXPECT_THROW(core::parse_resolution("16x12", "--resolution"), core::InputError);
+  EXPECT_THROW(core::parse_resolution("4096x4096x4096", "--resolution"), core::InputError);
+  s = base_scene();
+  s["voxels"] = {4096, 4096, 4};
+  expect_rejected(s, "toomany", "/voxels", "too many voxels");
   EXPECT_EQ(core::parse_resolution("20x15x15", "--resolution"), (std::array<int, 3>{20, 15, 15}));
 }
 

@@ -486,6 +486,11 @@ VoxelEvaluator::VoxelEvaluator(const core::Scene& scene, const VoxelOptions& opt
       throw core::InputError(scene.file, "resolution", "every voxel count must lie in [1, 4096]");
     }
   }
+  if (static_cast<long long>(n[0]) * n[1] * n[2] > core::kMaxVoxels) {
+    throw core::InputError(scene.file, "resolution",
+                           "too many voxels (" + std::to_string(static_cast<long long>(n[0]) * n[1] * n[2]) +
+                               "); at most " + std::to_string(core::kMaxVoxels));
+  }
   m.options.resolution = n;
   m.conservative = options.mode == LabelMode::conservative;
   m.grid.area = scene.area;

@@ -90,6 +90,9 @@ std::vector<StateIndex> states(const Scene& scene);
 /// (JSON pointer) and the reason for every rejection the SPEC lists.
 Scene load_scene(const std::string& path);
 
+/// Largest voxel grid camplace accepts (per-voxel data is kept per camera).
+constexpr long long kMaxVoxels = 1LL << 25;
+
 /// Parses "NXxNYxNZ" (e.g. "16x12x12"); throws InputError naming `what` on bad input.
 std::array<int, 3> parse_resolution(const std::string& text, const std::string& what);
 
