@@ -1,9 +1,12 @@
 #include "scene_builder.hpp"
 
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <unistd.h>
-#include <algorithm>
+#include <vector>
 
 namespace camplace::testing {
 
@@ -142,11 +145,32 @@ std::string write_file(const std::string& path, const std::string& text) {
   return path;
 }
 
+namespace {
+
+/// Removes the test's scratch directories when the test program ends (set
+/// CAMPLACE_KEEP_TEST_FILES to keep them for inspection).
+struct ScratchDirectories {
+  std::vector<std::filesystem::path> dirs;
+  ~ScratchDirectories() {
+    if (std::getenv("CAMPLACE_KEEP_TEST_FILES") != nullptr) return;
+    std::error_code ec;
+    for (const auto& dir : dirs) std::filesystem::remove_all(dir, ec);
+  }
+};
+
+ScratchDirectories& scratch_directories() {
+  static ScratchDirectories registry;
+  return registry;
+}
+
+}  // namespace
+
 std::string temp_dir(const std::string& name) {
   const auto dir = std::filesystem::temp_directory_path() /
                    ("camplace-test-" + name + "-" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
+  scratch_directories().dirs.push_back(dir);
   return dir.string();
 }
 

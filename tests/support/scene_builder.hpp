@@ -32,7 +32,8 @@ core::CameraConfig random_config(std::mt19937& rng, const core::Scene& scene);
 
 /// Writes text to a file (creating directories) and returns the path.
 std::string write_file(const std::string& path, const std::string& text);
-/// A fresh empty directory under the system temporary directory.
+/// A fresh empty directory under the system temporary directory, removed when the test
+/// program ends (kept if CAMPLACE_KEEP_TEST_FILES is set).
 std::string temp_dir(const std::string& name);
 
 }  // namespace camplace::testing
