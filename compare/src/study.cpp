@@ -3,10 +3,9 @@
 
 #include <sys/wait.h>
 
-#include <csignal>
-
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -56,7 +55,8 @@ StudySpec parse_study(const std::string& path) {
   if (root.has("algorithm")) s.algorithm = root.at("algorithm").string();
   if (root.has("mode")) {
     s.mode = root.at("mode").string();
-    if (s.mode != "center" && s.mode != "conservative") root.at("mode").fail("expected center or conservative");
+    if (s.mode != "center" && s.mode != "conservative")
+      root.at("mode").fail("expected center or conservative");
   }
   s.runs_per_group = root.at("runs_per_group").integer_in(1, 1000);
   if (root.has("threads")) s.threads = root.at("threads").integer_in(1, 256);
@@ -74,7 +74,8 @@ StudySpec parse_study(const std::string& path) {
     ex.name = e.has("name") ? e.at("name").string() : ex.family;
     if (e.has("params")) {
       const core::JsonNode p = e.at("params");
-      for (std::size_t k = 0; k < p.array_size(); ++k) ex.params.push_back(p.at(k).integer_in(-1000, 1000));
+      for (std::size_t k = 0; k < p.array_size(); ++k)
+        ex.params.push_back(p.at(k).integer_in(-1000, 1000));
     }
     if (ex.params.empty()) ex.params.push_back(std::nullopt);
     for (const std::optional<int>& param : ex.params) {
@@ -164,6 +165,27 @@ bool read_run(const std::string& path, RunRow& row) {
   return true;
 }
 
+/// Whether a rerun with the same seeds reproduces the rows: only when no run was ended by the
+/// clock (the evaluation count reached by a time limit depends on the machine's speed).
+std::string clock_note(const std::vector<RunRow>& rows) {
+  std::vector<std::string> timed;
+  for (const RunRow& r : rows) {
+    if (r.stop_reason == "time_limit" && (timed.empty() || timed.back() != r.group)) {
+      timed.push_back(r.group);
+    }
+  }
+  if (timed.empty()) {
+    return "No run was ended by the time limit: the evaluation budget ends a run that misses the "
+           "tolerance, so a rerun with the same seeds gives the same rows apart from the timing "
+           "columns.\n\n";
+  }
+  std::string groups;
+  for (const std::string& g : timed) groups += (groups.empty() ? "`" : ", `") + g + "`";
+  return "The time limit ended runs of " + groups +
+         " before their evaluation budget: their evaluation counts and Err depend on the "
+         "machine's speed; every other row is reproduced by a rerun with the same seeds apart "
+         "from the timing columns.\n\n";
+}
 
 std::string read(const std::string& path) {
   std::ifstream in(path);
@@ -185,7 +207,7 @@ struct GroupStats {
   RunRow shape;  // scene description
   double median_evaluations = 0, median_seconds = 0, median_err = 0;
   double labelling_ms = 0, clustering_ms = 0, total_ms = 0;
-  double max_vm_peak_kb = 0;
+  double max_vm_peak_kb = 0, max_vm_hwm_kb = 0;
 };
 
 std::vector<GroupStats> group_stats(const std::vector<RunRow>& rows) {
@@ -218,6 +240,7 @@ std::vector<GroupStats> group_stats(const std::vector<RunRow>& rows) {
       g.clustering_ms += r->clustering_ms / members[g.group].size();
       g.total_ms += r->total_ms / members[g.group].size();
       g.max_vm_peak_kb = std::max(g.max_vm_peak_kb, static_cast<double>(r->vm_peak_kb));
+      g.max_vm_hwm_kb = std::max(g.max_vm_hwm_kb, static_cast<double>(r->vm_hwm_kb));
     }
     g.median_evaluations = median(evals);
     g.median_seconds = median(secs);
@@ -244,29 +267,39 @@ double x_value(const GroupStats& g) {
 
 /// Writes one plot's data (x, columns...) and draws it; returns the markdown line, or "" when
 /// the study has no group of the families.
+using GroupValue = std::function<double(const GroupStats&)>;
+
+/// One line of a plot: the groups of a family, titled `label`, with y values from `y` (the
+/// plot's common y when empty).
+struct Series {
+  std::string family, label;
+  GroupValue y = {};
+};
+
 std::string plot(const std::string& dir, const std::string& name, const std::string& title,
                  const std::string& xlabel, const std::string& ylabel,
-                 const std::vector<GroupStats>& groups,
-                 const std::vector<std::pair<std::string, std::string>>& series,  // (family, label)
-                 const std::function<double(const GroupStats&)>& y, bool bars = false) {
+                 const std::vector<GroupStats>& groups, const std::vector<Series>& series,
+                 const GroupValue& y, bool bars = false) {
   std::ostringstream dat, cmd;
   int blocks = 0;
   cmd << "set title '" << title << "'\nset xlabel '" << xlabel << "'\nset ylabel '" << ylabel
       << "'\nset grid\nset key top left box opaque\n";
   if (bars) cmd << "set style fill solid 0.6\nset boxwidth 0.6 relative\nset yrange [0:*]\n";
   std::string plot_cmd;
-  for (const auto& [family, label] : series) {
+  for (const auto& [family, label, series_y] : series) {
+    const GroupValue& value = series_y ? series_y : y;
     std::vector<const GroupStats*> members;
     for (const auto& g : groups) {
       if (g.family == family) members.push_back(&g);
     }
     if (members.empty()) continue;
-    dat << "# " << family << ": x y\n";
-    for (const GroupStats* g : members) dat << num(x_value(*g), 6) << " " << num(y(*g), 6) << "\n";
+    dat << "# " << family << ", " << label << ": x y\n";
+    for (const GroupStats* g : members)
+      dat << num(x_value(*g), 6) << " " << num(value(*g), 6) << "\n";
     dat << "\n\n";
-    plot_cmd += std::string(plot_cmd.empty() ? "plot " : ", ") + "'" + dir + "/" + name + ".dat' index " +
-                std::to_string(blocks++) + " using 1:2 with " + (bars ? "boxes" : "linespoints") +
-                " title '" + label + "'";
+    plot_cmd += std::string(plot_cmd.empty() ? "plot " : ", ") + "'" + dir + "/" + name +
+                ".dat' index " + std::to_string(blocks++) + " using 1:2 with " +
+                (bars ? "boxes" : "linespoints") + " title '" + label + "'";
   }
   if (blocks == 0) return "";
   core::write_file_atomically(dir + "/" + name + ".dat", dat.str());
@@ -290,7 +323,8 @@ StudyOutcome run_study(const StudyOptions& options) {
     for (const std::optional<int>& param : ex.params) {
       const std::string group = group_name(ex, param);
       const std::string scene_path = dir + "/scenes/" + group + ".json";
-      core::write_file_atomically(scene_path, generate_scene_json(ex.family, param, spec.scene_seed));
+      core::write_file_atomically(scene_path,
+                                  generate_scene_json(ex.family, param, spec.scene_seed));
       RunRow shape;
       describe_scene(core::load_scene(scene_path), shape);
       shape.examination = ex.name;
@@ -312,10 +346,11 @@ StudyOutcome run_study(const StudyOptions& options) {
         std::fprintf(stderr, "study: %s seed %u (run %d of %d)\n", group.c_str(), row.seed,
                      outcome.runs_total, total_runs);
         const std::string cmd =
-            quote(options.camplace) + " optimize " + quote(scene_path) + " --algorithm " + spec.algorithm +
-            " --seed " + std::to_string(row.seed) + " --runs 1 --threads " + std::to_string(spec.threads) +
-            " --time-limit " + num(spec.time_limit, 3) + " --max-evals " + std::to_string(spec.max_evaluations) +
-            " --mode " + spec.mode + " --quiet --out " + quote(run_dir) + " > " + quote(run_dir + "/last-output.txt");
+            quote(options.camplace) + " optimize " + quote(scene_path) + " --algorithm " +
+            spec.algorithm + " --seed " + std::to_string(row.seed) + " --runs 1 --threads " +
+            std::to_string(spec.threads) + " --time-limit " + num(spec.time_limit, 3) +
+            " --max-evals " + std::to_string(spec.max_evaluations) + " --mode " + spec.mode +
+            " --quiet --out " + quote(run_dir) + " > " + quote(run_dir + "/last-output.txt");
         fs::create_directories(run_dir);
         const int status = std::system(cmd.c_str());
         // system() ignores SIGINT in this process while the child runs; the child writes its
@@ -332,7 +367,8 @@ StudyOutcome run_study(const StudyOptions& options) {
                                read(run_file).find("\"interrupted\"") != std::string::npos;
         if (!by_sigint) {
           throw std::runtime_error("study: camplace optimize failed for " + group + " seed " +
-                                   std::to_string(row.seed) + " (see " + run_dir + "/last-output.txt)");
+                                   std::to_string(row.seed) + " (see " + run_dir +
+                                   "/last-output.txt)");
         }
         outcome.interrupted = true;
       }
@@ -346,13 +382,14 @@ StudyOutcome run_study(const StudyOptions& options) {
          "tolerance_m2,reached_tolerance,evaluations,stop_reason,vm_peak_kb,seconds,labelling_ms,"
          "clustering_ms,distance_ms,total_ms\n";
   for (const RunRow& r : rows) {
-    csv << r.examination << "," << r.family << "," << r.param << "," << r.seed << "," << r.resolution << ","
-        << r.voxels << "," << r.cameras << "," << r.static_objects << "," << r.static_facets << ","
-        << r.dynamic_objects << "," << r.dynamic_facets << "," << r.time_steps << "," << r.target_objects
-        << "," << r.target_facets << "," << r.events << "," << num(r.err, 6) << "," << num(r.tolerance, 6)
-        << "," << (r.reached ? 1 : 0) << "," << r.evaluations << "," << r.stop_reason << ","
-        << r.vm_peak_kb << "," << num(r.seconds, 2) << "," << num(r.labelling_ms, 3) << ","
-        << num(r.clustering_ms, 3) << "," << num(r.distance_ms, 3) << "," << num(r.total_ms, 3) << "\n";
+    csv << r.examination << "," << r.family << "," << r.param << "," << r.seed << ","
+        << r.resolution << "," << r.voxels << "," << r.cameras << "," << r.static_objects << ","
+        << r.static_facets << "," << r.dynamic_objects << "," << r.dynamic_facets << ","
+        << r.time_steps << "," << r.target_objects << "," << r.target_facets << "," << r.events
+        << "," << num(r.err, 6) << "," << num(r.tolerance, 6) << "," << (r.reached ? 1 : 0) << ","
+        << r.evaluations << "," << r.stop_reason << "," << r.vm_peak_kb << "," << num(r.seconds, 2)
+        << "," << num(r.labelling_ms, 3) << "," << num(r.clustering_ms, 3) << ","
+        << num(r.distance_ms, 3) << "," << num(r.total_ms, 3) << "\n";
   }
   core::write_file_atomically(dir + "/runs.csv", csv.str());
 
@@ -363,54 +400,62 @@ StudyOutcome run_study(const StudyOptions& options) {
   md << "Made by:\n\n    " << options.command << "\n\n"
      << "## Budget\n\n| | this study | the paper |\n|---|---|---|\n"
      << "| runs per group | " << spec.runs_per_group << " | 20 |\n"
-     << "| stop | tolerance (½ voxel diagonal)², or " << spec.max_evaluations
-     << " evaluations, or " << num(spec.time_limit, 0) << " s | tolerance 0.046 m², or 3 h |\n"
+     << "| stop | tolerance (½ voxel diagonal)², or " << spec.max_evaluations << " evaluations, or "
+     << num(spec.time_limit, 0) << " s | tolerance 0.046 m², or 3 h |\n"
      << "| solver | pagmo `" << spec.algorithm << "`, " << spec.threads << " threads | MIDACO |\n"
      << "| machine | 2 cores (this project's) | 2.8 GHz Opteron |\n"
      << "| voxel labelling | " << spec.mode << " | centre of voxel |\n\n"
-     << "The evaluation budget, not the clock, ends a run that misses the tolerance, so a rerun "
-        "with the same seeds gives the same rows apart from the timing columns.\n\n";
-  md << "## Groups\n\n| examination | param | scene | runs | reached tolerance | median evaluations | "
+     << clock_note(rows);
+  md << "## Groups\n\n| examination | param | scene | runs | reached tolerance | median "
+        "evaluations | "
         "median Err [m²] |\n|---|---|---|---|---|---|---|\n";
   for (const GroupStats& g : groups) {
     const RunRow& s = g.shape;
     md << "| " << g.examination << " | " << g.param << " | " << s.resolution << ", " << s.cameras
-       << " cams, static " << s.static_objects << "/" << s.static_facets << ", dynamic " << s.dynamic_objects
-       << "/" << s.dynamic_facets << " in " << s.time_steps << " steps, targets " << s.target_objects << "/"
-       << s.target_facets << " in " << s.events << " events | " << g.runs << " | " << g.reached << " | "
-       << num(g.median_evaluations, 0) << " | " << num(g.median_err, 4) << " |\n";
+       << " cams, static " << s.static_objects << "/" << s.static_facets << ", dynamic "
+       << s.dynamic_objects << "/" << s.dynamic_facets << " in " << s.time_steps
+       << " steps, targets " << s.target_objects << "/" << s.target_facets << " in " << s.events
+       << " events | " << g.runs << " | " << g.reached << " | " << num(g.median_evaluations, 0)
+       << " | " << num(g.median_err, 4) << " |\n";
   }
   md << "\n(objects/facets; events counted over all time steps.)\n\n"
      << "## Time and memory (vary between runs)\n\n"
-     << "| examination | param | labelling ms | clustering ms | total ms per evaluation | median seconds per run | peak VM [kB] |\n"
-     << "|---|---|---|---|---|---|---|\n";
+     << "| examination | param | labelling ms | clustering ms | total ms per evaluation | median "
+        "seconds per run | peak VM [kB] | peak resident [kB] |\n"
+     << "|---|---|---|---|---|---|---|---|\n";
   for (const GroupStats& g : groups) {
     md << "| " << g.examination << " | " << g.param << " | " << num(g.labelling_ms, 3) << " | "
-       << num(g.clustering_ms, 3) << " | " << num(g.total_ms, 3) << " | " << num(g.median_seconds, 1)
-       << " | " << num(g.max_vm_peak_kb, 0) << " |\n";
+       << num(g.clustering_ms, 3) << " | " << num(g.total_ms, 3) << " | "
+       << num(g.median_seconds, 1) << " | " << num(g.max_vm_peak_kb, 0) << " | "
+       << num(g.max_vm_hwm_kb, 0) << " |\n";
   }
   md << "\n## The paper's figures beside ours\n\n"
      << "| figure | the paper (SPEC §9) | here |\n|---|---|---|\n"
-     << "| time per iteration step | 315 ms (3 cameras) to 170 ms (9 cameras) | see the table above and `time_vs_cameras.png` |\n"
+     << "| time per iteration step | 315 ms (3 cameras) to 170 ms (9 cameras) | see the table "
+        "above and `time_vs_cameras.png` |\n"
      << "| intersection test | ≤ 15 ms; 50 ms at 36×27×27 | `labelling ms` column |\n"
      << "| clustering | 2–4× the intersection time | `clustering ms` column |\n"
      << "| iterations | 500–160,000 | `median evaluations` column |\n"
      << "| resolution | above 24×18×18 no run reached the tolerance in 3 h | resolution rows |\n"
      << "| cameras | 3 cameras never reached it | cameras rows |\n"
-     << "| domains | ceiling / upper fourth never reached 0.046 m², stayed below 0.25 m² | domain rows (median Err) |\n"
-     << "| peak virtual memory | 32,868 kB at 36×27×27 | `peak VM` column (whole process, with threads and libraries) |\n\n";
+     << "| domains | ceiling / upper fourth never reached 0.046 m², stayed below 0.25 m² | domain "
+        "rows (median Err) |\n"
+     << "| peak virtual memory | 32,868 kB at 36×27×27 | `peak VM` column (whole process: thread "
+        "stacks and libraries reserved, mostly untouched) and `peak resident` column |\n\n";
   md << "## Plots\n\n";
   auto evals = [](const GroupStats& g) { return g.median_evaluations; };
   auto success = [](const GroupStats& g) { return g.runs ? 100.0 * g.reached / g.runs : 0.0; };
-  md << plot(dir, "iterations_vs_resolution", "Iterations against voxel resolution", "voxels (nx·ny·nz)",
-             "median evaluations", groups, {{"resolution", "median evaluations"}}, evals);
+  md << plot(dir, "iterations_vs_resolution", "Iterations against voxel resolution",
+             "voxels (nx·ny·nz)", "median evaluations", groups,
+             {{"resolution", "median evaluations"}}, evals);
   md << plot(dir, "success_vs_resolution", "Success against voxel resolution", "voxels (nx·ny·nz)",
              "runs reaching the tolerance [%]", groups, {{"resolution", "success"}}, success, true);
-  md << plot(dir, "iterations_vs_objects", "Iterations against static and dynamic objects", "objects",
-             "median evaluations", groups,
+  md << plot(dir, "iterations_vs_objects", "Iterations against static and dynamic objects",
+             "objects", "median evaluations", groups,
              {{"static_objects", "static objects"}, {"dynamic_objects", "dynamic objects"}}, evals);
-  md << plot(dir, "success_vs_dynamic_objects", "Success against dynamic objects", "dynamic objects",
-             "runs reaching the tolerance [%]", groups, {{"dynamic_objects", "success"}}, success, true);
+  md << plot(dir, "success_vs_dynamic_objects", "Success against dynamic objects",
+             "dynamic objects", "runs reaching the tolerance [%]", groups,
+             {{"dynamic_objects", "success"}}, success, true);
   md << plot(dir, "success_vs_cameras", "Success against cameras", "cameras",
              "runs reaching the tolerance [%]", groups, {{"cameras", "success"}}, success, true);
   {
@@ -421,24 +466,31 @@ StudyOutcome run_study(const StudyOptions& options) {
     for (const auto& g : groups) {
       if (g.family != "cameras") continue;
       any = true;
-      dat << g.shape.cameras << " " << num(g.labelling_ms, 4) << " " << num(g.clustering_ms, 4) << " "
-          << num(g.total_ms, 4) << "\n";
+      dat << g.shape.cameras << " " << num(g.labelling_ms, 4) << " " << num(g.clustering_ms, 4)
+          << " " << num(g.total_ms, 4) << "\n";
     }
     if (any) {
       core::write_file_atomically(dir + "/time_vs_cameras.dat", dat.str());
-      detail::gnuplot_png(dir + "/time_vs_cameras.png",
-                          "set title 'Time per iteration against cameras (timing: varies between runs)'\n"
-                          "set xlabel 'cameras'\nset ylabel 'ms per evaluation'\nset grid\nset key top left box opaque\n"
-                          "set style data histograms\nset style histogram rowstacked\nset style fill solid 0.7\n"
-                          "set boxwidth 0.6\nset yrange [0:*]\n"
-                          "plot '" + dir + "/time_vs_cameras.dat' using 2:xtic(1) title 'intersection (labelling)', "
-                          "'' using 3 title 'clustering'\n");
+      detail::gnuplot_png(
+          dir + "/time_vs_cameras.png",
+          "set title 'Time per iteration against cameras (timing: varies between runs)'\n"
+          "set xlabel 'cameras'\nset ylabel 'ms per evaluation'\nset grid\nset key top left box "
+          "opaque\n"
+          "set style data histograms\nset style histogram rowstacked\nset style fill solid 0.7\n"
+          "set boxwidth 0.6\nset yrange [0:*]\n"
+          "plot '" +
+              dir +
+              "/time_vs_cameras.dat' using 2:xtic(1) title 'intersection (labelling)', "
+              "'' using 3 title 'clustering'\n");
       md << "![Time per iteration against cameras](time_vs_cameras.png)\n\n";
     }
   }
-  md << plot(dir, "memory_vs_resolution", "Peak virtual memory against resolution (varies between runs)",
-             "voxels (nx·ny·nz)", "peak virtual memory [kB]", groups, {{"resolution", "VmPeak"}},
-             [](const GroupStats& g) { return g.max_vm_peak_kb; });
+  md << plot(
+      dir, "memory_vs_resolution", "Peak memory against resolution (varies between runs)",
+      "voxels (nx·ny·nz)", "peak memory of a run [kB]", groups,
+      {{"resolution", "virtual (VmPeak)", [](const GroupStats& g) { return g.max_vm_peak_kb; }},
+       {"resolution", "resident (VmHWM)", [](const GroupStats& g) { return g.max_vm_hwm_kb; }}},
+      {});
   md << "Data: `runs.csv` (one row per run), plot data and gnuplot scripts beside each PNG, run "
         "files under `runs/`, generated scenes under `scenes/`.\n";
   if (outcome.interrupted) md << "\n**Interrupted**: rerun the same command to finish the study.\n";

@@ -26,8 +26,8 @@ core::SceneObject box_object(const std::string& name, const Vec3& lo, const Vec3
   return o;
 }
 
-core::SceneObject tetra_object(const std::string& name, const Vec3& a, const Vec3& b,
-                               const Vec3& c, const Vec3& d) {
+core::SceneObject tetra_object(const std::string& name, const Vec3& a, const Vec3& b, const Vec3& c,
+                               const Vec3& d) {
   core::SceneObject o;
   o.name = o.entry = name;
   o.mesh.vertices = {a, b, c, d};
