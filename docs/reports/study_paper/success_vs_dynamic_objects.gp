@@ -1,0 +1,13 @@
+set terminal pngcairo size 800,560 font 'DejaVu Sans,10'
+set output 'docs/reports/study_paper/success_vs_dynamic_objects.png.part'
+set title 'Success against dynamic objects'
+set xlabel 'dynamic objects'
+set ylabel 'runs reaching the tolerance [%]'
+set grid
+set key top left box opaque
+set style fill solid 0.6
+set boxwidth 0.6 relative
+set yrange [0:*]
+plot 'docs/reports/study_paper/success_vs_dynamic_objects.dat' index 0 using 1:2 with boxes title 'success'
+
+unset output
