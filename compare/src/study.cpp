@@ -265,8 +265,6 @@ double x_value(const GroupStats& g) {
   return g.param;
 }
 
-/// Writes one plot's data (x, columns...) and draws it; returns the markdown line, or "" when
-/// the study has no group of the families.
 using GroupValue = std::function<double(const GroupStats&)>;
 
 /// One line of a plot: the groups of a family, titled `label`, with y values from `y` (the
@@ -276,15 +274,18 @@ struct Series {
   GroupValue y = {};
 };
 
+/// Writes one plot's data (x, y per series) and draws it; returns the markdown line, or "" when
+/// the study has no group of the series' families. `percent_bars`: y is a percentage, drawn
+/// as boxes on [0, 105].
 std::string plot(const std::string& dir, const std::string& name, const std::string& title,
                  const std::string& xlabel, const std::string& ylabel,
                  const std::vector<GroupStats>& groups, const std::vector<Series>& series,
-                 const GroupValue& y, bool bars = false) {
+                 const GroupValue& y, bool percent_bars = false) {
   std::ostringstream dat, cmd;
   int blocks = 0;
   cmd << "set title '" << title << "'\nset xlabel '" << xlabel << "'\nset ylabel '" << ylabel
-      << "'\nset grid\nset key top left box opaque\n";
-  if (bars) cmd << "set style fill solid 0.6\nset boxwidth 0.6 relative\nset yrange [0:*]\n";
+      << "'\nset grid\nset key outside right top box\n";
+  if (percent_bars) cmd << "set style fill solid 0.6\nset boxwidth 0.6 relative\nset yrange [0:105]\n";
   std::string plot_cmd;
   for (const auto& [family, label, series_y] : series) {
     const GroupValue& value = series_y ? series_y : y;
@@ -299,7 +300,7 @@ std::string plot(const std::string& dir, const std::string& name, const std::str
     dat << "\n\n";
     plot_cmd += std::string(plot_cmd.empty() ? "plot " : ", ") + "'" + dir + "/" + name +
                 ".dat' index " + std::to_string(blocks++) + " using 1:2 with " +
-                (bars ? "boxes" : "linespoints") + " title '" + label + "'";
+                (percent_bars ? "boxes" : "linespoints") + " title '" + label + "'";
   }
   if (blocks == 0) return "";
   core::write_file_atomically(dir + "/" + name + ".dat", dat.str());
@@ -563,8 +564,7 @@ StudyOutcome run_study(const StudyOptions& options) {
       detail::gnuplot_png(
           dir + "/time_vs_cameras.png",
           "set title 'Time per iteration against cameras (timing: varies between runs)'\n"
-          "set xlabel 'cameras'\nset ylabel 'ms per evaluation'\nset grid\nset key top left box "
-          "opaque\n"
+          "set xlabel 'cameras'\nset ylabel 'ms per evaluation'\nset grid\nset key outside right top box\n"
           "set style data histograms\nset style histogram rowstacked\nset style fill solid 0.7\n"
           "set boxwidth 0.6\nset yrange [0:*]\n"
           "plot '" +

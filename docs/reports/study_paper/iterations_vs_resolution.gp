@@ -4,7 +4,7 @@ set title 'Iterations against voxel resolution'
 set xlabel 'voxels (nx·ny·nz)'
 set ylabel 'median evaluations'
 set grid
-set key top left box opaque
+set key outside right top box
 plot 'docs/reports/study_paper/iterations_vs_resolution.dat' index 0 using 1:2 with linespoints title 'median evaluations'
 
 unset output

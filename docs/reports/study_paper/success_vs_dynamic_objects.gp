@@ -4,10 +4,10 @@ set title 'Success against dynamic objects'
 set xlabel 'dynamic objects'
 set ylabel 'runs reaching the tolerance [%]'
 set grid
-set key top left box opaque
+set key outside right top box
 set style fill solid 0.6
 set boxwidth 0.6 relative
-set yrange [0:*]
+set yrange [0:105]
 plot 'docs/reports/study_paper/success_vs_dynamic_objects.dat' index 0 using 1:2 with boxes title 'success'
 
 unset output

@@ -4,7 +4,7 @@ set title 'Time per iteration against cameras (timing: varies between runs)'
 set xlabel 'cameras'
 set ylabel 'ms per evaluation'
 set grid
-set key top left box opaque
+set key outside right top box
 set style data histograms
 set style histogram rowstacked
 set style fill solid 0.7
