@@ -1,15 +1,18 @@
 // `camplace compare`: the voxel pipeline against the exact one for one configuration (SPEC §8).
-#include <iostream>
-#include <sstream>
-
+#include <algorithm>
 #include <filesystem>
+#include <iostream>
 
 #include "camplace/compare/optimizer_validation.hpp"
 #include "camplace/compare/study.hpp"
 #include "camplace/compare/voxel_vs_exact.hpp"
 #include "camplace/core/camera.hpp"
 #include "camplace/core/error.hpp"
+#include "camplace/core/files.hpp"
 #include "camplace/core/scene.hpp"
+#ifdef CAMPLACE_HAVE_OPTIMIZE
+#include "camplace/optimize/optimizer.hpp"
+#endif
 #include "commands.hpp"
 
 namespace camplace::app {
@@ -18,23 +21,33 @@ namespace {
 
 struct CompareArgs {
   std::string scene, cameras, resolutions, out;
+  bool resolutions_given = false;
 };
 
+/// "16x12x12,24x18x18" → the resolutions; an empty list or item is an error.
 std::vector<std::array<int, 3>> parse_resolution_list(const std::string& text) {
   std::vector<std::array<int, 3>> out;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) out.push_back(core::parse_resolution(item, "--resolutions"));
-  if (out.empty()) throw core::InputError("command line", "--resolutions", "no resolution given");
-  return out;
+  std::size_t begin = 0;
+  while (true) {
+    const std::size_t end = std::min(text.find(',', begin), text.size());
+    const std::string item = text.substr(begin, end - begin);
+    if (item.empty()) {
+      throw core::InputError("command line", "--resolutions",
+                             "empty entry in \"" + text + "\" (expected e.g. 16x12x12,24x18x18)");
+    }
+    out.push_back(core::parse_resolution(item, "--resolutions"));
+    if (end == text.size()) return out;
+    begin = end + 1;
+  }
 }
 
 void run_compare(const CompareArgs& args, const std::string& command) {
   const core::Scene scene = core::load_scene(args.scene);
   const core::CameraConfig config = core::load_camera_config(args.cameras, scene);
   compare::CompareOptions options;
-  if (!args.resolutions.empty()) options.resolutions = parse_resolution_list(args.resolutions);
+  if (args.resolutions_given) options.resolutions = parse_resolution_list(args.resolutions);
   options.command = command;
+  core::create_output_directory(args.out, "--out");
   const compare::CompareResult result = compare::compare_voxel_exact(scene, config, options);
   compare::write_compare_report(scene, result, options, args.out);
   std::cout << "conservative-mode violations: " << result.conservative_violations
@@ -47,13 +60,16 @@ void run_compare(const CompareArgs& args, const std::string& command) {
 
 void register_compare_command(CLI::App& app) {
   auto args = std::make_shared<CompareArgs>();
-  CLI::App* cmd = app.add_subcommand("compare", "voxel pipeline against the exact pipeline, report in DIR");
+  CLI::App* cmd =
+      app.add_subcommand("compare", "voxel pipeline against the exact pipeline, report in DIR");
   cmd->add_option("scene", args->scene, "scene JSON file")->required();
   cmd->add_option("--cameras", args->cameras, "camera configuration JSON file")->required();
-  cmd->add_option("--resolutions", args->resolutions,
-                  "comma-separated voxel resolutions, e.g. 16x12x12,24x18x18 (default: the scene's)");
+  CLI::Option* resolutions = cmd->add_option(
+      "--resolutions", args->resolutions,
+      "comma-separated voxel resolutions, e.g. 16x12x12,24x18x18 (default: the scene's)");
   cmd->add_option("--out", args->out, "output directory")->required();
-  cmd->callback([args] {
+  cmd->callback([args, resolutions] {
+    args->resolutions_given = resolutions->count() > 0;
     std::string command = "camplace compare " + args->scene + " --cameras " + args->cameras;
     if (!args->resolutions.empty()) command += " --resolutions " + args->resolutions;
     run_compare(*args, command + " --out " + args->out);
@@ -68,24 +84,31 @@ void register_compare_optimizer_command(CLI::App& app) {
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
-      "compare-optimizer", "exact Err of optimizer results and voxel/exact rank agreement, report in DIR");
+      "compare-optimizer",
+      "exact Err of optimizer results and voxel/exact rank agreement, report in DIR");
   cmd->add_option("scene", args->scene, "scene JSON file")->required();
-  cmd->add_option("--runs", args->runs, "directory with run-<seed>.json files of camplace optimize")->required();
+  cmd->add_option("--runs", args->runs, "directory with run-<seed>.json files of camplace optimize")
+      ->required();
   cmd->add_option("--samples", args->samples, "random configurations for the rank agreement")
       ->check(CLI::Range(2, 100000));
   cmd->add_option("--seed", args->seed, "seed of the random configurations");
-  cmd->add_option("--resolutions", args->resolutions, "comma-separated voxel resolutions (default: the scene's)");
+  CLI::Option* resolutions =
+      cmd->add_option("--resolutions", args->resolutions,
+                      "comma-separated voxel resolutions (default: the scene's)");
   cmd->add_option("--out", args->out, "output directory")->required();
-  cmd->callback([args] {
+  cmd->callback([args, resolutions] {
     const core::Scene scene = core::load_scene(args->scene);
     compare::OptimizerValidationOptions options;
     options.runs_dir = args->runs;
     options.samples = args->samples;
     options.seed = args->seed;
-    if (!args->resolutions.empty()) options.resolutions = parse_resolution_list(args->resolutions);
-    options.command = "camplace compare-optimizer " + args->scene + " --runs " + args->runs + " --samples " +
-                      std::to_string(args->samples) + " --seed " + std::to_string(args->seed) +
-                      (args->resolutions.empty() ? "" : " --resolutions " + args->resolutions) + " --out " + args->out;
+    if (resolutions->count() > 0) options.resolutions = parse_resolution_list(args->resolutions);
+    core::create_output_directory(args->out, "--out");
+    options.command = "camplace compare-optimizer " + args->scene + " --runs " + args->runs +
+                      " --samples " + std::to_string(args->samples) + " --seed " +
+                      std::to_string(args->seed) +
+                      (args->resolutions.empty() ? "" : " --resolutions " + args->resolutions) +
+                      " --out " + args->out;
     compare::validate_optimizer(scene, options, args->out);
     std::cout << "report: " << args->out << "/report.md\n";
   });
@@ -93,17 +116,25 @@ void register_compare_optimizer_command(CLI::App& app) {
 
 void register_study_command(CLI::App& app) {
   auto options = std::make_shared<compare::StudyOptions>();
-  CLI::App* cmd = app.add_subcommand("study", "run a study of the paper's examinations (resumable), report in DIR");
-  cmd->add_option("study", options->study_file, "study JSON file (e.g. data/studies/paper.json)")->required();
+  CLI::App* cmd = app.add_subcommand(
+      "study", "run a study of the paper's examinations (resumable), report in DIR");
+  cmd->add_option("study", options->study_file, "study JSON file (e.g. data/studies/paper.json)")
+      ->required();
   cmd->add_option("--out", options->out_dir, "output directory; rerun to resume")->required();
   cmd->callback([options] {
+    core::create_output_directory(options->out_dir, "--out");
+#ifdef CAMPLACE_HAVE_OPTIMIZE
+    options->algorithms = optimize::algorithm_names();
+#endif
     options->camplace = std::filesystem::read_symlink("/proc/self/exe").string();
     options->command = "camplace study " + options->study_file + " --out " + options->out_dir;
     const compare::StudyOutcome outcome = compare::run_study(*options);
     std::cout << "runs: " << outcome.runs_total << " (" << outcome.runs_done_before << " found, "
-              << outcome.runs_done_now << " run now)" << (outcome.interrupted ? ", interrupted" : "")
-              << "\nreport: " << options->out_dir << "/report.md\n";
-    if (outcome.interrupted) throw std::runtime_error("study interrupted; rerun the same command to resume");
+              << outcome.runs_done_now << " run now)"
+              << (outcome.interrupted ? ", interrupted" : "") << "\nreport: " << options->out_dir
+              << "/report.md\n";
+    if (outcome.interrupted)
+      throw std::runtime_error("study interrupted; rerun the same command to resume");
   });
 }
 

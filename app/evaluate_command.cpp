@@ -23,39 +23,37 @@ namespace {
 struct EvaluateArgs {
   std::string scene, cameras, mode = "conservative", resolution, pipeline = "voxel", export_dir;
   std::string voxels_out;
+  bool voxels_out_given = false, export_given = false;
   bool json = false, exact_fractions = false;
 };
 
 /// The per-state fields both pipelines report (voxel::StateResult, exact::ExactStateResult).
 template <class StateResult>
 nlohmann::json state_json(const StateResult& s) {
-  return {{"time_step", s.time_step},
-          {"event", s.event},
-          {"weight", s.weight},
-          {"d_true", s.d_true},
-          {"d_model", s.d_model},
-          {"model_volume", s.model_volume},
-          {"components", s.components},
-          {"components_removed", s.components_removed}};
+  return {{"time_step", s.time_step},   {"event", s.event},
+          {"weight", s.weight},         {"d_true", s.d_true},
+          {"d_model", s.d_model},       {"model_volume", s.model_volume},
+          {"components", s.components}, {"components_removed", s.components_removed}};
 }
 
 nlohmann::json voxel_json(const voxel::VoxelEvaluator& evaluator, const voxel::Evaluation& e) {
   const auto& n = evaluator.grid().n;
   nlohmann::json states = nlohmann::json::array();
   for (const auto& s : e.states) states.push_back(state_json(s));
-  return {{"pipeline", "voxel"},
-          {"mode", evaluator.options().mode == voxel::LabelMode::center ? "center" : "conservative"},
-          {"resolution", {n[0], n[1], n[2]}},
-          {"voxel_diagonal", evaluator.grid().step.norm()},
-          {"tolerance", core::default_tolerance(evaluator.scene().area, n)},
-          {"err_lower_bound", evaluator.err_lower_bound()},
-          {"err", e.err},
-          {"states", states},
-          {"timing_ms",
-           {{"labelling", e.timing.labelling_ms},
-            {"clustering", e.timing.clustering_ms},
-            {"distance", e.timing.distance_ms},
-            {"total", e.timing.total_ms}}}};
+  return {
+      {"pipeline", "voxel"},
+      {"mode", evaluator.options().mode == voxel::LabelMode::center ? "center" : "conservative"},
+      {"resolution", {n[0], n[1], n[2]}},
+      {"voxel_diagonal", evaluator.grid().step.norm()},
+      {"tolerance", core::default_tolerance(evaluator.scene().area, n)},
+      {"err_lower_bound", evaluator.err_lower_bound()},
+      {"err", e.err},
+      {"states", states},
+      {"timing_ms",
+       {{"labelling", e.timing.labelling_ms},
+        {"clustering", e.timing.clustering_ms},
+        {"distance", e.timing.distance_ms},
+        {"total", e.timing.total_ms}}}};
 }
 
 void print_table(const nlohmann::json& r) {
@@ -77,8 +75,10 @@ void print_table(const nlohmann::json& r) {
   std::printf("Err = %.6f m^2", r["err"].get<double>());
   if (r.contains("tolerance")) std::printf("   (tolerance %.4f m^2)", r["tolerance"].get<double>());
   if (r.value("err_lower_bound", 0.0) > 0.0) {
-    std::printf("\nno configuration has Err below %.4f m^2 in this mode and resolution (voxels touching a "
-                "target are always in M)", r["err_lower_bound"].get<double>());
+    std::printf(
+        "\nno configuration has Err below %.4f m^2 in this mode and resolution (voxels touching a "
+        "target are always in M)",
+        r["err_lower_bound"].get<double>());
   }
   const auto& t = r["timing_ms"];
   std::printf("\ntime: %.3f ms", t["total"].get<double>());
@@ -115,12 +115,12 @@ nlohmann::json differences(const nlohmann::json& vox, const nlohmann::json& ex) 
   for (std::size_t i = 0; i < vox["states"].size(); ++i) {
     const auto& a = vox["states"][i];
     const auto& b = ex["states"][i];
-    states.push_back({{"time_step", a["time_step"]},
-                      {"event", a["event"]},
-                      {"d_model_voxel_minus_exact",
-                       a["d_model"].get<double>() - b["d_model"].get<double>()},
-                      {"model_volume_voxel_minus_exact",
-                       a["model_volume"].get<double>() - b["model_volume"].get<double>()}});
+    states.push_back(
+        {{"time_step", a["time_step"]},
+         {"event", a["event"]},
+         {"d_model_voxel_minus_exact", a["d_model"].get<double>() - b["d_model"].get<double>()},
+         {"model_volume_voxel_minus_exact",
+          a["model_volume"].get<double>() - b["model_volume"].get<double>()}});
   }
   return {{"err_voxel_minus_exact", vox["err"].get<double>() - ex["err"].get<double>()},
           {"voxel_diagonal", vox["voxel_diagonal"]},
@@ -140,9 +140,8 @@ void write_voxels(const voxel::VoxelEvaluator& evaluator, const core::CameraConf
     for (std::uint8_t b : evaluator.model(config, static_cast<int>(i))) bits += b ? '1' : '0';
     states.push_back({{"time_step", all[i].time_step}, {"event", all[i].event}, {"model", bits}});
   }
-  const nlohmann::json doc = {{"resolution", {n[0], n[1], n[2]}},
-                              {"index_order", "i + nx*(j + ny*k)"},
-                              {"states", states}};
+  const nlohmann::json doc = {
+      {"resolution", {n[0], n[1], n[2]}}, {"index_order", "i + nx*(j + ny*k)"}, {"states", states}};
   try {
     core::write_file_atomically(path, doc.dump() + "\n");
   } catch (const std::runtime_error& e) {
@@ -155,9 +154,21 @@ void run_evaluate(const EvaluateArgs& args) {
   const core::CameraConfig config = core::load_camera_config(args.cameras, scene);
   voxel::VoxelOptions options;
   options.mode = args.mode == "center" ? voxel::LabelMode::center : voxel::LabelMode::conservative;
-  if (!args.resolution.empty()) options.resolution = core::parse_resolution(args.resolution, "--resolution");
+  if (!args.resolution.empty())
+    options.resolution = core::parse_resolution(args.resolution, "--resolution");
   const bool want_voxel = args.pipeline != "exact";
   const bool want_exact = args.pipeline != "voxel";
+  if (!want_exact && (args.export_given || args.exact_fractions)) {
+    throw core::InputError("command line",
+                           args.export_given ? "--export-mesh" : "--exact-fractions",
+                           "needs --pipeline exact or both");
+  }
+  if (args.voxels_out_given && (!want_voxel || args.voxels_out.empty())) {
+    throw core::InputError(
+        "command line", "--voxels-out",
+        args.voxels_out.empty() ? "needs a file name" : "needs --pipeline voxel or both");
+  }
+  if (args.export_given) core::create_output_directory(args.export_dir, "--export-mesh");
 #ifndef CAMPLACE_HAVE_EXACT
   if (want_exact) {
     throw core::InputError("command line", "--pipeline", "this build has no exact pipeline");
@@ -184,7 +195,8 @@ void run_evaluate(const EvaluateArgs& args) {
   nlohmann::json out;
   if (want_voxel && want_exact) {
 #ifdef CAMPLACE_HAVE_EXACT
-    out = {{"pipeline", "both"}, {"voxel", vox}, {"exact", ex}, {"differences", differences(vox, ex)}};
+    out = {
+        {"pipeline", "both"}, {"voxel", vox}, {"exact", ex}, {"differences", differences(vox, ex)}};
 #endif
   } else {
     out = want_voxel ? vox : ex;
@@ -199,7 +211,8 @@ void run_evaluate(const EvaluateArgs& args) {
     print_table(vox);
     std::printf("\n");
     print_table(ex);
-    std::printf("\nErr voxel - exact = %.6f m^2\n", out["differences"]["err_voxel_minus_exact"].get<double>());
+    std::printf("\nErr voxel - exact = %.6f m^2\n",
+                out["differences"]["err_voxel_minus_exact"].get<double>());
   } else {
     print_table(out);
   }
@@ -214,17 +227,24 @@ void register_evaluate_command(CLI::App& app) {
   cmd->add_option("--cameras", args->cameras, "camera configuration JSON file")->required();
   cmd->add_option("--mode", args->mode, "voxel labelling mode")
       ->check(CLI::IsMember({"center", "conservative"}));
-  cmd->add_option("--resolution", args->resolution, "voxel resolution NXxNYxNZ (default: the scene's)");
+  cmd->add_option("--resolution", args->resolution,
+                  "voxel resolution NXxNYxNZ (default: the scene's)");
   cmd->add_option("--pipeline", args->pipeline, "voxel, exact or both")
       ->check(CLI::IsMember({"voxel", "exact", "both"}));
   cmd->add_flag("--json", args->json, "print one JSON object on stdout");
   cmd->add_flag("--exact-fractions", args->exact_fractions,
                 "exact pipeline: add squared distances as exact fractions \"p/q\"");
-  cmd->add_option("--export-mesh", args->export_dir,
-                  "exact pipeline: write each state's model and each camera's pyramid (OFF) to DIR");
-  cmd->add_option("--voxels-out", args->voxels_out,
-                  "voxel pipeline: write each state's filtered model voxels to this JSON file");
-  cmd->callback([args] { run_evaluate(*args); });
+  CLI::Option* export_mesh = cmd->add_option(
+      "--export-mesh", args->export_dir,
+      "exact pipeline: write each state's model and each camera's pyramid (OFF) to DIR");
+  CLI::Option* voxels_out =
+      cmd->add_option("--voxels-out", args->voxels_out,
+                      "voxel pipeline: write each state's filtered model voxels to this JSON file");
+  cmd->callback([args, export_mesh, voxels_out] {
+    args->export_given = export_mesh->count() > 0;
+    args->voxels_out_given = voxels_out->count() > 0;
+    run_evaluate(*args);
+  });
 }
 
 }  // namespace camplace::app

@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -34,7 +35,7 @@ struct OptimizeArgs {
   unsigned seed = 1;
   int runs = 1, threads = 0, population = 0;
   double time_limit = 300.0;
-  std::uint64_t max_evals = 0;
+  long long max_evals = 0;
   double tolerance = 0.0;
   bool tolerance_given = false;
   bool quiet = false;
@@ -89,10 +90,22 @@ void run_optimize(const OptimizeArgs& args) {
   action.sa_flags = SA_RESETHAND;
   sigaction(SIGINT, &action, nullptr);
 
-  if (args.runs < 1) throw core::InputError("command line", "--runs", "must be at least 1");
-  if (args.threads < 0) throw core::InputError("command line", "--threads", "must be >= 0");
-  if (args.time_limit < 0.0) {
-    throw core::InputError("command line", "--time-limit", "must be >= 0 (0 = no limit)");
+  if (args.runs < 1 || args.runs > 100000) {
+    throw core::InputError("command line", "--runs", "must lie in [1, 100000]");
+  }
+  if (args.threads < 0 || args.threads > 256) {
+    throw core::InputError("command line", "--threads", "must lie in [0, 256] (0 = all cores)");
+  }
+  if (args.population < 0 || args.population > 100000) {
+    throw core::InputError("command line", "--population",
+                           "must lie in [0, 100000] (0 = the solver's default)");
+  }
+  if (!std::isfinite(args.time_limit) || args.time_limit < 0.0 || args.time_limit > 1e7) {
+    throw core::InputError("command line", "--time-limit",
+                           "must be a number of seconds in [0, 1e7] (0 = no limit)");
+  }
+  if (args.max_evals < 0 || args.max_evals > 1000000000000LL) {
+    throw core::InputError("command line", "--max-evals", "must lie in [0, 1e12] (0 = no limit)");
   }
   const core::Scene scene = core::load_scene(args.scene);
   voxel::VoxelOptions voxel_options;
@@ -105,10 +118,10 @@ void run_optimize(const OptimizeArgs& args) {
   optimize::OptimizeOptions options;
   options.algorithm = args.algorithm;
   options.time_limit = args.time_limit;
-  options.max_evaluations = args.max_evals;
+  options.max_evaluations = static_cast<std::uint64_t>(args.max_evals);
   if (args.tolerance_given) {
-    if (!(args.tolerance >= 0.0)) {
-      throw core::InputError("command line", "--tolerance", "must be >= 0 (m²)");
+    if (!std::isfinite(args.tolerance) || args.tolerance < 0.0) {
+      throw core::InputError("command line", "--tolerance", "must be a finite number >= 0 (m²)");
     }
     options.tolerance = args.tolerance;
   }
@@ -130,14 +143,9 @@ void run_optimize(const OptimizeArgs& args) {
   context.resolution = objective.evaluator().grid().n;
   context.start = args.start;
   context.time_limit = args.time_limit;
-  context.max_evaluations = args.max_evals;
+  context.max_evaluations = static_cast<std::uint64_t>(args.max_evals);
 
-  std::error_code ec;
-  std::filesystem::create_directories(args.out, ec);
-  if (ec || !std::filesystem::is_directory(args.out)) {
-    throw core::InputError("command line", "--out",
-                           "cannot create directory " + args.out + ": " + ec.message());
-  }
+  core::create_output_directory(args.out, "--out");
 
   std::vector<optimize::RunResult> results;
   // The first run always starts (and stops at once after an early Ctrl-C); Ctrl-C ends the job.

@@ -632,6 +632,10 @@ std::string write_generated_scene(const std::string& family, std::optional<int> 
   const std::string text = generate_scene_json(family, param, seed);
   // Written beside the target and validated there (the loader checks everything SPEC §2 lists),
   // then renamed: a scene that does not load is never published.
+  std::error_code ec;
+  if (path.empty() || fs::is_directory(path, ec)) {
+    throw core::InputError("command line", "--out", "\"" + path + "\" is not a file name");
+  }
   const std::string check = path + ".check" + std::to_string(::getpid());
   try {
     core::write_file_atomically(check, text);
@@ -646,11 +650,11 @@ std::string write_generated_scene(const std::string& family, std::optional<int> 
     throw std::logic_error("internal error: the generated scene does not load: " +
                            std::string(e.what()));
   }
-  std::error_code ec;
   fs::rename(check, path, ec);
   if (ec) {
+    const std::string reason = ec.message();
     fs::remove(check, ec);
-    throw core::InputError("command line", "--out", path + ": cannot write: " + ec.message());
+    throw core::InputError("command line", "--out", path + ": cannot write: " + reason);
   }
   return nlohmann::json::parse(text)["description"].get<std::string>();
 }

@@ -45,14 +45,23 @@ struct StudySpec {
   std::vector<Examination> examinations;
 };
 
-StudySpec parse_study(const std::string& path) {
+StudySpec parse_study(const std::string& path, const std::vector<std::string>& algorithms) {
   const nlohmann::json doc = core::read_json_file(path);
   const core::JsonNode root(doc, path, "");
   root.only_keys({"description", "algorithm", "mode", "runs_per_group", "threads", "first_seed",
                   "scene_seed", "time_limit_s", "max_evaluations", "examinations"});
   StudySpec s;
   if (root.has("description")) s.description = root.at("description").string();
-  if (root.has("algorithm")) s.algorithm = root.at("algorithm").string();
+  if (root.has("algorithm")) {
+    s.algorithm = root.at("algorithm").string();
+    if (!algorithms.empty() &&
+        std::find(algorithms.begin(), algorithms.end(), s.algorithm) == algorithms.end()) {
+      std::string list;
+      for (const std::string& a : algorithms) list += (list.empty() ? "" : ", ") + a;
+      root.at("algorithm")
+          .fail("unknown solver \"" + s.algorithm + "\" (expected one of: " + list + ")");
+    }
+  }
   if (root.has("mode")) {
     s.mode = root.at("mode").string();
     if (s.mode != "center" && s.mode != "conservative")
@@ -285,7 +294,8 @@ std::string plot(const std::string& dir, const std::string& name, const std::str
   int blocks = 0;
   cmd << "set title '" << title << "'\nset xlabel '" << xlabel << "'\nset ylabel '" << ylabel
       << "'\nset grid\nset key outside right top box\n";
-  if (percent_bars) cmd << "set style fill solid 0.6\nset boxwidth 0.6 relative\nset yrange [0:105]\n";
+  if (percent_bars)
+    cmd << "set style fill solid 0.6\nset boxwidth 0.6 relative\nset yrange [0:105]\n";
   std::string plot_cmd;
   for (const auto& [family, label, series_y] : series) {
     const GroupValue& value = series_y ? series_y : y;
@@ -412,7 +422,7 @@ std::string paper_comparison(const std::vector<GroupStats>& groups,
 }
 
 StudyOutcome run_study(const StudyOptions& options) {
-  const StudySpec spec = parse_study(options.study_file);
+  const StudySpec spec = parse_study(options.study_file, options.algorithms);
   const std::string dir = options.out_dir;
   fs::create_directories(dir + "/scenes");
   StudyOutcome outcome;
@@ -564,7 +574,8 @@ StudyOutcome run_study(const StudyOptions& options) {
       detail::gnuplot_png(
           dir + "/time_vs_cameras.png",
           "set title 'Time per iteration against cameras (timing: varies between runs)'\n"
-          "set xlabel 'cameras'\nset ylabel 'ms per evaluation'\nset grid\nset key outside right top box\n"
+          "set xlabel 'cameras'\nset ylabel 'ms per evaluation'\nset grid\nset key outside right "
+          "top box\n"
           "set style data histograms\nset style histogram rowstacked\nset style fill solid 0.7\n"
           "set boxwidth 0.6\nset yrange [0:*]\n"
           "plot '" +

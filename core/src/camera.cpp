@@ -45,9 +45,8 @@ Fov::Fov(const CameraSetting& camera, FovShape shape, double half_angle, int sid
   edges_.reserve(sides);
   for (int j = 0; j < sides; ++j) {
     const double phi = 2.0 * kPi * j / sides;
-    edges_.push_back(
-        (cos_half_ * axis_ + sin_half_ * (std::cos(phi) * up + std::sin(phi) * right))
-            .normalized());
+    edges_.push_back((cos_half_ * axis_ + sin_half_ * (std::cos(phi) * up + std::sin(phi) * right))
+                         .normalized());
   }
   normals_.reserve(sides);
   for (int j = 0; j < sides; ++j) {
@@ -100,6 +99,9 @@ CameraConfig load_camera_config(const std::string& path, const Scene& scene) {
     entry.only_keys({"position", "yaw_deg", "pitch_deg", "name"});
     CameraSetting camera;
     camera.position = entry.at("position").vec3();
+    if (!scene.area.contains(camera.position)) {
+      entry.at("position").fail("the camera lies outside the area S of " + scene.file);
+    }
     camera.yaw = entry.at("yaw_deg").number_in(-180.0, 180.0) * kDeg;
     camera.pitch = entry.at("pitch_deg").number_in(-90.0, 90.0) * kDeg;
     config.push_back(camera);

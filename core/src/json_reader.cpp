@@ -1,6 +1,8 @@
 #include "camplace/core/json_reader.hpp"
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -9,7 +11,8 @@ namespace camplace::core {
 
 nlohmann::json read_json_file(const std::string& path) {
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw InputError(path, "", "is a directory, not a file");
+  if (std::filesystem::is_directory(path, ec))
+    throw InputError(path, "", "is a directory, not a file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "", "cannot open the file");
   std::stringstream buffer;
@@ -22,14 +25,26 @@ nlohmann::json read_json_file(const std::string& path) {
   }
 }
 
+std::string format_number(double v) {
+  char buf[64];
+  for (int digits = 6; digits <= 17; ++digits) {
+    std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+    if (std::strtod(buf, nullptr) == v) break;
+  }
+  return buf;
+}
+
 namespace {
 std::string type_name(const nlohmann::json& v) { return v.type_name(); }
 std::string escape_pointer_token(const std::string& key) {
   std::string out;
   for (char c : key) {
-    if (c == '~') out += "~0";
-    else if (c == '/') out += "~1";
-    else out += c;
+    if (c == '~')
+      out += "~0";
+    else if (c == '/')
+      out += "~1";
+    else
+      out += c;
   }
   return out;
 }
@@ -83,15 +98,19 @@ double JsonNode::number() const {
 double JsonNode::number_in(double lo, double hi) const {
   const double v = number();
   if (v < lo || v > hi) {
-    std::ostringstream msg;
-    msg << "value " << v << " out of range [" << lo << ", " << hi << "]";
-    fail(msg.str());
+    fail("value " + format_number(v) + " out of range [" + format_number(lo) + ", " +
+         format_number(hi) + "]");
   }
   return v;
 }
 
 int JsonNode::integer_in(int lo, int hi) const {
   if (!value_->is_number_integer()) fail("expected an integer, found " + type_name(*value_));
+  if (value_->is_number_unsigned() &&
+      value_->get<unsigned long long>() > static_cast<unsigned long long>(hi)) {
+    fail("value " + std::to_string(value_->get<unsigned long long>()) + " out of range [" +
+         std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  }
   const auto v = value_->get<long long>();
   if (v < lo || v > hi) {
     fail("value " + std::to_string(v) + " out of range [" + std::to_string(lo) + ", " +
@@ -107,7 +126,8 @@ std::string JsonNode::string() const {
 
 Vec3 JsonNode::vec3() const {
   if (array_size() != 3) fail("expected [x, y, z] (3 numbers)");
-  return Vec3(at(std::size_t{0}).number(), at(std::size_t{1}).number(), at(std::size_t{2}).number());
+  return Vec3(at(std::size_t{0}).number(), at(std::size_t{1}).number(),
+              at(std::size_t{2}).number());
 }
 
 }  // namespace camplace::core

@@ -1,8 +1,10 @@
 // The one core translation unit with CGAL mesh processing (compile cost: keep it alone).
 #include "mesh_checks.hpp"
+#include "mesh_file_scan.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/IO/polygon_soup_io.h>
+#include <CGAL/Polygon_mesh_processing/connected_components.h>
 #include <CGAL/Polygon_mesh_processing/intersection.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
@@ -10,7 +12,10 @@
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/boost/graph/helpers.h>
 
+#include <algorithm>
+#include <cctype>
 #include <filesystem>
+#include <optional>
 #include <vector>
 
 #include "camplace/core/error.hpp"
@@ -28,20 +33,46 @@ Mesh to_surface_mesh(const TriangleMesh& mesh) {
   points.reserve(mesh.vertices.size());
   for (const Vec3& v : mesh.vertices) points.emplace_back(v.x(), v.y(), v.z());
   std::vector<std::vector<std::size_t>> polygons;
-  for (const auto& t : mesh.triangles) polygons.push_back({std::size_t(t[0]), std::size_t(t[1]), std::size_t(t[2])});
+  for (const auto& t : mesh.triangles)
+    polygons.push_back({std::size_t(t[0]), std::size_t(t[1]), std::size_t(t[2])});
   Mesh out;
   PMP::polygon_soup_to_polygon_mesh(points, polygons, out);
   return out;
+}
+
+// Volume enclosed by each connected component on its own (a flat component encloses none,
+// whatever the other components do). Face f of `sm` is triangle f of the soup.
+std::vector<double> component_volumes(Mesh& sm) {
+  auto component = sm.add_property_map<Mesh::Face_index, std::size_t>("f:component").first;
+  const std::size_t count = PMP::connected_components(sm, component);
+  std::vector<double> volumes(count, 0.0);
+  std::vector<std::optional<Point>> origins(count);
+  for (const Mesh::Face_index f : sm.faces()) {
+    const Mesh::Halfedge_index h = sm.halfedge(f);
+    const Point& a = sm.point(sm.target(h));
+    const Point& b = sm.point(sm.target(sm.next(h)));
+    const Point& c = sm.point(sm.source(h));
+    // Tetrahedra against a point of the component, not the world origin, to limit cancellation.
+    std::optional<Point>& o = origins[component[f]];
+    if (!o) o = a;
+    volumes[component[f]] +=
+        CGAL::scalar_product(a - *o, CGAL::cross_product(b - *o, c - *o)) / 6.0;
+  }
+  return volumes;
 }
 }  // namespace
 
 TriangleMesh read_mesh_file(const std::string& path, const std::string& scene_file,
                             const std::string& entry) {
   const std::string ext = std::filesystem::path(path).extension().string();
+  std::string lower = ext;
+  std::transform(lower.begin(), lower.end(), lower.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
   if (ext != ".off" && ext != ".obj" && ext != ".stl" && ext != ".ply" && ext != ".OFF" &&
       ext != ".OBJ" && ext != ".STL" && ext != ".PLY") {
-    throw InputError(scene_file, entry, "mesh file " + path + ": unsupported format \"" + ext +
-                                            "\" (expected .off, .obj, .stl or .ply)");
+    throw InputError(scene_file, entry,
+                     "mesh file " + path + ": unsupported format \"" + ext +
+                         "\" (expected .off, .obj, .stl or .ply)");
   }
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) {
@@ -49,6 +80,9 @@ TriangleMesh read_mesh_file(const std::string& path, const std::string& scene_fi
   }
   if (!std::filesystem::is_regular_file(path, ec)) {
     throw InputError(scene_file, entry, "mesh file " + path + " is not a regular file");
+  }
+  if (const std::optional<std::string> defect = mesh_file_defect(path, lower)) {
+    throw InputError(scene_file, entry, "mesh file " + path + " cannot be read: " + *defect);
   }
   std::vector<Point> points;
   std::vector<std::vector<std::size_t>> polygons;
@@ -66,13 +100,15 @@ TriangleMesh read_mesh_file(const std::string& path, const std::string& scene_fi
   for (std::size_t f = 0; f < polygons.size(); ++f) {
     const auto& poly = polygons[f];
     if (poly.size() < 3) {
-      throw InputError(scene_file, entry,
-                       "mesh file " + path + ": face " + std::to_string(f) + " has fewer than 3 vertices");
+      throw InputError(
+          scene_file, entry,
+          "mesh file " + path + ": face " + std::to_string(f) + " has fewer than 3 vertices");
     }
     for (std::size_t idx : poly) {
       if (idx >= points.size()) {
-        throw InputError(scene_file, entry,
-                         "mesh file " + path + ": face " + std::to_string(f) + " uses a vertex out of range");
+        throw InputError(
+            scene_file, entry,
+            "mesh file " + path + ": face " + std::to_string(f) + " uses a vertex out of range");
       }
     }
     // Polygons are fanned from their first vertex; a non-convex polygon then fails the
@@ -88,28 +124,43 @@ void validate_and_orient(TriangleMesh& mesh, const std::string& file, const std:
   auto fail = [&](const std::string& reason) { throw InputError(file, entry, reason); };
   if (mesh.triangles.empty()) fail("mesh has no triangles");
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
-    if (!mesh.vertices[i].allFinite()) fail("vertex " + std::to_string(i) + " is not finite");
+    if (!mesh.vertices[i].allFinite())
+      fail("vertex " + std::to_string(i) + " has a non-finite coordinate");
   }
   const int nv = static_cast<int>(mesh.vertices.size());
   std::vector<std::vector<std::size_t>> polygons;
   for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
     const auto& t = mesh.triangles[f];
     for (int idx : t) {
-      if (idx < 0 || idx >= nv) fail("triangle " + std::to_string(f) + " uses a vertex index out of range");
+      if (idx < 0 || idx >= nv)
+        fail("triangle " + std::to_string(f) + " uses a vertex index out of range");
     }
     const Point a(mesh.vertices[t[0]].x(), mesh.vertices[t[0]].y(), mesh.vertices[t[0]].z());
     const Point b(mesh.vertices[t[1]].x(), mesh.vertices[t[1]].y(), mesh.vertices[t[1]].z());
     const Point c(mesh.vertices[t[2]].x(), mesh.vertices[t[2]].y(), mesh.vertices[t[2]].z());
-    if (CGAL::collinear(a, b, c)) fail("mesh is degenerate: triangle " + std::to_string(f) + " has zero area");
+    if (CGAL::collinear(a, b, c))
+      fail("mesh is degenerate: triangle " + std::to_string(f) + " has zero area");
     polygons.push_back({std::size_t(t[0]), std::size_t(t[1]), std::size_t(t[2])});
   }
   if (!PMP::is_polygon_soup_a_polygon_mesh(polygons)) {
-    fail("mesh is not a consistently oriented manifold (an edge is used twice in the same "
-         "direction or by more than two triangles)");
+    fail(
+        "mesh is not a consistently oriented manifold (an edge is used twice in the same "
+        "direction or by more than two triangles)");
   }
-  const Mesh sm = to_surface_mesh(mesh);
+  Mesh sm = to_surface_mesh(mesh);
   if (!CGAL::is_closed(sm)) fail("mesh is open (it has border edges)");
+  // Before the self-intersection test: a flat shell's faces overlap, but "flat" is the cause.
+  for (const double v : component_volumes(sm)) {
+    if (std::abs(v) < 1e-12) fail("mesh is degenerate: a shell encloses no volume (it is flat)");
+  }
   if (PMP::does_self_intersect(sm)) fail("mesh intersects itself");
+  // Closed and free of self-intersections, yet the shells can still disagree: an inner shell
+  // must face the opposite way from the one around it, disjoint shells the same way.
+  if (!PMP::does_bound_a_volume(sm)) {
+    fail(
+        "mesh does not bound a volume: its shells are inconsistently oriented (nested shells "
+        "with the same orientation, or disjoint shells with opposite orientations)");
+  }
   const double volume = signed_volume(mesh);
   if (std::abs(volume) < 1e-12) fail("mesh is degenerate: it encloses no volume");
   if (volume < 0) {

@@ -1,10 +1,12 @@
 // Scene loading and validation (SPEC §2).
+#include "camplace/core/scene.hpp"
+
 #include <Eigen/Geometry>
 #include <cmath>
 #include <filesystem>
+#include <iomanip>
 #include <sstream>
 
-#include "camplace/core/scene.hpp"
 #include "camplace/core/json_reader.hpp"
 #include "mesh_checks.hpp"
 
@@ -16,11 +18,13 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 // Vertices may leave S by this much (metres) to absorb rounding of transformed meshes.
 constexpr double kAreaSlack = 1e-9;
+// Largest |coordinate| of S (metres): far beyond any work cell, small enough that squared
+// distances and exact constructions stay finite.
+constexpr double kMaxCoordinate = 1e6;
 
 std::string format_vec(const Vec3& v) {
-  std::ostringstream out;
-  out << "[" << v.x() << ", " << v.y() << ", " << v.z() << "]";
-  return out.str();
+  return "[" + format_number(v.x()) + ", " + format_number(v.y()) + ", " + format_number(v.z()) +
+         "]";
 }
 
 TriangleMesh box_mesh(const Vec3& lo, const Vec3& hi) {
@@ -51,8 +55,9 @@ void apply_transform(TriangleMesh& mesh, const JsonNode& node) {
     scale = s.value().is_array() ? s.vec3() : Vec3::Constant(s.number());
     if ((scale.array() == 0.0).any()) s.fail("scale must not be 0");
   }
-  const Eigen::Matrix3d rotation =
-      node.has("rotate_deg") ? rotation_deg(node.at("rotate_deg").vec3()) : Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d rotation = node.has("rotate_deg")
+                                       ? rotation_deg(node.at("rotate_deg").vec3())
+                                       : Eigen::Matrix3d::Identity();
   const Vec3 translation = node.has("translate") ? node.at("translate").vec3() : Vec3::Zero();
   for (Vec3& v : mesh.vertices) v = rotation * scale.cwiseProduct(v) + translation;
 }
@@ -66,8 +71,8 @@ class SceneParser {
   Scene parse() {
     const nlohmann::json doc = read_json_file(path_);
     const JsonNode root(doc, path_, "");
-    root.only_keys({"area", "voxels", "cameras", "static_obstacles", "time_steps",
-                    "dynamic_mode", "plausibility", "description", "name"});
+    root.only_keys({"area", "voxels", "cameras", "static_obstacles", "time_steps", "dynamic_mode",
+                    "plausibility", "description", "name"});
     scene_.file = path_;
     parse_area(root.at("area"));
     scene_.voxels = parse_voxels(root.at("voxels"));
@@ -75,15 +80,20 @@ class SceneParser {
     if (root.has("dynamic_mode")) {
       const JsonNode m = root.at("dynamic_mode");
       const std::string mode = m.string();
-      if (mode == "masked") scene_.dynamic_mode = DynamicMode::masked;
-      else if (mode == "modelled") scene_.dynamic_mode = DynamicMode::modelled;
-      else m.fail("unknown dynamic_mode \"" + mode + "\" (expected \"masked\" or \"modelled\")");
+      if (mode == "masked")
+        scene_.dynamic_mode = DynamicMode::masked;
+      else if (mode == "modelled")
+        scene_.dynamic_mode = DynamicMode::modelled;
+      else
+        m.fail("unknown dynamic_mode \"" + mode + "\" (expected \"masked\" or \"modelled\")");
     }
     if (root.has("plausibility")) {
       const JsonNode p = root.at("plausibility");
       p.only_keys({"min_volume", "min_height"});
-      if (p.has("min_volume")) scene_.plausibility.min_volume = p.at("min_volume").number_in(0, 1e9);
-      if (p.has("min_height")) scene_.plausibility.min_height = p.at("min_height").number_in(0, 1e9);
+      if (p.has("min_volume"))
+        scene_.plausibility.min_volume = p.at("min_volume").number_in(0, 1e9);
+      if (p.has("min_height"))
+        scene_.plausibility.min_height = p.at("min_height").number_in(0, 1e9);
     }
     if (root.has("static_obstacles")) {
       scene_.static_obstacles = parse_objects(root.at("static_obstacles"));
@@ -98,6 +108,12 @@ class SceneParser {
     node.only_keys({"min", "max"});
     scene_.area.min = node.at("min").vec3();
     scene_.area.max = node.at("max").vec3();
+    for (const char* key : {"min", "max"}) {
+      const Vec3 corner = node.at(key).vec3();
+      if (corner.cwiseAbs().maxCoeff() > kMaxCoordinate) {
+        node.at(key).fail("coordinates must lie within ±" + format_number(kMaxCoordinate) + " m");
+      }
+    }
     for (int i = 0; i < 3; ++i) {
       if (!(scene_.area.min[i] < scene_.area.max[i])) {
         node.fail("area is empty: min " + format_vec(scene_.area.min) + " must be below max " +
@@ -118,13 +134,17 @@ class SceneParser {
 
   Interval parse_interval(const JsonNode& node, double lo, double hi, double unit) const {
     if (node.array_size() != 2) node.fail("expected [lo, hi]");
-    Interval iv{node.at(std::size_t{0}).number() * unit, node.at(std::size_t{1}).number() * unit};
+    const double given_lo = node.at(std::size_t{0}).number();
+    const double given_hi = node.at(std::size_t{1}).number();
+    Interval iv{given_lo * unit, given_hi * unit};
     if (iv.lo > iv.hi) node.fail("domain is empty: lo > hi");
     if (iv.lo < lo - kAreaSlack || iv.hi > hi + kAreaSlack) {
-      std::ostringstream msg;
-      msg << "domain [" << iv.lo / unit << ", " << iv.hi / unit << "] leaves the allowed range ["
-          << lo / unit << ", " << hi / unit << "]" << (unit == 1.0 ? " of the area S" : "");
-      node.fail(msg.str());
+      // The limits in the given unit, without the rounding of the unit conversion.
+      std::ostringstream limits;
+      limits << std::setprecision(12) << "[" << lo / unit << ", " << hi / unit << "]";
+      node.fail("domain [" + format_number(given_lo) + ", " + format_number(given_hi) +
+                "] leaves the allowed range " + limits.str() +
+                (unit == 1.0 ? " of the area S" : ""));
     }
     return iv;
   }
@@ -148,7 +168,8 @@ class SceneParser {
       d.z = {s.max.z() - 0.25 * (s.max.z() - s.min.z()), s.max.z()};
     } else if (preset != "room") {
       (node.is_string() ? node : node.at("preset"))
-          .fail("unknown domain preset \"" + preset + "\" (expected room, ceiling or upper_fourth)");
+          .fail("unknown domain preset \"" + preset +
+                "\" (expected room, ceiling or upper_fourth)");
     }
     if (node.is_object()) {
       if (node.has("x")) d.x = parse_interval(node.at("x"), s.min.x(), s.max.x(), 1.0);
@@ -163,7 +184,8 @@ class SceneParser {
   }
 
   void parse_cameras(const JsonNode& node) {
-    node.only_keys({"count", "half_angle_deg", "fov", "sides", "range", "domain", "camera_domains"});
+    node.only_keys(
+        {"count", "half_angle_deg", "fov", "sides", "range", "domain", "camera_domains"});
     CameraSpec& c = scene_.cameras;
     c.count = node.at("count").integer_in(1, 256);
     const JsonNode half = node.at("half_angle_deg");
@@ -173,9 +195,12 @@ class SceneParser {
     if (node.has("fov")) {
       const JsonNode f = node.at("fov");
       const std::string fov = f.string();
-      if (fov == "cone") c.fov = FovShape::cone;
-      else if (fov == "pyramid") c.fov = FovShape::pyramid;
-      else f.fail("unknown fov \"" + fov + "\" (expected \"cone\" or \"pyramid\")");
+      if (fov == "cone")
+        c.fov = FovShape::cone;
+      else if (fov == "pyramid")
+        c.fov = FovShape::pyramid;
+      else
+        f.fail("unknown fov \"" + fov + "\" (expected \"cone\" or \"pyramid\")");
     }
     if (node.has("sides")) c.sides = node.at("sides").integer_in(3, 1024);
     if (node.has("range")) {
@@ -184,8 +209,8 @@ class SceneParser {
       if (!(range > 0.0)) r.fail("range must be positive");
       c.range = range;
     }
-    const CameraDomain shared =
-        node.has("domain") ? parse_domain(node.at("domain")) : parse_domain(JsonNode(kRoom, path_, ""));
+    const CameraDomain shared = node.has("domain") ? parse_domain(node.at("domain"))
+                                                   : parse_domain(JsonNode(kRoom, path_, ""));
     c.domains.assign(c.count, shared);
     if (node.has("camera_domains")) {
       const JsonNode list = node.at("camera_domains");
@@ -212,7 +237,8 @@ class SceneParser {
       const JsonNode b = node.at("box");
       b.only_keys({"min", "max"});
       const Vec3 lo = b.at("min").vec3(), hi = b.at("max").vec3();
-      if (!((lo.array() < hi.array()).all())) b.fail("box is degenerate: min must be below max on every axis");
+      if (!((lo.array() < hi.array()).all()))
+        b.fail("box is degenerate: min must be below max on every axis");
       object.mesh = box_mesh(lo, hi);
     } else if (node.has("tetrahedron")) {
       const JsonNode t = node.at("tetrahedron");
@@ -223,7 +249,8 @@ class SceneParser {
       const JsonNode m = node.at("mesh");
       m.only_keys({"vertices", "triangles"});
       const JsonNode verts = m.at("vertices"), tris = m.at("triangles");
-      for (std::size_t i = 0; i < verts.array_size(); ++i) object.mesh.vertices.push_back(verts.at(i).vec3());
+      for (std::size_t i = 0; i < verts.array_size(); ++i)
+        object.mesh.vertices.push_back(verts.at(i).vec3());
       for (std::size_t i = 0; i < tris.array_size(); ++i) {
         const JsonNode t = tris.at(i);
         if (t.array_size() != 3) t.fail("a triangle needs exactly 3 vertex indices");
@@ -266,8 +293,10 @@ class SceneParser {
       node.only_keys({"t", "dynamic_obstacles", "critical", "events"});
       TimeStep step;
       step.t = node.has("t") ? node.at("t").number() : static_cast<double>(h);
-      if (node.has("dynamic_obstacles")) step.dynamic_obstacles = parse_objects(node.at("dynamic_obstacles"));
-      step.critical = node.has("critical") ? parse_objects(node.at("critical")) : step.dynamic_obstacles;
+      if (node.has("dynamic_obstacles"))
+        step.dynamic_obstacles = parse_objects(node.at("dynamic_obstacles"));
+      step.critical =
+          node.has("critical") ? parse_objects(node.at("critical")) : step.dynamic_obstacles;
       if (step.critical.empty()) {
         node.fail("time step has no critical objects: give \"critical\" or \"dynamic_obstacles\"");
       }
@@ -326,7 +355,8 @@ class SceneParser {
 std::vector<StateIndex> states(const Scene& scene) {
   std::vector<StateIndex> out;
   for (int h = 0; h < static_cast<int>(scene.time_steps.size()); ++h) {
-    for (int l = 0; l < static_cast<int>(scene.time_steps[h].events.size()); ++l) out.push_back({h, l});
+    for (int l = 0; l < static_cast<int>(scene.time_steps[h].events.size()); ++l)
+      out.push_back({h, l});
   }
   return out;
 }
@@ -340,16 +370,19 @@ std::array<int, 3> parse_resolution(const std::string& text, const std::string& 
   std::string rest;
   if (!(in >> n[0] >> x1 >> n[1] >> x2 >> n[2]) || (x1 != 'x' && x1 != 'X') ||
       (x2 != 'x' && x2 != 'X') || (in >> rest)) {
-    throw InputError("command line", what, "expected NXxNYxNZ (e.g. 16x12x12), got \"" + text + "\"");
+    throw InputError("command line", what,
+                     "expected NXxNYxNZ (e.g. 16x12x12), got \"" + text + "\"");
   }
   for (int v : n) {
     if (v < 1 || v > 4096) {
-      throw InputError("command line", what, "every resolution must lie in [1, 4096], got \"" + text + "\"");
+      throw InputError("command line", what,
+                       "every resolution must lie in [1, 4096], got \"" + text + "\"");
     }
   }
   if (static_cast<long long>(n[0]) * n[1] * n[2] > kMaxVoxels) {
-    throw InputError("command line", what, "too many voxels in \"" + text + "\" (at most " +
-                                               std::to_string(kMaxVoxels) + ")");
+    throw InputError(
+        "command line", what,
+        "too many voxels in \"" + text + "\" (at most " + std::to_string(kMaxVoxels) + ")");
   }
   return n;
 }

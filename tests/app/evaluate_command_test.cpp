@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 
 #include "command.hpp"
@@ -19,7 +20,7 @@ const std::string kData = std::string(CAMPLACE_SOURCE_DIR) + "/data/";
 TEST(EvaluateCommand, JsonHasTheSchemaAndErrIsTheWeightedSum) {
   for (const char* mode : {"center", "conservative"}) {
     const CommandResult r = run("evaluate " + kData + "paper_basic.json --cameras " + kData +
-                      "paper_basic_corners.json --mode " + mode + " --json");
+                                "paper_basic_corners.json --mode " + mode + " --json");
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const auto j = nlohmann::json::parse(r.output);
     EXPECT_EQ(j["pipeline"], "voxel");
@@ -44,7 +45,7 @@ TEST(EvaluateCommand, JsonHasTheSchemaAndErrIsTheWeightedSum) {
 
 TEST(EvaluateCommand, ResolutionOptionChangesTheGrid) {
   const CommandResult r = run("evaluate " + kData + "paper_basic.json --cameras " + kData +
-                    "paper_basic_corners.json --resolution 20x15x15 --json");
+                              "paper_basic_corners.json --resolution 20x15x15 --json");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(nlohmann::json::parse(r.output)["resolution"], nlohmann::json({20, 15, 15}));
 }
@@ -67,28 +68,84 @@ TEST(EvaluateCommand, VoxelsOutHoldsTheModelWhoseVolumeIsReported) {
 }
 
 TEST(EvaluateCommand, TableIsPrintedWithoutJson) {
-  const CommandResult r = run("evaluate " + kData + "paper_basic.json --cameras " + kData + "paper_basic_corners.json");
+  const CommandResult r =
+      run("evaluate " + kData + "paper_basic.json --cameras " + kData + "paper_basic_corners.json");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("Err = "), std::string::npos);
   EXPECT_NE(r.output.find("d_model"), std::string::npos);
 }
 
-TEST(EvaluateCommand, BadInputsExitNonZeroNamingFileAndEntry) {
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+/// `text` with the first occurrence of `from` replaced (the test fails if there is none).
+std::string replace_first(std::string text, const std::string& from, const std::string& to) {
+  const std::size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) text.replace(at, from.size(), to);
+  return text;
+}
+
+TEST(EvaluateCommand, BadInputsExitOneNamingFileEntryAndReason) {
   const std::string dir = temp_dir("evalcli");
-  const std::string wrong_count = write_file(dir + "/two.json",
+  const std::string wrong_count = write_file(
+      dir + "/two.json",
       R"({"cameras": [{"position": [1,1,1], "yaw_deg": 0, "pitch_deg": 0}, {"position": [1,1,1], "yaw_deg": 0, "pitch_deg": 0}]})");
+  const std::string corners = read_text(kData + "paper_basic_corners.json");
+  const std::string outside = write_file(
+      dir + "/outside.json", replace_first(corners, "[4.0, 0.0, 3.0]", "[4.5, 0.0, 3.0]"));
+  const std::string scene = read_text(kData + "paper_basic.json");
+  const std::string huge_area = write_file(
+      dir + "/huge.json", replace_first(scene, "\"min\": [\n   0,", "\"min\": [\n   -1e200,"));
   struct Case {
     std::string args, expect;
   } cases[] = {
       {"evaluate " + dir + "/none.json --cameras " + wrong_count, "none.json"},
       {"evaluate " + kData + "paper_basic.json --cameras " + wrong_count, "holds 2 cameras"},
-      {"evaluate " + kData + "paper_basic.json --cameras " + kData + "paper_basic_corners.json --resolution 0x1x1", "--resolution"},
-      {"evaluate " + kData + "paper_basic.json --cameras " + kData + "paper_basic_corners.json --mode fancy", "--mode"},
+      {"evaluate " + kData + "paper_basic.json --cameras " + kData +
+           "paper_basic_corners.json --resolution 0x1x1",
+       "--resolution"},
+      {"evaluate " + kData + "paper_basic.json --cameras " + kData +
+           "paper_basic_corners.json --mode fancy",
+       "--mode"},
       {"evaluate " + kData + "paper_basic.json", "--cameras"},
+      {"evaluate " + kData + "paper_basic.json --cameras " + outside,
+       "/cameras/1/position: the camera lies outside the area S"},
+      {"evaluate " + huge_area + " --cameras " + kData + "paper_basic_corners.json",
+       "/area/min: coordinates must lie within"},
+      {"evaluate " + kData + "paper_basic.json --cameras " + dir, "is a directory"},
+      {"evaluate " + kData + "paper_basic.json --cameras " + kData +
+           "paper_basic_corners.json --export-mesh " + dir,
+       "--export-mesh: needs --pipeline exact"},
+      {"evaluate " + kData + "paper_basic.json --cameras " + kData +
+           "paper_basic_corners.json --exact-fractions",
+       "--exact-fractions: needs --pipeline exact"},
+      {"evaluate " + kData + "paper_basic.json --cameras " + kData +
+           "paper_basic_corners.json --voxels-out " + dir,
+       "--voxels-out: " + dir + ": is a directory"},
+      {"evaluate " + kData + "paper_basic.json --cameras " + kData +
+           "paper_basic_corners.json --voxels-out ''",
+       "--voxels-out: needs a file name"},
+      {"evaluate " + kData + "paper_basic.json --cameras " + kData +
+           "paper_basic_corners.json --bogus",
+       "command line"},
+      {"evaluat " + kData + "paper_basic.json", "unknown command \"evaluat\""},
+      {"compare " + kData + "paper_basic.json --cameras " + kData +
+           "paper_basic_corners.json --resolutions 16x12x12, --out " + dir + "/c",
+       "--resolutions: empty entry"},
+      {"compare " + kData + "paper_basic.json --cameras " + kData +
+           "paper_basic_corners.json --out /proc/camplace-test",
+       "--out: cannot create directory"},
+      {"generate resolution --param 1 --out " + dir, "--out: \"" + dir + "\" is not a file name"},
   };
   for (const Case& c : cases) {
     const CommandResult r = run(c.args);
-    EXPECT_NE(r.exit_code, 0) << c.args;
+    EXPECT_EQ(r.exit_code, 1) << c.args;
+    EXPECT_EQ(r.output.rfind("error: ", 0), 0u) << c.args << "\n" << r.output;
     EXPECT_NE(r.output.find(c.expect), std::string::npos) << c.args << "\n" << r.output;
   }
 }

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "camplace/core/error.hpp"
+#include "camplace/core/json_reader.hpp"
 #include "camplace/core/scene.hpp"
 #include "scene_builder.hpp"
 
@@ -13,8 +14,9 @@ namespace {
 
 using nlohmann::json;
 
-const char* kCubeOff = "OFF\n8 6 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n0 0 1\n1 0 1\n0 1 1\n1 1 1\n"
-                       "4 0 2 3 1\n4 4 5 7 6\n4 0 1 5 4\n4 2 6 7 3\n4 0 4 6 2\n4 1 3 7 5\n";
+const char* kCubeOff =
+    "OFF\n8 6 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n0 0 1\n1 0 1\n0 1 1\n1 1 1\n"
+    "4 0 2 3 1\n4 4 5 7 6\n4 0 1 5 4\n4 2 6 7 3\n4 0 4 6 2\n4 1 3 7 5\n";
 
 json base_scene() {
   return json::parse(R"({
@@ -51,7 +53,8 @@ void expect_rejected(const json& scene, const std::string& name, const std::stri
   expect_rejected(write_scene(scene, name), entry, reason);
 }
 
-json inline_mesh(const std::vector<std::array<double, 3>>& v, const std::vector<std::array<int, 3>>& t) {
+json inline_mesh(const std::vector<std::array<double, 3>>& v,
+                 const std::vector<std::array<int, 3>>& t) {
   return {{"mesh", {{"vertices", v}, {"triangles", t}}}};
 }
 
@@ -81,20 +84,32 @@ TEST(SceneLoading, EveryObjectKindAndMeshFormatLoads) {
              "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 0 0 1\nv 1 0 1\nv 0 1 1\nv 1 1 1\n"
              "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n");
   write_file(dir + "/m/tet.stl",
-             "solid t\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 0 1 0\nvertex 1 0 0\nendloop\nendfacet\n"
-             "facet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 0 1\nendloop\nendfacet\n"
-             "facet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 0 0 1\nvertex 0 1 0\nendloop\nendfacet\n"
-             "facet normal 0 0 0\nouter loop\nvertex 1 0 0\nvertex 0 1 0\nvertex 0 0 1\nendloop\nendfacet\nendsolid t\n");
+             "solid t\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 0 1 0\nvertex 1 0 "
+             "0\nendloop\nendfacet\n"
+             "facet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 0 "
+             "1\nendloop\nendfacet\n"
+             "facet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 0 0 1\nvertex 0 1 "
+             "0\nendloop\nendfacet\n"
+             "facet normal 0 0 0\nouter loop\nvertex 1 0 0\nvertex 0 1 0\nvertex 0 0 "
+             "1\nendloop\nendfacet\nendsolid t\n");
   write_file(dir + "/m/tet.ply",
-             "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+             "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float "
+             "y\nproperty float z\n"
              "element face 4\nproperty list uchar int vertex_indices\nend_header\n"
              "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
-  scene["static_obstacles"] = json::array({
-      {{"name", "off"}, {"file", "m/cube.off"}, {"transform", {{"scale", 0.5}, {"translate", {0.1, 0.1, 0}}}}},
-      {{"name", "obj"}, {"file", "m/cube.obj"}, {"transform", {{"scale", {0.5, 0.25, 1}}, {"rotate_deg", {0, 0, 90}}, {"translate", {1.5, 2.0, 0}}}}},
-      {{"name", "stl"}, {"file", "m/tet.stl"}, {"transform", {{"translate", {0.1, 2.0, 0}}}}},
-      {{"name", "ply"}, {"file", "m/tet.ply"}, {"transform", {{"scale", 0.5}, {"translate", {3.4, 0.1, 2}}}}},
-      inline_mesh({{1.2, 2.2, 2}, {1.6, 2.2, 2}, {1.2, 2.6, 2}, {1.2, 2.2, 2.4}}, kTetT)});
+  scene["static_obstacles"] = json::array(
+      {{{"name", "off"},
+        {"file", "m/cube.off"},
+        {"transform", {{"scale", 0.5}, {"translate", {0.1, 0.1, 0}}}}},
+       {{"name", "obj"},
+        {"file", "m/cube.obj"},
+        {"transform",
+         {{"scale", {0.5, 0.25, 1}}, {"rotate_deg", {0, 0, 90}}, {"translate", {1.5, 2.0, 0}}}}},
+       {{"name", "stl"}, {"file", "m/tet.stl"}, {"transform", {{"translate", {0.1, 2.0, 0}}}}},
+       {{"name", "ply"},
+        {"file", "m/tet.ply"},
+        {"transform", {{"scale", 0.5}, {"translate", {3.4, 0.1, 2}}}}},
+       inline_mesh({{1.2, 2.2, 2}, {1.6, 2.2, 2}, {1.2, 2.6, 2}, {1.2, 2.2, 2.4}}, kTetT)});
   const core::Scene s = core::load_scene(write_file(dir + "/scene.json", scene.dump()));
   ASSERT_EQ(s.static_obstacles.size(), 5u);
   EXPECT_NEAR(core::signed_volume(s.static_obstacles[0].mesh), 0.125, 1e-12);
@@ -129,7 +144,8 @@ TEST(SceneLoading, CameraBlockPresetsAndPerCameraDomains) {
 }
 
 TEST(SceneLoading, PaperBasicHasTheSetupOfTheTable) {
-  const core::Scene s = core::load_scene(std::string(CAMPLACE_SOURCE_DIR) + "/data/paper_basic.json");
+  const core::Scene s =
+      core::load_scene(std::string(CAMPLACE_SOURCE_DIR) + "/data/paper_basic.json");
   auto facets = [](const std::vector<core::SceneObject>& objects) {
     std::size_t n = 0;
     for (const auto& o : objects) n += o.mesh.triangles.size();
@@ -158,7 +174,8 @@ TEST(SceneLoading, PaperBasicHasTheSetupOfTheTable) {
 
 TEST(SceneRejection, MissingFileAndNotJson) {
   expect_rejected(temp_dir("missing") + "/nope.json", "", "cannot open");
-  expect_rejected(write_file(temp_dir("notjson") + "/s.json", "{\"area\": [1, 2,"), "", "not valid JSON");
+  expect_rejected(write_file(temp_dir("notjson") + "/s.json", "{\"area\": [1, 2,"), "",
+                  "not valid JSON");
 }
 
 TEST(SceneRejection, MissingFieldAndWrongType) {
@@ -189,6 +206,23 @@ TEST(SceneRejection, OutOfRangeValues) {
   s = base_scene();
   s["plausibility"] = {{"min_volume", -0.1}};
   expect_rejected(s, "plaus", "/plausibility/min_volume", "out of range");
+}
+
+TEST(SceneRejection, MessagesShowTheValuesAsGiven) {
+  json s = base_scene();
+  s["cameras"]["count"] = 18446744073709551615ULL;  // read as unsigned; must not print as -1
+  expect_rejected(s, "ubig", "/cameras/count", "value 18446744073709551615 out of range [1, 256]");
+  s = base_scene();
+  s["cameras"]["domain"] = {{"x", {0, 4.0000001}}};
+  expect_rejected(s, "precise", "/cameras/domain/x",
+                  "domain [0, 4.0000001] leaves the allowed range [0, 4]");
+  s = base_scene();
+  s["area"]["min"] = {-1e200, 0, 0};
+  expect_rejected(s, "hugearea", "/area/min", "coordinates must lie within");
+  EXPECT_EQ(core::format_number(180.0001), "180.0001");
+  EXPECT_EQ(core::format_number(0.1), "0.1");
+  EXPECT_EQ(core::format_number(4.0000001), "4.0000001");
+  EXPECT_EQ(core::format_number(1.0 / 3.0), "0.3333333333333333");
 }
 
 TEST(SceneRejection, UnknownFieldIsNamed) {
@@ -267,14 +301,18 @@ TEST(SceneRejection, DegenerateMeshes) {
 TEST(SceneRejection, BrokenOrMissingMeshFiles) {
   const std::string dir = temp_dir("meshfiles");
   write_file(dir + "/garbage.off", "OFF\n8 6\nthis is not a mesh\n");
-  write_file(dir + "/open.off", "OFF\n4 3 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n");
+  write_file(dir + "/open.off",
+             "OFF\n4 3 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n");
   json s = base_scene();
   s["static_obstacles"][0] = {{"file", "garbage.off"}};
-  expect_rejected(write_file(dir + "/a.json", s.dump()), "/static_obstacles/0/file", "cannot be read");
+  expect_rejected(write_file(dir + "/a.json", s.dump()), "/static_obstacles/0/file",
+                  "cannot be read");
   s["static_obstacles"][0] = {{"file", "nothere.obj"}};
-  expect_rejected(write_file(dir + "/b.json", s.dump()), "/static_obstacles/0/file", "does not exist");
+  expect_rejected(write_file(dir + "/b.json", s.dump()), "/static_obstacles/0/file",
+                  "does not exist");
   s["static_obstacles"][0] = {{"file", "mesh.xyz"}};
-  expect_rejected(write_file(dir + "/c.json", s.dump()), "/static_obstacles/0/file", "unsupported format");
+  expect_rejected(write_file(dir + "/c.json", s.dump()), "/static_obstacles/0/file",
+                  "unsupported format");
   s["static_obstacles"][0] = {{"file", "open.off"}};
   expect_rejected(write_file(dir + "/d.json", s.dump()), "/static_obstacles/0", "open");
 }
@@ -287,10 +325,12 @@ TEST(SceneRejection, ObjectLeavesArea) {
 
 TEST(SceneRejection, TargetIntersectsObstacleOfItsState) {
   json s = base_scene();
-  s["time_steps"][0]["events"][0]["targets"][0]["box"] = {{"min", {0.5, 0.5, 0}}, {"max", {1.5, 1.5, 1.8}}};
+  s["time_steps"][0]["events"][0]["targets"][0]["box"] = {{"min", {0.5, 0.5, 0}},
+                                                          {"max", {1.5, 1.5, 1.8}}};
   expect_rejected(s, "static", "/time_steps/0/events/0/targets/0", "intersects obstacle \"table\"");
   s = base_scene();
-  s["time_steps"][0]["events"][0]["targets"][0]["box"] = {{"min", {3.05, 2.05, 0}}, {"max", {3.1, 2.1, 0.1}}};
+  s["time_steps"][0]["events"][0]["targets"][0]["box"] = {{"min", {3.05, 2.05, 0}},
+                                                          {"max", {3.1, 2.1, 0.1}}};
   expect_rejected(s, "inside", "/time_steps/0/events/0/targets/0", "intersects obstacle \"link\"");
 }
 

@@ -99,4 +99,30 @@ TEST(Cli, SigintLeavesACompleteRunFileThatEvaluateReproduces) {
   fs::remove(log + ".err");
 }
 
+TEST(Cli, BadOptionValuesExitOneNamingTheOption) {
+  const std::string out =
+      (fs::temp_directory_path() / ("camplace-cli-bad-" + std::to_string(::getpid()))).string();
+  const struct {
+    std::string options, expect;
+  } cases[] = {
+      {"--population 100000000", "--population: must lie in [0, 100000]"},
+      {"--time-limit nan", "--time-limit: must be a number of seconds"},
+      {"--time-limit inf", "--time-limit: must be a number of seconds"},
+      {"--max-evals -1", "--max-evals: must lie in [0, 1e12]"},
+      {"--threads 100000", "--threads: must lie in [0, 256]"},
+      {"--runs 0", "--runs: must lie in [1, 100000]"},
+      {"--tolerance nan", "--tolerance: must be a finite number"},
+      {"--algorithm foo", "error: command line: --algorithm"},
+      {"--seed -1", "error: command line: "},
+  };
+  for (const auto& c : cases) {
+    const std::string text = capture(kBinary + " optimize " + kScene + " --quiet --out " + out +
+                                     " " + c.options + " 2>&1; echo rc=$?");
+    EXPECT_NE(text.find(c.expect), std::string::npos) << c.options << "\n" << text;
+    EXPECT_EQ(text.rfind("error: ", 0), 0u) << c.options << "\n" << text;
+    EXPECT_NE(text.find("rc=1\n"), std::string::npos) << c.options << "\n" << text;
+  }
+  fs::remove_all(out);
+}
+
 }  // namespace

@@ -3,14 +3,17 @@
 /// scenes, one scene parameter varied per examination; resumable; a report with the paper's
 /// plots.
 #include <string>
+#include <vector>
 
 namespace camplace::compare {
 
 struct StudyOptions {
   std::string study_file;  ///< the study JSON (see data/studies/paper.json)
   std::string out_dir;
-  std::string camplace;    ///< path of the camplace executable that runs `optimize`
-  std::string command;     ///< the command line, quoted in the report
+  std::string camplace;  ///< path of the camplace executable that runs `optimize`
+  std::string command;   ///< the command line, quoted in the report
+  std::vector<std::string>
+      algorithms;  ///< solver names `optimize` accepts (the study's is checked)
 };
 
 /// What a study run did.

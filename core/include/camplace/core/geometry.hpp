@@ -40,8 +40,7 @@ bool inside_mesh(const TriangleMesh& mesh, const Vec3& p);
 /// Squared distance from p to triangle (a, b, c).
 double point_triangle_sq_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 /// Squared distance between segments [p0, p1] and [q0, q1].
-double segment_segment_sq_distance(const Vec3& p0, const Vec3& p1, const Vec3& q0,
-                                   const Vec3& q1);
+double segment_segment_sq_distance(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1);
 /// Squared distance from p to the closed box.
 double point_box_sq_distance(const Vec3& p, const Box3& box);
 /// True when triangle (a, b, c) and the closed box share a point (separating-axis test).

@@ -13,6 +13,10 @@ namespace camplace::core {
 /// Reads and parses a JSON file; InputError when it cannot be read or is not JSON.
 nlohmann::json read_json_file(const std::string& path);
 
+/// The shortest decimal text that reads back as exactly v (for messages: 180.0001 stays
+/// 180.0001, not 180).
+std::string format_number(double v);
+
 /// A JSON value together with where it is (file and pointer).
 class JsonNode {
  public:

@@ -33,8 +33,8 @@ struct CameraSpec {
   int count = 0;
   double half_angle = 0.0;  ///< radians, in (0, π/2)
   FovShape fov = FovShape::cone;
-  int sides = 16;                ///< k of the inscribed pyramid (exact pipeline, comparisons)
-  std::optional<double> range;   ///< axial far plane in metres, none = unlimited
+  int sides = 16;                     ///< k of the inscribed pyramid (exact pipeline, comparisons)
+  std::optional<double> range;        ///< axial far plane in metres, none = unlimited
   std::vector<CameraDomain> domains;  ///< one per camera (shared domain copied n times)
 };
 
