@@ -5,7 +5,9 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
+#include <vector>
 
 namespace camplace::core {
 
@@ -17,8 +19,25 @@ nlohmann::json read_json_file(const std::string& path) {
   if (!in) throw InputError(path, "", "cannot open the file");
   std::stringstream buffer;
   buffer << in.rdbuf();
+  // A key given twice in one object is an error (nlohmann would keep the last silently).
+  std::vector<std::set<std::string>> keys;
+  std::string duplicate;
+  const auto check_keys = [&](int, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+    if (event == nlohmann::json::parse_event_t::object_start) keys.emplace_back();
+    if (event == nlohmann::json::parse_event_t::object_end && !keys.empty()) keys.pop_back();
+    if (event == nlohmann::json::parse_event_t::key && !keys.empty() && duplicate.empty() &&
+        !keys.back().insert(parsed.get<std::string>()).second) {
+      duplicate = parsed.get<std::string>();
+    }
+    return true;
+  };
   try {
-    return nlohmann::json::parse(buffer.str());
+    nlohmann::json doc = nlohmann::json::parse(buffer.str(), check_keys);
+    if (!duplicate.empty()) {
+      throw InputError(path, "",
+                       "not valid JSON: the key \"" + duplicate + "\" appears twice in one object");
+    }
+    return doc;
   } catch (const nlohmann::json::exception& e) {
     // parse errors, and numbers that overflow a double (e.g. 1e999, which would be inf)
     throw InputError(path, "", std::string("not valid JSON: ") + e.what());

@@ -176,6 +176,9 @@ TEST(SceneRejection, MissingFileAndNotJson) {
   expect_rejected(temp_dir("missing") + "/nope.json", "", "cannot open");
   expect_rejected(write_file(temp_dir("notjson") + "/s.json", "{\"area\": [1, 2,"), "",
                   "not valid JSON");
+  std::string twice = base_scene().dump();
+  twice.insert(1, "\"voxels\": [8, 8, 8], ");
+  expect_rejected(write_file(temp_dir("twice") + "/s.json", twice), "", "\"voxels\" appears twice");
 }
 
 TEST(SceneRejection, MissingFieldAndWrongType) {
