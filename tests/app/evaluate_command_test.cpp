@@ -101,45 +101,31 @@ TEST(EvaluateCommand, BadInputsExitOneNamingFileEntryAndReason) {
   const std::string scene = read_text(kData + "paper_basic.json");
   const std::string huge_area = write_file(
       dir + "/huge.json", replace_first(scene, "\"min\": [\n   0,", "\"min\": [\n   -1e200,"));
+  const std::string basic =
+      "evaluate " + kData + "paper_basic.json --cameras " + kData + "paper_basic_corners.json";
+  const std::string compare =
+      "compare " + kData + "paper_basic.json --cameras " + kData + "paper_basic_corners.json";
   struct Case {
     std::string args, expect;
   } cases[] = {
       {"evaluate " + dir + "/none.json --cameras " + wrong_count, "none.json"},
       {"evaluate " + kData + "paper_basic.json --cameras " + wrong_count, "holds 2 cameras"},
-      {"evaluate " + kData + "paper_basic.json --cameras " + kData +
-           "paper_basic_corners.json --resolution 0x1x1",
-       "--resolution"},
-      {"evaluate " + kData + "paper_basic.json --cameras " + kData +
-           "paper_basic_corners.json --mode fancy",
-       "--mode"},
+      {basic + " --resolution 0x1x1", "--resolution"},
+      {basic + " --mode fancy", "--mode"},
       {"evaluate " + kData + "paper_basic.json", "--cameras"},
       {"evaluate " + kData + "paper_basic.json --cameras " + outside,
        "/cameras/1/position: the camera lies outside the area S"},
       {"evaluate " + huge_area + " --cameras " + kData + "paper_basic_corners.json",
        "/area/min: coordinates must lie within"},
       {"evaluate " + kData + "paper_basic.json --cameras " + dir, "is a directory"},
-      {"evaluate " + kData + "paper_basic.json --cameras " + kData +
-           "paper_basic_corners.json --export-mesh " + dir,
-       "--export-mesh: needs --pipeline exact"},
-      {"evaluate " + kData + "paper_basic.json --cameras " + kData +
-           "paper_basic_corners.json --exact-fractions",
-       "--exact-fractions: needs --pipeline exact"},
-      {"evaluate " + kData + "paper_basic.json --cameras " + kData +
-           "paper_basic_corners.json --voxels-out " + dir,
-       "--voxels-out: " + dir + ": is a directory"},
-      {"evaluate " + kData + "paper_basic.json --cameras " + kData +
-           "paper_basic_corners.json --voxels-out ''",
-       "--voxels-out: needs a file name"},
-      {"evaluate " + kData + "paper_basic.json --cameras " + kData +
-           "paper_basic_corners.json --bogus",
-       "command line"},
+      {basic + " --export-mesh " + dir, "--export-mesh: needs --pipeline exact"},
+      {basic + " --exact-fractions", "--exact-fractions: needs --pipeline exact"},
+      {basic + " --voxels-out " + dir, "--voxels-out: " + dir + ": is a directory"},
+      {basic + " --voxels-out ''", "--voxels-out: needs a file name"},
+      {basic + " --bogus", "command line"},
       {"evaluat " + kData + "paper_basic.json", "unknown command \"evaluat\""},
-      {"compare " + kData + "paper_basic.json --cameras " + kData +
-           "paper_basic_corners.json --resolutions 16x12x12, --out " + dir + "/c",
-       "--resolutions: empty entry"},
-      {"compare " + kData + "paper_basic.json --cameras " + kData +
-           "paper_basic_corners.json --out /proc/camplace-test",
-       "--out: cannot create directory"},
+      {compare + " --resolutions 16x12x12, --out " + dir + "/c", "--resolutions: empty entry"},
+      {compare + " --out /proc/camplace-test", "--out: cannot create directory"},
       {"generate resolution --param 1 --out " + dir, "--out: \"" + dir + "\" is not a file name"},
   };
   for (const Case& c : cases) {

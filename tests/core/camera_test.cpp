@@ -1,9 +1,10 @@
 // Camera geometry of SPEC §1 and the camera-configuration file format.
+#include "camplace/core/camera.hpp"
+
 #include <gtest/gtest.h>
 
 #include <random>
 
-#include "camplace/core/camera.hpp"
 #include "camplace/core/error.hpp"
 #include "scene_builder.hpp"
 
@@ -75,7 +76,8 @@ TEST(Camera, BallTestIsSufficientForContainment) {
 TEST(Camera, ConfigFileRoundTripsAndCountIsChecked) {
   core::Scene scene = simple_scene({Vec3(0, 0, 0), Vec3(4, 3, 3)}, {4, 3, 3}, 2, 30, {}, {});
   scene.file = "scene.json";
-  const core::CameraConfig config = {camera_at({1, 1, 2.5}, 180, -90), camera_at({3, 2, 1}, -45.5, 12.25)};
+  const core::CameraConfig config = {camera_at({1, 1, 2.5}, 180, -90),
+                                     camera_at({3, 2, 1}, -45.5, 12.25)};
   const std::string dir = temp_dir("camera");
   const std::string path = write_file(dir + "/cams.json", core::camera_config_json(config));
   const core::CameraConfig back = core::load_camera_config(path, scene);
@@ -94,7 +96,8 @@ TEST(Camera, ConfigFileRoundTripsAndCountIsChecked) {
     EXPECT_EQ(e.entry(), "/cameras");
     EXPECT_NE(e.reason().find("holds 2 cameras"), std::string::npos);
   }
-  const std::string bad = write_file(dir + "/bad.json",
+  const std::string bad = write_file(
+      dir + "/bad.json",
       R"({"cameras": [{"position": [1,1,1], "yaw_deg": 0, "pitch_deg": 95}, {"position": [1,1,1], "yaw_deg": 0, "pitch_deg": 0}]})");
   scene.cameras.count = 2;
   try {

@@ -1,7 +1,8 @@
 // The exact true distance d(C, O_u) against hand-computed values.
+#include "camplace/core/distance.hpp"
+
 #include <gtest/gtest.h>
 
-#include "camplace/core/distance.hpp"
 #include "scene_builder.hpp"
 
 namespace camplace::testing {
@@ -33,7 +34,8 @@ TEST(TrueDistance, TetrahedronApexAboveBoxFace) {
   EXPECT_NEAR(d.value, 0.01, 1e-15);  // apex 0.1 above the top face
   // The union's distance is its nearest member's.
   const auto far = box_object("far", {3, 3, 3}, {3.5, 3.5, 3.5});
-  EXPECT_NEAR(core::solids_squared_distance({&far.mesh, &box.mesh}, {&tet.mesh}).value, 0.01, 1e-15);
+  EXPECT_NEAR(core::solids_squared_distance({&far.mesh, &box.mesh}, {&tet.mesh}).value, 0.01,
+              1e-15);
 }
 
 }  // namespace

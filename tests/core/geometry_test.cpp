@@ -1,9 +1,10 @@
 // Geometric primitives against values computed by hand or by brute-force sampling.
+#include "camplace/core/geometry.hpp"
+
 #include <gtest/gtest.h>
 
 #include <random>
 
-#include "camplace/core/geometry.hpp"
 #include "scene_builder.hpp"
 
 namespace camplace::testing {
@@ -13,18 +14,22 @@ using core::Vec3;
 
 TEST(Geometry, PointTriangleDistanceInEveryRegion) {
   const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
-  EXPECT_DOUBLE_EQ(core::point_triangle_sq_distance({0.2, 0.2, 2}, a, b, c), 4.0);   // face
-  EXPECT_DOUBLE_EQ(core::point_triangle_sq_distance({-1, -1, 0}, a, b, c), 2.0);     // vertex a
-  EXPECT_DOUBLE_EQ(core::point_triangle_sq_distance({0.5, -2, 0}, a, b, c), 4.0);    // edge ab
-  EXPECT_DOUBLE_EQ(core::point_triangle_sq_distance({1, 1, 0}, a, b, c), 0.5);       // edge bc
-  EXPECT_DOUBLE_EQ(core::point_triangle_sq_distance({3, 0, 0}, a, b, c), 4.0);       // vertex b
+  EXPECT_DOUBLE_EQ(core::point_triangle_sq_distance({0.2, 0.2, 2}, a, b, c), 4.0);  // face
+  EXPECT_DOUBLE_EQ(core::point_triangle_sq_distance({-1, -1, 0}, a, b, c), 2.0);    // vertex a
+  EXPECT_DOUBLE_EQ(core::point_triangle_sq_distance({0.5, -2, 0}, a, b, c), 4.0);   // edge ab
+  EXPECT_DOUBLE_EQ(core::point_triangle_sq_distance({1, 1, 0}, a, b, c), 0.5);      // edge bc
+  EXPECT_DOUBLE_EQ(core::point_triangle_sq_distance({3, 0, 0}, a, b, c), 4.0);      // vertex b
 }
 
 TEST(Geometry, SegmentDistanceParallelSkewAndDegenerate) {
-  EXPECT_DOUBLE_EQ(core::segment_segment_sq_distance({0, 0, 0}, {1, 0, 0}, {0, 1, 1}, {1, 1, 1}), 2.0);
-  EXPECT_DOUBLE_EQ(core::segment_segment_sq_distance({0, 0, 0}, {2, 0, 0}, {1, -1, 3}, {1, 1, 3}), 9.0);
-  EXPECT_DOUBLE_EQ(core::segment_segment_sq_distance({0, 0, 0}, {0, 0, 0}, {3, 4, 0}, {3, 4, 0}), 25.0);
-  EXPECT_DOUBLE_EQ(core::segment_segment_sq_distance({0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}), 1.0);
+  EXPECT_DOUBLE_EQ(core::segment_segment_sq_distance({0, 0, 0}, {1, 0, 0}, {0, 1, 1}, {1, 1, 1}),
+                   2.0);
+  EXPECT_DOUBLE_EQ(core::segment_segment_sq_distance({0, 0, 0}, {2, 0, 0}, {1, -1, 3}, {1, 1, 3}),
+                   9.0);
+  EXPECT_DOUBLE_EQ(core::segment_segment_sq_distance({0, 0, 0}, {0, 0, 0}, {3, 4, 0}, {3, 4, 0}),
+                   25.0);
+  EXPECT_DOUBLE_EQ(core::segment_segment_sq_distance({0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}),
+                   1.0);
 }
 
 TEST(Geometry, TriangleBoxDistanceMatchesSampling) {
@@ -66,11 +71,14 @@ TEST(Geometry, InsideVolumeAndRayHits) {
   EXPECT_NEAR(core::signed_volume(tet.mesh), 1.0 / 6.0, 1e-12);
   EXPECT_TRUE(core::inside_mesh(tet.mesh, {0.2, 0.2, 0.2}));
   EXPECT_FALSE(core::inside_mesh(tet.mesh, {0.4, 0.4, 0.4}));
-  EXPECT_NEAR(core::ray_triangle_hit({0.2, 0.2, -1}, {0, 0, 1}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}), 1.0, 1e-15);
-  EXPECT_LT(core::ray_triangle_hit({0.8, 0.8, -1}, {0, 0, 1}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}), 0.0);
+  EXPECT_NEAR(core::ray_triangle_hit({0.2, 0.2, -1}, {0, 0, 1}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}),
+              1.0, 1e-15);
+  EXPECT_LT(core::ray_triangle_hit({0.8, 0.8, -1}, {0, 0, 1}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}),
+            0.0);
   EXPECT_DOUBLE_EQ(core::point_solid_sq_distance(cube.mesh, {1, 1, 1}), 0.0);
   EXPECT_DOUBLE_EQ(core::point_solid_sq_distance(cube.mesh, {5, 1, 6}), 9.0 + 16.0);
-  EXPECT_DOUBLE_EQ(core::box_solid_sq_distance(cube.mesh, {Vec3(0.5, 0.5, 0.5), Vec3(1, 1, 1)}), 0.0);
+  EXPECT_DOUBLE_EQ(core::box_solid_sq_distance(cube.mesh, {Vec3(0.5, 0.5, 0.5), Vec3(1, 1, 1)}),
+                   0.0);
   EXPECT_DOUBLE_EQ(core::box_solid_sq_distance(cube.mesh, {Vec3(3, 3, 0), Vec3(4, 4, 1)}), 2.0);
 }
 

@@ -12,24 +12,12 @@
 #include "camplace/core/error.hpp"
 #include "camplace/core/scene.hpp"
 #include "scene_builder.hpp"
+#include "scene_fixtures.hpp"
 
 namespace camplace::testing {
 namespace {
 
 using nlohmann::json;
-
-json base_scene() {
-  return json::parse(R"({
-    "area": {"min": [0, 0, 0], "max": [4, 3, 3]},
-    "voxels": [8, 6, 6],
-    "cameras": {"count": 2, "half_angle_deg": 30},
-    "static_obstacles": [{"name": "table", "box": {"min": [0.2, 0.2, 0], "max": [1, 1, 0.8]}}],
-    "time_steps": [{
-      "dynamic_obstacles": [{"name": "link", "tetrahedron": [[3, 2, 0], [3.5, 2, 0], [3, 2.5, 0], [3.2, 2.2, 1]]}],
-      "events": [{"weight": 1, "targets": [{"name": "person", "box": {"min": [2, 0.5, 0], "max": [2.4, 0.9, 1.8]}}]}]
-    }]
-  })");
-}
 
 // A scene whose first static obstacle is `object`, written into `dir`.
 std::string scene_with(const std::string& dir, const json& object) {
@@ -38,29 +26,12 @@ std::string scene_with(const std::string& dir, const json& object) {
   return write_file(dir + "/scene.json", s.dump());
 }
 
-// Loads and expects InputError with this entry and a reason containing `reason`.
-void expect_rejected(const std::string& path, const std::string& entry, const std::string& reason) {
-  try {
-    core::load_scene(path);
-    ADD_FAILURE() << "accepted " << path << " (expected: " << entry << ": " << reason << ")";
-  } catch (const core::InputError& e) {
-    EXPECT_EQ(e.file(), path);
-    EXPECT_EQ(e.entry(), entry) << e.what();
-    EXPECT_NE(e.reason().find(reason), std::string::npos) << e.what();
-  }
-}
-
 // Writes `text` as mesh file `name` next to a scene using it; expects the file entry rejected.
 void expect_file_rejected(const std::string& name, const std::string& text,
                           const std::string& reason) {
   const std::string dir = temp_dir("meshfile-" + name);
   write_file(dir + "/" + name, text);
   expect_rejected(scene_with(dir, {{"file", name}}), "/static_obstacles/0/file", reason);
-}
-
-json inline_mesh(const std::vector<std::array<double, 3>>& v,
-                 const std::vector<std::array<int, 3>>& t) {
-  return {{"mesh", {{"vertices", v}, {"triangles", t}}}};
 }
 
 // An outward tetrahedron in the free part of the base scene, and its faces.

@@ -8,54 +8,25 @@
 #include "camplace/core/json_reader.hpp"
 #include "camplace/core/scene.hpp"
 #include "scene_builder.hpp"
+#include "scene_fixtures.hpp"
 
 namespace camplace::testing {
 namespace {
 
+using camplace::testing::expect_rejected;  // beside the overload below
 using nlohmann::json;
 
 const char* kCubeOff =
     "OFF\n8 6 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n0 0 1\n1 0 1\n0 1 1\n1 1 1\n"
     "4 0 2 3 1\n4 4 5 7 6\n4 0 1 5 4\n4 2 6 7 3\n4 0 4 6 2\n4 1 3 7 5\n";
 
-json base_scene() {
-  return json::parse(R"({
-    "area": {"min": [0, 0, 0], "max": [4, 3, 3]},
-    "voxels": [8, 6, 6],
-    "cameras": {"count": 2, "half_angle_deg": 30},
-    "static_obstacles": [{"name": "table", "box": {"min": [0.2, 0.2, 0], "max": [1, 1, 0.8]}}],
-    "time_steps": [{
-      "dynamic_obstacles": [{"name": "link", "tetrahedron": [[3, 2, 0], [3.5, 2, 0], [3, 2.5, 0], [3.2, 2.2, 1]]}],
-      "events": [{"weight": 1, "targets": [{"name": "person", "box": {"min": [2, 0.5, 0], "max": [2.4, 0.9, 1.8]}}]}]
-    }]
-  })");
-}
-
 std::string write_scene(const json& scene, const std::string& name) {
   return write_file(temp_dir("scene-" + name) + "/scene.json", scene.dump(1));
-}
-
-// Loads and expects InputError with this entry and a reason containing `reason`.
-void expect_rejected(const std::string& path, const std::string& entry, const std::string& reason) {
-  try {
-    core::load_scene(path);
-    ADD_FAILURE() << "accepted " << path << " (expected: " << entry << ": " << reason << ")";
-  } catch (const core::InputError& e) {
-    EXPECT_EQ(e.file(), path);
-    EXPECT_EQ(e.entry(), entry) << e.what();
-    EXPECT_NE(e.reason().find(reason), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find(path), std::string::npos);
-  }
 }
 
 void expect_rejected(const json& scene, const std::string& name, const std::string& entry,
                      const std::string& reason) {
   expect_rejected(write_scene(scene, name), entry, reason);
-}
-
-json inline_mesh(const std::vector<std::array<double, 3>>& v,
-                 const std::vector<std::array<int, 3>>& t) {
-  return {{"mesh", {{"vertices", v}, {"triangles", t}}}};
 }
 
 const std::vector<std::array<double, 3>> kTetV = {{1, 1, 1}, {2, 1, 1}, {1, 2, 1}, {1, 1, 2}};
