@@ -1,6 +1,5 @@
 // The one core translation unit with CGAL mesh processing (compile cost: keep it alone).
 #include "mesh_checks.hpp"
-#include "mesh_file_scan.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/IO/polygon_soup_io.h>
@@ -19,6 +18,7 @@
 #include <vector>
 
 #include "camplace/core/error.hpp"
+#include "mesh_file_scan.hpp"
 
 namespace camplace::core::detail {
 
@@ -60,6 +60,24 @@ std::vector<double> component_volumes(Mesh& sm) {
   }
   return volumes;
 }
+
+/// Removes vertices no triangle uses (they are not part of the solid, and CGAL's volume
+/// tests fail on isolated vertices); indices are renumbered.
+void drop_unused_vertices(TriangleMesh& mesh) {
+  std::vector<int> new_index(mesh.vertices.size(), -1);
+  std::vector<Vec3> used;
+  for (auto& t : mesh.triangles) {
+    for (int& idx : t) {
+      if (new_index[idx] < 0) {
+        new_index[idx] = static_cast<int>(used.size());
+        used.push_back(mesh.vertices[idx]);
+      }
+      idx = new_index[idx];
+    }
+  }
+  mesh.vertices = std::move(used);
+}
+
 }  // namespace
 
 TriangleMesh read_mesh_file(const std::string& path, const std::string& scene_file,
@@ -128,13 +146,16 @@ void validate_and_orient(TriangleMesh& mesh, const std::string& file, const std:
       fail("vertex " + std::to_string(i) + " has a non-finite coordinate");
   }
   const int nv = static_cast<int>(mesh.vertices.size());
-  std::vector<std::vector<std::size_t>> polygons;
   for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
-    const auto& t = mesh.triangles[f];
-    for (int idx : t) {
+    for (int idx : mesh.triangles[f]) {
       if (idx < 0 || idx >= nv)
         fail("triangle " + std::to_string(f) + " uses a vertex index out of range");
     }
+  }
+  drop_unused_vertices(mesh);
+  std::vector<std::vector<std::size_t>> polygons;
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+    const auto& t = mesh.triangles[f];
     const Point a(mesh.vertices[t[0]].x(), mesh.vertices[t[0]].y(), mesh.vertices[t[0]].z());
     const Point b(mesh.vertices[t[1]].x(), mesh.vertices[t[1]].y(), mesh.vertices[t[1]].z());
     const Point c(mesh.vertices[t[2]].x(), mesh.vertices[t[2]].y(), mesh.vertices[t[2]].z());
