@@ -99,8 +99,10 @@ CameraConfig load_camera_config(const std::string& path, const Scene& scene) {
     entry.only_keys({"position", "yaw_deg", "pitch_deg", "name"});
     CameraSetting camera;
     camera.position = entry.at("position").vec3();
-    if (!scene.area.contains(camera.position)) {
-      entry.at("position").fail("the camera lies outside the area S of " + scene.file);
+    // Outside S is allowed (a camera on the cell's fence looking in); far beyond any cell is not.
+    if (camera.position.cwiseAbs().maxCoeff() > kMaxCoordinate) {
+      entry.at("position")
+          .fail("coordinates must lie within ±" + format_number(kMaxCoordinate) + " m");
     }
     camera.yaw = entry.at("yaw_deg").number_in(-180.0, 180.0) * kDeg;
     camera.pitch = entry.at("pitch_deg").number_in(-90.0, 90.0) * kDeg;

@@ -18,9 +18,6 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 // Vertices may leave S by this much (metres) to absorb rounding of transformed meshes.
 constexpr double kAreaSlack = 1e-9;
-// Largest |coordinate| of S (metres): far beyond any work cell, small enough that squared
-// distances and exact constructions stay finite.
-constexpr double kMaxCoordinate = 1e6;
 
 std::string format_vec(const Vec3& v) {
   return "[" + format_number(v.x()) + ", " + format_number(v.y()) + ", " + format_number(v.z()) +

@@ -44,6 +44,34 @@ core::CameraConfig json_round_trip(const core::CameraConfig& config, const core:
   return reread;
 }
 
+/// A start file's cameras must lie in their placement domains: the optimizer would otherwise
+/// move them there without a word.
+void check_inside_domains(const core::CameraConfig& config, const core::Scene& scene,
+                          const std::string& file) {
+  constexpr double kSlack = 1e-9;  // rounding of written and re-read run files
+  const auto inside = [](const core::Interval& iv, double v) {
+    return v >= iv.lo - kSlack && v <= iv.hi + kSlack;
+  };
+  for (std::size_t i = 0; i < config.size(); ++i) {
+    const core::CameraDomain& d = scene.cameras.domains[i];
+    const core::CameraSetting& c = config[i];
+    const std::string entry = "/cameras/" + std::to_string(i);
+    const std::string where = " of camera " + std::to_string(i) + " in " + scene.file;
+    if (!inside(d.x, c.position.x()) || !inside(d.y, c.position.y()) ||
+        !inside(d.z, c.position.z())) {
+      throw core::InputError(file, entry + "/position",
+                             "lies outside the placement domain" + where);
+    }
+    if (!inside(d.yaw, c.yaw)) {
+      throw core::InputError(file, entry + "/yaw_deg", "lies outside the placement domain" + where);
+    }
+    if (!inside(d.pitch, c.pitch)) {
+      throw core::InputError(file, entry + "/pitch_deg",
+                             "lies outside the placement domain" + where);
+    }
+  }
+}
+
 /// Fills pop with its initial individuals: the start (if any) and random ones, evaluated as a
 /// batch when the solver evaluates batches.
 void fill_population(pagmo::population& pop, const std::vector<pagmo::vector_double>& xs,
@@ -112,7 +140,9 @@ RunResult optimize(const core::Scene& scene, const Objective& objective,
   if (options.start.kind == StartKind::corners) {
     start = encoding.encode(corner_start(scene));
   } else if (options.start.kind == StartKind::file) {
-    start = encoding.encode(core::load_camera_config(options.start.file, scene));
+    const core::CameraConfig config = core::load_camera_config(options.start.file, scene);
+    check_inside_domains(config, scene, options.start.file);
+    start = encoding.encode(config);
   }
 
   Solver solver = detail::make_solver(options.algorithm, options.seed, options.population,

@@ -1,11 +1,14 @@
 #include "camplace/optimize/optimizer.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <thread>
 
 #include "camplace/core/error.hpp"
@@ -261,6 +264,33 @@ TEST(Optimizer, BadAlgorithmOrPopulationIsAnInputError) {
   OptimizeOptions o = budget("sade", 10, 1);
   o.population = 3;
   EXPECT_THROW(optimize(f.scene, f.objective, o), core::InputError);
+}
+
+TEST(Optimizer, StartFileOutsideThePlacementDomainIsAnInputError) {
+  Fixture f("\"ceiling\"");  // z fixed at S's top, 2.5 m
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("camplace-start-" + std::to_string(::getpid()) + ".json"))
+                               .string();
+  const auto write_start = [&](double z) {
+    std::ofstream(path) << R"({"cameras": [)"
+                        << R"({"position": [1, 1, 2.5], "yaw_deg": 0, "pitch_deg": -45},)"
+                        << R"({"position": [2, 1, )" << z
+                        << R"(], "yaw_deg": 0, "pitch_deg": -45},)"
+                        << R"({"position": [3, 1, 2.5], "yaw_deg": 0, "pitch_deg": -45}]})";
+  };
+  OptimizeOptions o = budget("gaco", 50, 1);
+  o.start = {StartKind::file, path};
+  write_start(1.0);
+  try {
+    optimize(f.scene, f.objective, o);
+    ADD_FAILURE() << "a start below the ceiling was accepted";
+  } catch (const core::InputError& e) {
+    EXPECT_EQ(e.entry(), "/cameras/1/position");
+    EXPECT_NE(e.reason().find("outside the placement domain"), std::string::npos) << e.what();
+  }
+  write_start(2.5);
+  EXPECT_NO_THROW(optimize(f.scene, f.objective, o));
+  std::filesystem::remove(path);
 }
 
 TEST(Optimizer, FixedEverythingIsAnInputError) {

@@ -90,6 +90,10 @@ std::vector<StateIndex> states(const Scene& scene);
 /// (JSON pointer) and the reason for every rejection the SPEC lists.
 Scene load_scene(const std::string& path);
 
+/// Largest |coordinate| (metres) of S's corners and of camera positions: far beyond any work
+/// cell, small enough that squared distances and exact constructions stay finite.
+constexpr double kMaxCoordinate = 1e6;
+
 /// Largest voxel grid camplace accepts (per-voxel data is kept per camera).
 constexpr long long kMaxVoxels = 1LL << 25;
 
