@@ -70,7 +70,7 @@ TEST(ExactModel, TwoOpposedCamerasGiveTheDoubleConeHull) {
   const auto model = exact::build_exact_model(two, {kFromLeft, kFromRight}, {0, 0});
   EXPECT_NEAR(model.volume(), 52.0 / 75.0, kTol);
   EXPECT_EQ(model.components(), 1);
-  EXPECT_TRUE(model.contains(Vec3(0.5, 0.64, 0.5)));   // both half widths ≥ 0.15
+  EXPECT_TRUE(model.contains(Vec3(0.5, 0.64, 0.5)));  // both half widths ≥ 0.15
   EXPECT_TRUE(model.contains(Vec3(3.5, 0.36, 0.5)));
   EXPECT_FALSE(model.contains(Vec3(0.2, 0.7, 0.5)));   // left half width 0.12 < 0.2
   EXPECT_FALSE(model.contains(Vec3(3.8, 0.5, 0.63)));  // right half width 0.12 < 0.13
@@ -78,11 +78,20 @@ TEST(ExactModel, TwoOpposedCamerasGiveTheDoubleConeHull) {
   EXPECT_FALSE(model.contains(Vec3(2.0, 0.81, 0.5)));
 }
 
+// One camera, a critical box c near x = 0 and the target [2.5,3]×[¼,¾]² (seen from kFromLeft).
+core::Scene target_behind_pole_scene() {
+  return axis_scene(1, {box_object("c", Vec3(0, 0.875, 0.375), Vec3(0.25, 1, 0.625))},
+                    {box_object("target", Vec3(2.5, 0.25, 0.25), Vec3(3, 0.75, 0.75))});
+}
+
+// A pole x ∈ [1, 1.25], |y−½| ≤ 1/16, full height, between the camera and the target.
+core::SceneObject pole(const std::string& name) {
+  return box_object(name, Vec3(1, 0.4375, 0), Vec3(1.25, 0.5625, 1));
+}
+
 TEST(ExactModel, StaticObstacleBetweenCameraAndTargetLeavesTheSpaceInFrontFree) {
-  // A pole x ∈ [1, 1.25], |y−½| ≤ 1/16, full height, in front of the target [2.5,3]×[¼,¾]².
-  auto scene = axis_scene(1, {box_object("c", Vec3(0, 0.875, 0.375), Vec3(0.25, 1, 0.625))},
-                          {box_object("target", Vec3(2.5, 0.25, 0.25), Vec3(3, 0.75, 0.75))});
-  scene.static_obstacles.push_back(box_object("pole", Vec3(1, 0.4375, 0), Vec3(1.25, 0.5625, 1)));
+  auto scene = target_behind_pole_scene();
+  scene.static_obstacles.push_back(pole("pole"));
   const auto model = exact::build_exact_model(scene, {kFromLeft}, {0, 0});
   // On the axis in front of the pole: the ray hits the pole first → free.
   EXPECT_FALSE(model.contains(Vec3(0.5, 0.5, 0.5)));
@@ -101,10 +110,8 @@ TEST(ExactModel, StaticObstacleBetweenCameraAndTargetLeavesTheSpaceInFrontFree) 
 }
 
 TEST(ExactModel, MaskedDynamicObstacleOccupiesItsConeModelledOneOccludes) {
-  auto scene = axis_scene(1, {box_object("c", Vec3(0, 0.875, 0.375), Vec3(0.25, 1, 0.625))},
-                          {box_object("target", Vec3(2.5, 0.25, 0.25), Vec3(3, 0.75, 0.75))});
-  scene.time_steps[0].dynamic_obstacles.push_back(
-      box_object("robot", Vec3(1, 0.4375, 0), Vec3(1.25, 0.5625, 1)));
+  auto scene = target_behind_pole_scene();
+  scene.time_steps[0].dynamic_obstacles.push_back(pole("robot"));
   scene.dynamic_mode = core::DynamicMode::masked;
   const auto masked = exact::build_exact_model(scene, {kFromLeft}, {0, 0});
   scene.dynamic_mode = core::DynamicMode::modelled;
@@ -202,15 +209,15 @@ TEST(ExactModel, EmptyModelGivesTheDiagonal) {
 
 TEST(ExactModel, TouchingAndOverlappingSetsHaveDistanceZero) {
   // The critical box's edge x = 0.625, y = 0.703125 lies on the cone face 8y − x = 5.
-  auto touching =
-      axis_scene(1, {box_object("c", Vec3(0.5, 0.703125, 0.375), Vec3(0.625, 1, 0.625))},
-                 {axis_target()});
+  auto touching = axis_scene(
+      1, {box_object("c", Vec3(0.5, 0.703125, 0.375), Vec3(0.625, 1, 0.625))}, {axis_target()});
   auto r = exact::evaluate_exact(touching, {kFromLeft}).states[0];
   EXPECT_EQ(r.d_model_sq_exact, "0/1");
   EXPECT_EQ(r.d_model, 0.0);
   // Just outside: moved by 2⁻¹⁰ in y → d² = (8·2⁻¹⁰)²/65.
   auto apart = axis_scene(
-      1, {box_object("c", Vec3(0.5, 0.703125 + std::ldexp(1.0, -10), 0.375), Vec3(0.625, 1, 0.625))},
+      1,
+      {box_object("c", Vec3(0.5, 0.703125 + std::ldexp(1.0, -10), 0.375), Vec3(0.625, 1, 0.625))},
       {axis_target()});
   r = exact::evaluate_exact(apart, {kFromLeft}).states[0];
   EXPECT_EQ(r.d_model_sq_exact, "1/1064960");  // 2⁻¹⁴/65
