@@ -47,7 +47,7 @@ core::CameraConfig sample_config(const core::Scene& scene, std::mt19937& rng) {
 /// The configuration moved by up to ±0.3 m and ±15° per setting, kept inside the domains.
 core::CameraConfig perturb(const core::Scene& scene, const core::CameraConfig& base, std::mt19937& rng) {
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  constexpr double kStep = 0.3, kAngle = 15.0 * 3.14159265358979323846 / 180.0;
+  constexpr double kStep = 0.3, kAngle = 15.0 * core::kDegree;
   auto move = [&](double v, double step, const core::Interval& iv) {
     return std::clamp(v + step * unit(rng), iv.lo, iv.hi);
   };

@@ -202,7 +202,7 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
      << "Made by:\n\n    " << options.command << "\n\n"
      << "The exact pipeline (CGAL Nef polyhedra, SPEC §6) is the reference. Both pipelines use the "
      << scene.cameras.sides << "-sided pyramid inscribed in each camera's "
-     << scene.cameras.half_angle * 180.0 / 3.14159265358979323846
+     << scene.cameras.half_angle / core::kDegree
      << "° cone (SPEC §1: whenever voxel and exact results are compared).\n\n## Checks (SPEC §8)\n\n"
      << "| mode | rows | exact model outside voxel model | d_voxel > d_exact | violations |\n|---|---|---|---|---|\n";
   for (const char* mode : {"conservative", "center"}) {

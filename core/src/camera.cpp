@@ -10,8 +10,7 @@
 namespace camplace::core {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
+constexpr double kDeg = kDegree;
 }  // namespace
 
 Vec3 view_direction(const CameraSetting& camera) {

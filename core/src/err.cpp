@@ -1,5 +1,7 @@
 #include "camplace/core/err.hpp"
 
+#include "camplace/core/evaluation.hpp"
+
 namespace camplace::core {
 
 double error_functional(const std::vector<ErrTerm>& terms) {
@@ -10,6 +12,13 @@ double error_functional(const std::vector<ErrTerm>& terms) {
     sum += t.weight * diff * diff;
   }
   return sum;
+}
+
+double error_of(const std::vector<StateResult>& states) {
+  std::vector<ErrTerm> terms;
+  terms.reserve(states.size());
+  for (const StateResult& s : states) terms.push_back({s.weight, s.d_true, s.d_model});
+  return error_functional(terms);
 }
 
 double default_tolerance(const Box3& area, const std::array<int, 3>& resolution) {

@@ -38,7 +38,7 @@ bool inside_mesh(const TriangleMesh& mesh, const Vec3& p) {
     const double denominator = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
     total += 2.0 * std::atan2(numerator, denominator);
   }
-  return total / (4.0 * M_PI) > 0.5;
+  return total / (4.0 * kPi) > 0.5;
 }
 
 double point_triangle_sq_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {

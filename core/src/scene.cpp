@@ -8,14 +8,14 @@
 #include <sstream>
 
 #include "camplace/core/json_reader.hpp"
+#include "camplace/core/names.hpp"
 #include "mesh_checks.hpp"
 
 namespace camplace::core {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
+constexpr double kDeg = kDegree;
 // Vertices may leave S by this much (metres) to absorb rounding of transformed meshes.
 constexpr double kAreaSlack = 1e-9;
 
@@ -77,12 +77,12 @@ class SceneParser {
     if (root.has("dynamic_mode")) {
       const JsonNode m = root.at("dynamic_mode");
       const std::string mode = m.string();
-      if (mode == "masked")
-        scene_.dynamic_mode = DynamicMode::masked;
-      else if (mode == "modelled")
-        scene_.dynamic_mode = DynamicMode::modelled;
-      else
-        m.fail("unknown dynamic_mode \"" + mode + "\" (expected \"masked\" or \"modelled\")");
+      const auto parsed = from_name<DynamicMode>(mode);
+      if (!parsed) {
+        m.fail("unknown dynamic_mode \"" + mode + "\" (expected " + names_listed<DynamicMode>() +
+               ")");
+      }
+      scene_.dynamic_mode = *parsed;
     }
     if (root.has("plausibility")) {
       const JsonNode p = root.at("plausibility");
@@ -122,10 +122,9 @@ class SceneParser {
   std::array<int, 3> parse_voxels(const JsonNode& node) const {
     if (node.array_size() != 3) node.fail("expected [nx, ny, nz]");
     std::array<int, 3> n{};
-    for (std::size_t i = 0; i < 3; ++i) n[i] = node.at(i).integer_in(1, 4096);
-    if (static_cast<long long>(n[0]) * n[1] * n[2] > kMaxVoxels) {
-      node.fail("too many voxels (at most " + std::to_string(kMaxVoxels) + ")");
-    }
+    for (std::size_t i = 0; i < 3; ++i) n[i] = node.at(i).integer_in(1, kMaxVoxelsPerAxis);
+    const std::string problem = resolution_problem(n);
+    if (!problem.empty()) node.fail(problem);
     return n;
   }
 
@@ -192,12 +191,9 @@ class SceneParser {
     if (node.has("fov")) {
       const JsonNode f = node.at("fov");
       const std::string fov = f.string();
-      if (fov == "cone")
-        c.fov = FovShape::cone;
-      else if (fov == "pyramid")
-        c.fov = FovShape::pyramid;
-      else
-        f.fail("unknown fov \"" + fov + "\" (expected \"cone\" or \"pyramid\")");
+      const auto parsed = from_name<FovShape>(fov);
+      if (!parsed) f.fail("unknown fov \"" + fov + "\" (expected " + names_listed<FovShape>() + ")");
+      c.fov = *parsed;
     }
     if (node.has("sides")) c.sides = node.at("sides").integer_in(3, 1024);
     if (node.has("range")) {
@@ -370,18 +366,23 @@ std::array<int, 3> parse_resolution(const std::string& text, const std::string& 
     throw InputError("command line", what,
                      "expected NXxNYxNZ (e.g. 16x12x12), got \"" + text + "\"");
   }
+  const std::string problem = resolution_problem(n);
+  if (!problem.empty()) throw InputError("command line", what, problem + " in \"" + text + "\"");
+  return n;
+}
+
+std::string resolution_problem(const std::array<int, 3>& n) {
   for (int v : n) {
-    if (v < 1 || v > 4096) {
-      throw InputError("command line", what,
-                       "every resolution must lie in [1, 4096], got \"" + text + "\"");
+    if (v < 1 || v > kMaxVoxelsPerAxis) {
+      return "every voxel count must lie in [1, " + std::to_string(kMaxVoxelsPerAxis) + "]";
     }
   }
-  if (static_cast<long long>(n[0]) * n[1] * n[2] > kMaxVoxels) {
-    throw InputError(
-        "command line", what,
-        "too many voxels in \"" + text + "\" (at most " + std::to_string(kMaxVoxels) + ")");
+  const long long total = static_cast<long long>(n[0]) * n[1] * n[2];
+  if (total > kMaxVoxels) {
+    return "too many voxels (" + std::to_string(total) + "; at most " +
+           std::to_string(kMaxVoxels) + ")";
   }
-  return n;
+  return "";
 }
 
 }  // namespace camplace::core

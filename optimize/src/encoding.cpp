@@ -120,7 +120,7 @@ core::CameraConfig corner_start(const core::Scene& scene) {
     double yaw = horizontal > 0.0 ? std::atan2(to_centre.y(), to_centre.x()) : 0.0;
     double pitch = (horizontal > 0.0 || to_centre.z() != 0.0)
                        ? std::atan2(to_centre.z(), horizontal)
-                       : -core::CameraDomain::kPi / 2;
+                       : -core::kPi / 2;
     config[i].position = p;
     config[i].yaw = std::clamp(yaw, d.yaw.lo, d.yaw.hi);
     config[i].pitch = std::clamp(pitch, d.pitch.lo, d.pitch.hi);

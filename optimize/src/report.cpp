@@ -14,7 +14,7 @@
 namespace camplace::optimize {
 namespace {
 
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+constexpr double kRadToDeg = 1.0 / core::kDegree;
 
 double median(std::vector<double> values) {
   if (values.empty()) return 0.0;

@@ -10,6 +10,10 @@ namespace camplace::core {
 
 using Vec3 = Eigen::Vector3d;
 
+/// π, and one degree in radians (scene files give degrees, code uses radians: SPEC §1).
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDegree = kPi / 180.0;
+
 /// Closed axis-aligned box [min, max] in metres.
 struct Box3 {
   Vec3 min = Vec3::Zero();

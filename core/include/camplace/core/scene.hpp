@@ -25,7 +25,6 @@ struct CameraDomain {
   Interval x, y, z;
   Interval yaw{-kPi, kPi};
   Interval pitch{-kPi / 2, kPi / 2};
-  static constexpr double kPi = 3.14159265358979323846;
 };
 
 /// Camera block of the scene: count n, FOV, optional range, domain (shared or per camera).
@@ -64,6 +63,13 @@ struct TimeStep {
 struct Plausibility {
   double min_volume = 0.0;  ///< m³
   double min_height = 0.0;  ///< m (z-extent)
+  /// True when a model component of this volume (m³) and z-extent (m) could be human and stays
+  /// in M (SPEC §4: removed when volume < min_volume or z-extent < min_height). T is double or
+  /// an exact number type (the thresholds convert exactly).
+  template <class T>
+  bool keeps(const T& volume, const T& height) const {
+    return !(volume < T(min_volume)) && !(height < T(min_height));
+  }
 };
 
 struct Scene {
@@ -94,10 +100,16 @@ Scene load_scene(const std::string& path);
 /// cell, small enough that squared distances and exact constructions stay finite.
 constexpr double kMaxCoordinate = 1e6;
 
-/// Largest voxel grid camplace accepts (per-voxel data is kept per camera).
+/// Largest voxel grid camplace accepts (per-voxel data is kept per camera), and the largest
+/// count along one axis.
 constexpr long long kMaxVoxels = 1LL << 25;
+constexpr int kMaxVoxelsPerAxis = 4096;
 
-/// Parses "NXxNYxNZ" (e.g. "16x12x12"); throws InputError naming `what` on bad input.
+/// Why a voxel grid of n[0]·n[1]·n[2] voxels is not accepted, or "" when it is.
+std::string resolution_problem(const std::array<int, 3>& n);
+
+/// Parses a command-line value "NXxNYxNZ" (e.g. "16x12x12"); throws InputError naming the
+/// option `what` on bad input or a grid resolution_problem() refuses.
 std::array<int, 3> parse_resolution(const std::string& text, const std::string& what);
 
 }  // namespace camplace::core
