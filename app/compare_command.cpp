@@ -13,6 +13,7 @@
 #ifdef CAMPLACE_HAVE_OPTIMIZE
 #include "camplace/optimize/optimizer.hpp"
 #endif
+#include "cli_checks.hpp"
 #include "commands.hpp"
 
 namespace camplace::app {
@@ -90,7 +91,7 @@ void register_compare_optimizer_command(CLI::App& app) {
   cmd->add_option("--runs", args->runs, "directory with run-<seed>.json files of camplace optimize")
       ->required();
   cmd->add_option("--samples", args->samples, "random configurations for the rank agreement")
-      ->check(CLI::Range(2, 100000));
+      ->check(in_range(2, 100000));
   cmd->add_option("--seed", args->seed, "seed of the random configurations");
   CLI::Option* resolutions =
       cmd->add_option("--resolutions", args->resolutions,

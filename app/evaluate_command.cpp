@@ -11,6 +11,7 @@
 #include "camplace/core/files.hpp"
 #include "camplace/core/scene.hpp"
 #include "camplace/voxel/evaluator.hpp"
+#include "cli_checks.hpp"
 #include "commands.hpp"
 #ifdef CAMPLACE_HAVE_EXACT
 #include "camplace/exact/evaluator.hpp"
@@ -41,8 +42,8 @@ nlohmann::json voxel_json(const voxel::VoxelEvaluator& evaluator, const voxel::E
   nlohmann::json states = nlohmann::json::array();
   for (const auto& s : e.states) states.push_back(state_json(s));
   return {
-      {"pipeline", "voxel"},
-      {"mode", evaluator.options().mode == voxel::LabelMode::center ? "center" : "conservative"},
+      {"pipeline", core::name_of(core::Pipeline::voxel)},
+      {"mode", core::name_of(evaluator.options().mode)},
       {"resolution", {n[0], n[1], n[2]}},
       {"voxel_diagonal", evaluator.grid().step.norm()},
       {"tolerance", core::default_tolerance(evaluator.scene().area, n)},
@@ -100,7 +101,7 @@ nlohmann::json exact_json(const exact::ExactEvaluation& e, bool fractions) {
     }
     states.push_back(j);
   }
-  return {{"pipeline", "exact"},
+  return {{"pipeline", core::name_of(core::Pipeline::exact)},
           {"err", e.err},
           {"states", states},
           {"timing_ms",
@@ -153,11 +154,12 @@ void run_evaluate(const EvaluateArgs& args) {
   const core::Scene scene = core::load_scene(args.scene);
   const core::CameraConfig config = core::load_camera_config(args.cameras, scene);
   voxel::VoxelOptions options;
-  options.mode = args.mode == "center" ? voxel::LabelMode::center : voxel::LabelMode::conservative;
+  options.mode = parse_enum<core::LabelMode>(args.mode);
   if (!args.resolution.empty())
     options.resolution = core::parse_resolution(args.resolution, "--resolution");
-  const bool want_voxel = args.pipeline != "exact";
-  const bool want_exact = args.pipeline != "voxel";
+  const core::Pipeline pipeline = parse_enum<core::Pipeline>(args.pipeline);
+  const bool want_voxel = pipeline != core::Pipeline::exact;
+  const bool want_exact = pipeline != core::Pipeline::voxel;
   if (!want_exact && (args.export_given || args.exact_fractions)) {
     throw core::InputError("command line",
                            args.export_given ? "--export-mesh" : "--exact-fractions",
@@ -182,7 +184,7 @@ void run_evaluate(const EvaluateArgs& args) {
     if (want_exact) voxel_scene.cameras.fov = core::FovShape::pyramid;
     const voxel::VoxelEvaluator evaluator(voxel_scene, options);
     vox = voxel_json(evaluator, evaluator.evaluate(config));
-    vox["fov"] = voxel_scene.cameras.fov == core::FovShape::cone ? "cone" : "pyramid";
+    vox["fov"] = core::name_of(voxel_scene.cameras.fov);
     if (!args.voxels_out.empty()) write_voxels(evaluator, config, args.voxels_out);
   }
 #ifdef CAMPLACE_HAVE_EXACT
@@ -196,7 +198,7 @@ void run_evaluate(const EvaluateArgs& args) {
   if (want_voxel && want_exact) {
 #ifdef CAMPLACE_HAVE_EXACT
     out = {
-        {"pipeline", "both"}, {"voxel", vox}, {"exact", ex}, {"differences", differences(vox, ex)}};
+        {"pipeline", core::name_of(core::Pipeline::both)}, {"voxel", vox}, {"exact", ex}, {"differences", differences(vox, ex)}};
 #endif
   } else {
     out = want_voxel ? vox : ex;
@@ -225,12 +227,11 @@ void register_evaluate_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("evaluate", "Err of one camera configuration, state by state");
   cmd->add_option("scene", args->scene, "scene JSON file")->required();
   cmd->add_option("--cameras", args->cameras, "camera configuration JSON file")->required();
-  cmd->add_option("--mode", args->mode, "voxel labelling mode")
-      ->check(CLI::IsMember({"center", "conservative"}));
+  cmd->add_option("--mode", args->mode, "voxel labelling mode")->check(one_of<core::LabelMode>());
   cmd->add_option("--resolution", args->resolution,
                   "voxel resolution NXxNYxNZ (default: the scene's)");
   cmd->add_option("--pipeline", args->pipeline, "voxel, exact or both")
-      ->check(CLI::IsMember({"voxel", "exact", "both"}));
+      ->check(one_of<core::Pipeline>());
   cmd->add_flag("--json", args->json, "print one JSON object on stdout");
   cmd->add_flag("--exact-fractions", args->exact_fractions,
                 "exact pipeline: add squared distances as exact fractions \"p/q\"");

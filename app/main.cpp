@@ -4,6 +4,7 @@
 #include <iostream>
 #include <string>
 
+#include "camplace/core/error.hpp"
 #include "commands.hpp"
 
 int main(int argc, char** argv) {
@@ -40,6 +41,10 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
     std::cerr << "error: command line: " << e.what() << "\n";
+    return 1;
+  } catch (const camplace::core::OptionError& e) {
+    // Libraries name options as their structs do; on the command line each is its flag.
+    std::cerr << "error: command line: --" << e.option() << ": " << e.reason() << "\n";
     return 1;
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";

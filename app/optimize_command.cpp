@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -16,9 +17,10 @@
 #include "camplace/core/error.hpp"
 #include "camplace/core/files.hpp"
 #include "camplace/core/scene.hpp"
-#include "camplace/optimize/objective.hpp"
+#include "camplace/optimize/voxel_objective.hpp"
 #include "camplace/optimize/optimizer.hpp"
 #include "camplace/optimize/report.hpp"
+#include "cli_checks.hpp"
 #include "commands.hpp"
 
 namespace camplace::app {
@@ -90,27 +92,9 @@ void run_optimize(const OptimizeArgs& args) {
   action.sa_flags = SA_RESETHAND;
   sigaction(SIGINT, &action, nullptr);
 
-  if (args.runs < 1 || args.runs > 100000) {
-    throw core::InputError("command line", "--runs", "must lie in [1, 100000]");
-  }
-  if (args.threads < 0 || args.threads > 256) {
-    throw core::InputError("command line", "--threads", "must lie in [0, 256] (0 = all cores)");
-  }
-  if (args.population < 0 || args.population > 100000) {
-    throw core::InputError("command line", "--population",
-                           "must lie in [0, 100000] (0 = the solver's default)");
-  }
-  if (!std::isfinite(args.time_limit) || args.time_limit < 0.0 || args.time_limit > 1e7) {
-    throw core::InputError("command line", "--time-limit",
-                           "must be a number of seconds in [0, 1e7] (0 = no limit)");
-  }
-  if (args.max_evals < 0 || args.max_evals > 1000000000000LL) {
-    throw core::InputError("command line", "--max-evals", "must lie in [0, 1e12] (0 = no limit)");
-  }
   const core::Scene scene = core::load_scene(args.scene);
   voxel::VoxelOptions voxel_options;
-  voxel_options.mode =
-      args.mode == "center" ? voxel::LabelMode::center : voxel::LabelMode::conservative;
+  voxel_options.mode = parse_enum<core::LabelMode>(args.mode);
   if (!args.resolution.empty()) {
     voxel_options.resolution = core::parse_resolution(args.resolution, "--resolution");
   }
@@ -119,12 +103,7 @@ void run_optimize(const OptimizeArgs& args) {
   options.algorithm = args.algorithm;
   options.time_limit = args.time_limit;
   options.max_evaluations = static_cast<std::uint64_t>(args.max_evals);
-  if (args.tolerance_given) {
-    if (!std::isfinite(args.tolerance) || args.tolerance < 0.0) {
-      throw core::InputError("command line", "--tolerance", "must be a finite number >= 0 (m²)");
-    }
-    options.tolerance = args.tolerance;
-  }
+  if (args.tolerance_given) options.tolerance = args.tolerance;
   options.threads = args.threads;
   options.population = args.population;
   options.interrupt = &g_interrupted;
@@ -192,17 +171,22 @@ void register_optimize_command(CLI::App& app) {
   cmd->add_option("--algorithm", args->algorithm, "solver (see below)")
       ->check(CLI::IsMember(optimize::algorithm_names()));
   cmd->add_option("--seed", args->seed, "seed of the first run; run i uses seed+i");
-  cmd->add_option("--runs", args->runs, "number of runs R");
-  cmd->add_option("--time-limit", args->time_limit, "seconds per run, 0 = none (default 300)");
-  cmd->add_option("--max-evals", args->max_evals, "objective evaluations per run, 0 = none");
-  CLI::Option* tolerance = cmd->add_option("--tolerance", args->tolerance,
-                                           "stop when Err <= X m² (default (½ voxel diagonal)²)");
+  cmd->add_option("--runs", args->runs, "number of runs R")->check(in_range(1, 100000));
+  cmd->add_option("--time-limit", args->time_limit, "seconds per run, 0 = none (default 300)")
+      ->check(in_range(0.0, 1e7, "must be a number of seconds in [0, 1e7] (0 = no limit)"));
+  cmd->add_option("--max-evals", args->max_evals, "objective evaluations per run, 0 = none")
+      ->check(in_range(0LL, 1000000000000LL, "must lie in [0, 1e12] (0 = no limit)"));
+  CLI::Option* tolerance =
+      cmd->add_option("--tolerance", args->tolerance,
+                      "stop when Err <= X m² (default (½ voxel diagonal)²)")
+          ->check(in_range(0.0, std::numeric_limits<double>::max(), "must be a finite number >= 0 (m²)"));
   cmd->add_option("--start", args->start, "random, corners or a camera configuration FILE");
   cmd->add_option("--threads", args->threads,
-                  "threads for batch evaluation (gaco, pso_gen), 0 = all cores");
-  cmd->add_option("--population", args->population, "population size, 0 = the solver's default");
-  cmd->add_option("--mode", args->mode, "voxel labelling mode")
-      ->check(CLI::IsMember({"center", "conservative"}));
+                  "threads for batch evaluation (gaco, pso_gen), 0 = all cores")
+      ->check(in_range(0, 256, "must lie in [0, 256] (0 = all cores)"));
+  cmd->add_option("--population", args->population, "population size, 0 = the solver's default")
+      ->check(in_range(0, 100000, "must lie in [0, 100000] (0 = the solver's default)"));
+  cmd->add_option("--mode", args->mode, "voxel labelling mode")->check(one_of<core::LabelMode>());
   cmd->add_option("--resolution", args->resolution,
                   "voxel resolution NXxNYxNZ (default: the scene's)");
   cmd->add_flag("--quiet", args->quiet, "no progress on stderr");

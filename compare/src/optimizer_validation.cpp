@@ -98,7 +98,7 @@ void validate_optimizer(const core::Scene& original, const OptimizerValidationOp
   }
   std::sort(run_files.begin(), run_files.end());
   if (run_files.empty()) {
-    throw core::InputError("command line", "--runs", options.runs_dir + " holds no run-<seed>.json file");
+    throw core::OptionError("runs", options.runs_dir + " holds no run-<seed>.json file");
   }
   std::vector<std::array<int, 3>> resolutions = options.resolutions;
   if (resolutions.empty()) resolutions.push_back(scene.voxels);
@@ -140,7 +140,7 @@ void validate_optimizer(const core::Scene& original, const OptimizerValidationOp
   int block = 0;
   for (const auto& n : resolutions) {
     for (voxel::LabelMode mode : {voxel::LabelMode::center, voxel::LabelMode::conservative}) {
-      const std::string mode_name = mode == voxel::LabelMode::center ? "center" : "conservative";
+      const std::string mode_name = core::name_of(mode);
       const voxel::VoxelEvaluator evaluator(scene, {mode, n});
       std::vector<double> voxel_errs;
       dat << "# " << mode_name << " " << resolution_text(n) << ": exact_err voxel_err\n";

@@ -94,7 +94,7 @@ CompareResult compare_voxel_exact(const core::Scene& original, const core::Camer
       const bool conservative = mode == voxel::LabelMode::conservative;
       const voxel::VoxelEvaluator evaluator(scene, {mode, n});
       const voxel::Evaluation ev = evaluator.evaluate(config);
-      result.errs.push_back({conservative ? "voxel-conservative" : "voxel-center", n, ev.err, ev.timing.total_ms});
+      result.errs.push_back({"voxel-" + core::name_of(mode), n, ev.err, ev.timing.total_ms});
       for (std::size_t s = 0; s < ev.states.size(); ++s) {
         const auto& vs = ev.states[s];
         const auto& es = ex.states[s];
@@ -102,7 +102,7 @@ CompareResult compare_voxel_exact(const core::Scene& original, const core::Camer
         row.time_step = vs.time_step;
         row.event = vs.event;
         row.weight = vs.weight;
-        row.mode = conservative ? "conservative" : "center";
+        row.mode = core::name_of(mode);
         row.resolution = n;
         row.voxel_diagonal = evaluator.grid().step.norm();
         row.d_true = es.d_true;

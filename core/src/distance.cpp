@@ -1,7 +1,6 @@
 // Exact true distance d(C, O_u) (SPEC §4) with CGAL's exact kernel.
 #include "camplace/core/distance.hpp"
 
-#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Side_of_triangle_mesh.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/squared_distance_3.h>
@@ -12,14 +11,16 @@
 #include <type_traits>
 
 #include "camplace/core/error.hpp"
+#include "camplace/core/internal/exact_kernel.hpp"
 
 namespace camplace::core {
 
 namespace {
-using K = CGAL::Exact_predicates_exact_constructions_kernel;
-using Point = K::Point_3;
+using K = internal::Kernel;
+using internal::FT;
+using internal::fraction_string;
+using internal::Point;
 using Triangle = K::Triangle_3;
-using FT = K::FT;
 
 std::vector<Triangle> triangles_of(const TriangleMesh& mesh) {
   std::vector<Triangle> out;
@@ -43,16 +44,6 @@ bool point_inside(const TriangleMesh& mesh, const Vec3& p) {
   return side(Point(p.x(), p.y(), p.z())) != CGAL::ON_UNBOUNDED_SIDE;
 }
 
-std::string fraction_of(const FT& value) {
-  using Exact = std::decay_t<decltype(CGAL::exact(value))>;
-  using Traits = CGAL::Fraction_traits<Exact>;
-  typename Traits::Numerator_type num;
-  typename Traits::Denominator_type den;
-  typename Traits::Decompose()(CGAL::exact(value), num, den);
-  std::ostringstream out;
-  out << num << "/" << den;
-  return out.str();
-}
 }  // namespace
 
 ExactSquaredDistance solids_squared_distance(const std::vector<const TriangleMesh*>& a,
@@ -80,7 +71,7 @@ ExactSquaredDistance solids_squared_distance(const std::vector<const TriangleMes
     }
   }
   if (have && best == 0) return {0.0, "0/1"};
-  return {CGAL::to_double(best), fraction_of(best)};
+  return {CGAL::to_double(best), fraction_string(best)};
 }
 
 ExactSquaredDistance true_squared_distance(const Scene& scene, const StateIndex& state) {

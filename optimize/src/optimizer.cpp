@@ -197,7 +197,7 @@ RunResult optimize(const core::Scene& scene, const Objective& objective,
     // Stopped before the first evaluation (an immediate Ctrl-C or a tiny time limit): evaluate
     // the first initial point so the run still has a result.
     if (first_point.empty()) first_point = encoding.encode(corner_start(scene));
-    voxel::Timing timing;
+    core::Timing timing;
     const double err = objective.evaluate(encoding.decode(first_point), timing);
     state->record(first_point, err, timing);
   }
@@ -210,13 +210,13 @@ RunResult optimize(const core::Scene& scene, const Objective& objective,
   result.history = state->history();
   result.search_err = state->best_err();
   const double n = static_cast<double>(result.evaluations);
-  const voxel::Timing& sum = state->timing_sum();
+  const core::Timing& sum = state->timing_sum();
   result.mean_timing = {sum.labelling_ms / n, sum.clustering_ms / n, sum.distance_ms / n,
                         sum.total_ms / n};
   result.wall_ms_per_evaluation = result.seconds * 1000.0 / n;
 
   result.best = json_round_trip(encoding.decode(state->best_x()), scene);
-  voxel::Timing timing;
+  core::Timing timing;
   result.err = objective.evaluate(result.best, timing);
   result.reached_tolerance = result.err <= tolerance;
   result.memory = peak_memory();

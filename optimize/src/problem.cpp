@@ -55,7 +55,7 @@ void RunState::stop(StopReason reason) {
   if (!stop_reason_) stop_reason_ = reason;
 }
 
-bool RunState::record(const pagmo::vector_double& x, double err, const voxel::Timing& timing) {
+bool RunState::record(const pagmo::vector_double& x, double err, const core::Timing& timing) {
   Progress progress;
   bool must_stop = false;
   {
@@ -96,7 +96,7 @@ pagmo::vector_double CameraProblem::fitness(const pagmo::vector_double& x) const
     s.stop(*reason);
     throw StopRequested{};
   }
-  voxel::Timing timing;
+  core::Timing timing;
   const double err = s.objective().evaluate(s.encoding().decode(x), timing);
   if (s.record(x, err, timing)) throw StopRequested{};
   return {err};
@@ -115,7 +115,7 @@ pagmo::vector_double CameraProblem::batch_fitness(const pagmo::vector_double& dv
   const std::size_t count =
       static_cast<std::size_t>(std::min<std::uint64_t>(n, s.remaining_budget()));
   std::vector<double> errs(count);
-  std::vector<voxel::Timing> timings(count);
+  std::vector<core::Timing> timings(count);
   std::vector<char> done(count, 0);
   s.arena().execute([&] {
     tbb::parallel_for(std::size_t{0}, count, [&](std::size_t i) {

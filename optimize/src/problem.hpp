@@ -46,7 +46,7 @@ class RunState {
   std::uint64_t remaining_budget() const;
   /// Records one finished evaluation (in a deterministic order); returns true when the run
   /// must stop (tolerance or lower bound reached, or budget used up).
-  bool record(const pagmo::vector_double& x, double err, const voxel::Timing& timing);
+  bool record(const pagmo::vector_double& x, double err, const core::Timing& timing);
   /// Marks the run as stopped for `reason` unless a reason is already set.
   void stop(StopReason reason);
 
@@ -59,7 +59,7 @@ class RunState {
   const pagmo::vector_double& best_x() const { return best_x_; }
   std::uint64_t best_index() const { return best_index_; }
   const std::vector<HistoryPoint>& history() const { return history_; }
-  const voxel::Timing& timing_sum() const { return timing_sum_; }
+  const core::Timing& timing_sum() const { return timing_sum_; }
 
  private:
   const Objective& objective_;
@@ -80,7 +80,7 @@ class RunState {
   pagmo::vector_double best_x_;
   std::uint64_t best_index_ = 0;
   std::vector<HistoryPoint> history_;
-  voxel::Timing timing_sum_;
+  core::Timing timing_sum_;
   std::optional<StopReason> stop_reason_;
 };
 

@@ -93,18 +93,16 @@ Solver make_solver(const std::string& name, unsigned seed, int population, std::
   if (entry == nullptr) {
     std::string names;
     for (const Entry& e : kSolvers) names += std::string(names.empty() ? "" : ", ") + e.name;
-    throw core::InputError("command line", "--algorithm",
-                           "unknown solver '" + name + "' (one of: " + names + ")");
+    throw core::OptionError("algorithm", "unknown solver '" + name + "' (one of: " + names + ")");
   }
   if (population < 0) {
-    throw core::InputError("command line", "--population", "must not be negative");
+    throw core::OptionError("population", "must not be negative");
   }
   const unsigned pop =
       population > 0 ? static_cast<unsigned>(population) : default_population(name, dimension);
   if (pop < entry->min_population) {
-    throw core::InputError(
-        "command line", "--population",
-        name + " needs a population of at least " + std::to_string(entry->min_population));
+    throw core::OptionError(
+        "population", name + " needs a population of at least " + std::to_string(entry->min_population));
   }
 
   Solver solver;

@@ -13,7 +13,7 @@
 
 #include "camplace/core/error.hpp"
 #include "camplace/optimize/encoding.hpp"
-#include "camplace/optimize/objective.hpp"
+#include "camplace/optimize/voxel_objective.hpp"
 #include "test_scene.hpp"
 
 namespace camplace::optimize {

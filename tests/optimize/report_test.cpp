@@ -11,7 +11,7 @@
 
 #include "camplace/core/camera.hpp"
 #include "camplace/core/files.hpp"
-#include "camplace/optimize/objective.hpp"
+#include "camplace/optimize/voxel_objective.hpp"
 #include "test_scene.hpp"
 
 namespace camplace::optimize {

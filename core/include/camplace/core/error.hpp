@@ -18,6 +18,16 @@ class InputError : public std::runtime_error {
   std::string file_, entry_, reason_;
 };
 
+/// A bad value of a named option of a library call (a solver name, a population, a folder of
+/// runs). Libraries name the option as their options struct does ("algorithm", "runs"); the
+/// command-line tool maps it to its flag ("--algorithm"), so no library names a flag.
+class OptionError : public InputError {
+ public:
+  OptionError(const std::string& option, const std::string& reason)
+      : InputError("option", option, reason) {}
+  const std::string& option() const { return entry(); }
+};
+
 /// Reports a failed internal invariant with file and line, then aborts.
 [[noreturn]] void assertion_failed(const char* expr, const char* file, int line);
 

@@ -1,11 +1,8 @@
 #pragma once
 /// What the optimizer minimises. The optimizer sees only this interface (STYLE: dependencies),
-/// so another pipeline can stand in for the voxel one.
-#include <array>
-#include <memory>
-
+/// so another pipeline can stand in for the voxel one (voxel_objective.hpp).
 #include "camplace/core/camera.hpp"
-#include "camplace/voxel/evaluator.hpp"
+#include "camplace/core/evaluation.hpp"
 
 namespace camplace::optimize {
 
@@ -15,26 +12,11 @@ class Objective {
  public:
   virtual ~Objective() = default;
   /// Err (m²) of config (one setting per camera); writes the evaluation's time split (ms).
-  virtual double evaluate(const core::CameraConfig& config, voxel::Timing& timing) const = 0;
+  virtual double evaluate(const core::CameraConfig& config, core::Timing& timing) const = 0;
   /// The default optimisation tolerance for this objective (m², SPEC §4).
   virtual double default_tolerance() const = 0;
   /// A lower bound of Err over all configurations (m²); 0 when none is known.
   virtual double err_lower_bound() const { return 0.0; }
-};
-
-/// The voxel Err of SPEC §5 (mode and resolution from the options).
-class VoxelObjective : public Objective {
- public:
-  VoxelObjective(const core::Scene& scene, const voxel::VoxelOptions& options);
-  double evaluate(const core::CameraConfig& config, voxel::Timing& timing) const override;
-  /// (½ · voxel diagonal)² at the evaluator's resolution.
-  double default_tolerance() const override;
-  /// VoxelEvaluator::err_lower_bound(): conservative mode only (0 in center mode).
-  double err_lower_bound() const override;
-  const voxel::VoxelEvaluator& evaluator() const { return evaluator_; }
-
- private:
-  voxel::VoxelEvaluator evaluator_;
 };
 
 }  // namespace camplace::optimize

@@ -1,4 +1,4 @@
-#include "camplace/optimize/objective.hpp"
+#include "camplace/optimize/voxel_objective.hpp"
 
 #include "camplace/core/err.hpp"
 
@@ -7,8 +7,8 @@ namespace camplace::optimize {
 VoxelObjective::VoxelObjective(const core::Scene& scene, const voxel::VoxelOptions& options)
     : evaluator_(scene, options) {}
 
-double VoxelObjective::evaluate(const core::CameraConfig& config, voxel::Timing& timing) const {
-  voxel::Evaluation evaluation = evaluator_.evaluate(config);
+double VoxelObjective::evaluate(const core::CameraConfig& config, core::Timing& timing) const {
+  const core::Evaluation evaluation = evaluator_.evaluate(config);
   timing = evaluation.timing;
   return evaluation.err;
 }

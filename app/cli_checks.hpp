@@ -1,0 +1,44 @@
+#pragma once
+// CLI11 validators shared by the sub-commands: every numeric option is checked for its range
+// and every enum option for its names before any work starts; a failure reads
+// "error: command line: --option: reason".
+#include <CLI/CLI.hpp>
+#include <cmath>
+#include <sstream>
+#include <string>
+
+#include "camplace/core/names.hpp"
+
+namespace camplace::app {
+
+/// Accepts finite numbers in [lo, hi]; the message is `reason`, by default "must lie in
+/// [lo, hi]".
+template <class T>
+CLI::Validator in_range(T lo, T hi, std::string reason = "") {
+  const std::string range = "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+  if (reason.empty()) reason = "must lie in " + range;
+  return CLI::Validator(
+      [lo, hi, reason](std::string& input) -> std::string {
+        T value{};
+        if (!CLI::detail::lexical_cast(input, value)) return "not a number: \"" + input + "\"";
+        if constexpr (std::is_floating_point_v<T>) {
+          if (!std::isfinite(value)) return reason;
+        }
+        return value >= lo && value <= hi ? std::string() : reason;
+      },
+      range);
+}
+
+/// Accepts the names of an enum of core/names.hpp ("center", "conservative").
+template <class Enum>
+CLI::Validator one_of() {
+  return CLI::IsMember(core::names_of<Enum>());
+}
+
+/// The enumerator named by a value that one_of<Enum>() accepted.
+template <class Enum>
+Enum parse_enum(const std::string& name) {
+  return *core::from_name<Enum>(name);
+}
+
+}  // namespace camplace::app

@@ -1,0 +1,23 @@
+#pragma once
+/// Connected components of a voxel model and the plausibility filter (SPEC §4–5).
+#include <cstdint>
+#include <vector>
+
+#include "camplace/core/scene.hpp"
+#include "camplace/voxel/grid.hpp"
+
+namespace camplace::voxel {
+
+/// How many components the filter kept and removed.
+struct ComponentCount {
+  int kept = 0;
+  int removed = 0;
+};
+
+/// Splits `model` (one byte per voxel of `grid`, 1 = in M) into 6-connected components and
+/// clears every component the plausibility filter discards: volume = voxel count × voxel volume
+/// (m³), height = z-extent of the component's voxel boxes (m).
+ComponentCount filter_components(std::vector<std::uint8_t>& model, const Grid& grid,
+                                 const core::Plausibility& plausibility);
+
+}  // namespace camplace::voxel

@@ -1,0 +1,143 @@
+// Set-up of the voxel evaluator: everything that does not depend on the cameras — the objects
+// with their roles, obstacle interiors, true distances, voxel-to-critical distances and the
+// conservative lower bound of Err.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "camplace/core/distance.hpp"
+#include "camplace/core/err.hpp"
+#include "impl.hpp"
+
+namespace camplace::voxel {
+
+using core::Box3;
+using core::Vec3;
+
+int VoxelEvaluator::Impl::add_object(const core::SceneObject& object, core::ObjectRole role) {
+  detail::ObjectInfo info;
+  info.mesh = &object.mesh;
+  info.occupying = role == core::ObjectRole::occupying;
+  info.center = object.bounds.center();
+  for (const Vec3& v : object.mesh.vertices) {
+    info.radius = std::max(info.radius, (v - info.center).norm());
+  }
+  info.first_triangle = static_cast<int>(triangles.size());
+  info.triangle_count = static_cast<int>(object.mesh.triangles.size());
+  for (const auto& t : object.mesh.triangles) {
+    triangles.push_back(
+        {object.mesh.vertices[t[0]], object.mesh.vertices[t[1]], object.mesh.vertices[t[2]]});
+  }
+  objects.push_back(info);
+  return static_cast<int>(objects.size()) - 1;
+}
+
+void VoxelEvaluator::Impl::build() {
+  using core::ObjectKind;
+  const core::DynamicMode mode = scene.dynamic_mode;
+  // Objects are shared by the states they belong to, in the order of core::state_objects:
+  // static obstacles, the step's dynamic obstacles, the event's targets.
+  std::vector<int> static_ids;
+  for (const auto& o : scene.static_obstacles) {
+    static_ids.push_back(add_object(o, core::role_of(ObjectKind::static_obstacle, mode)));
+  }
+  for (std::size_t h = 0; h < scene.time_steps.size(); ++h) {
+    const core::TimeStep& step = scene.time_steps[h];
+    std::vector<int> dynamic_ids;
+    for (const auto& o : step.dynamic_obstacles) {
+      dynamic_ids.push_back(add_object(o, core::role_of(ObjectKind::dynamic_obstacle, mode)));
+    }
+    for (std::size_t l = 0; l < step.events.size(); ++l) {
+      detail::StateInfo state;
+      state.time_step = static_cast<int>(h);
+      state.event = static_cast<int>(l);
+      state.weight = step.events[l].weight;
+      state.objects = static_ids;
+      state.objects.insert(state.objects.end(), dynamic_ids.begin(), dynamic_ids.end());
+      for (const auto& o : step.events[l].targets) {
+        state.objects.push_back(add_object(o, core::role_of(ObjectKind::target, mode)));
+      }
+      state.d_true =
+          std::sqrt(core::true_squared_distance(scene, {state.time_step, state.event}).value);
+      states.push_back(std::move(state));
+    }
+    removed_by_step.push_back(obstacle_interiors(step));
+    critical_sq_by_step.push_back(critical_distances(step));
+  }
+  if (conservative) err_lower_bound = lower_bound();
+}
+
+/// Err if the model held only the voxels touching a target (see err_lower_bound()).
+double VoxelEvaluator::Impl::lower_bound() const {
+  std::vector<core::ErrTerm> terms;
+  for (const detail::StateInfo& state : states) {
+    const core::Event& event = scene.time_steps[state.time_step].events[state.event];
+    const auto& critical = critical_sq_by_step[state.time_step];
+    double best = std::numeric_limits<double>::infinity();
+    for (int v = 0; v < grid.count(); ++v) {
+      if (critical[v] >= best) continue;
+      const Box3 box = grid.voxel_box(v);
+      for (const core::SceneObject& target : event.targets) {
+        if (core::box_solid_sq_distance(target.mesh, box) == 0.0) {
+          best = critical[v];
+          break;
+        }
+      }
+    }
+    terms.push_back({state.weight, state.d_true, std::sqrt(best)});
+  }
+  return core::error_functional(terms);
+}
+
+/// Voxels removed as obstacle interior (SPEC §4–5): centre inside (center mode) or the whole
+/// voxel inside (conservative mode) an obstacle of the time step (core::is_obstacle: static and
+/// dynamic obstacles, not targets).
+std::vector<std::uint8_t> VoxelEvaluator::Impl::obstacle_interiors(
+    const core::TimeStep& step) const {
+  std::vector<std::uint8_t> removed(grid.count(), 0);
+  std::vector<const core::SceneObject*> obstacles;
+  for (const auto& o : scene.static_obstacles) obstacles.push_back(&o);
+  for (const auto& o : step.dynamic_obstacles) obstacles.push_back(&o);
+  for (int v = 0; v < grid.count(); ++v) {
+    const Box3 box = grid.voxel_box(v);
+    // The voxel is inside the closed solid when its centre is and no triangle reaches into its
+    // interior: test against the box shrunk by 1e-9 m so that faces lying on the voxel's
+    // boundary (grid-aligned obstacles) do not count.
+    const Box3 interior{box.min + Vec3::Constant(1e-9), box.max - Vec3::Constant(1e-9)};
+    for (const core::SceneObject* o : obstacles) {
+      if (!o->bounds.contains(box.center())) continue;
+      if (!core::inside_mesh(o->mesh, box.center())) continue;
+      bool whole = true;
+      if (conservative) {
+        for (const auto& t : o->mesh.triangles) {
+          if (core::triangle_box_overlap(o->mesh.vertices[t[0]], o->mesh.vertices[t[1]],
+                                         o->mesh.vertices[t[2]], interior)) {
+            whole = false;
+            break;
+          }
+        }
+      }
+      if (whole) {
+        removed[v] = 1;
+        break;
+      }
+    }
+  }
+  return removed;
+}
+
+/// Squared distance from the critical objects C_h to each voxel's box (conservative) or centre
+/// (center mode), SPEC §5.
+std::vector<double> VoxelEvaluator::Impl::critical_distances(const core::TimeStep& step) const {
+  std::vector<double> out(grid.count(), std::numeric_limits<double>::infinity());
+  for (int v = 0; v < grid.count(); ++v) {
+    for (const core::SceneObject& c : step.critical) {
+      const double d = conservative ? core::box_solid_sq_distance(c.mesh, grid.voxel_box(v))
+                                    : core::point_solid_sq_distance(c.mesh, grid.voxel_center(v));
+      out[v] = std::min(out[v], d);
+    }
+  }
+  return out;
+}
+
+}  // namespace camplace::voxel
