@@ -4,7 +4,7 @@
 set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
-  libcgal-dev libgmp-dev libmpfr-dev libboost-dev libeigen3-dev
+  libcgal-dev libssl-dev libgmp-dev libmpfr-dev libboost-dev libeigen3-dev
   libpagmo-dev libtbb-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 gnuplot-nox

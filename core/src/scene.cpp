@@ -2,6 +2,7 @@
 #include "camplace/core/scene.hpp"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
@@ -97,6 +98,7 @@ class SceneParser {
     }
     parse_time_steps(root.at("time_steps"));
     check_targets_clear_of_obstacles(root);
+    scene_.mesh_files = std::move(mesh_files_);
     return std::move(scene_);
   }
 
@@ -258,6 +260,8 @@ class SceneParser {
       const std::filesystem::path rel = f.string();
       const std::string full = (rel.is_absolute() ? rel : dir_ / rel).string();
       object.mesh = detail::read_mesh_file(full, path_, f.pointer());
+      auto& files = mesh_files_;
+      if (std::find(files.begin(), files.end(), full) == files.end()) files.push_back(full);
     }
     if (node.has("transform")) apply_transform(object.mesh, node.at("transform"));
     detail::validate_and_orient(object.mesh, path_, node.pointer());
@@ -342,6 +346,7 @@ class SceneParser {
   std::string path_;
   std::filesystem::path dir_;
   Scene scene_;
+  mutable std::vector<std::string> mesh_files_;  ///< filled while objects are parsed
 };
 }  // namespace
 

@@ -81,6 +81,8 @@ struct Scene {
   std::vector<TimeStep> time_steps;
   DynamicMode dynamic_mode = DynamicMode::masked;
   Plausibility plausibility;
+  /// Mesh files the scene references, as opened (in order of first use; for provenance).
+  std::vector<std::string> mesh_files;
 };
 
 /// One state (time step h, event l) of the error functional, as indices into the scene.

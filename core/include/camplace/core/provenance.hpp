@@ -1,0 +1,41 @@
+#pragma once
+/// What made a result: the camplace build, content hashes of the scene and its mesh files, the
+/// host and the time. Every output file records these (README: provenance).
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "camplace/core/scene.hpp"
+
+namespace camplace::core {
+
+/// The camplace version and the git commit it was built from ("<sha>-dirty" when the work
+/// tree had uncommitted changes, "unknown" outside a git checkout).
+struct BuildInfo {
+  std::string version;
+  std::string commit;
+};
+BuildInfo build_info();
+
+/// Lower-case hex SHA-256 of the bytes.
+std::string sha256_hex(const std::string& bytes);
+/// SHA-256 of a file's content; throws InputError naming the file when it cannot be read.
+std::string sha256_file(const std::string& path);
+
+/// Content hashes of a scene: its file and every mesh file it references, and one hash over
+/// all of them (what identifies the scene's content; the same scene at another path has the
+/// same hashes).
+struct SceneHashes {
+  std::string scene;                                        ///< SHA-256 of the scene file
+  std::vector<std::pair<std::string, std::string>> meshes;  ///< (path, SHA-256) per mesh file
+  std::string combined;  ///< SHA-256 over the scene hash and the mesh hashes, in order
+};
+/// Hashes the files the scene was loaded from (scene.file and scene.mesh_files) as they are
+/// now; throws InputError when one cannot be read.
+SceneHashes hash_scene(const Scene& scene);
+
+/// The machine's host name and the current local time as ISO 8601 ("2026-11-29T08:26:25+0000").
+std::string host_name();
+std::string now_iso8601();
+
+}  // namespace camplace::core
