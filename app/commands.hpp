@@ -15,6 +15,8 @@ void register_generate_command(CLI::App& app);
 #ifdef CAMPLACE_HAVE_VALIDATION
 void register_compare_command(CLI::App& app);
 void register_compare_optimizer_command(CLI::App& app);
+#endif
+#ifdef CAMPLACE_HAVE_STUDY
 void register_study_command(CLI::App& app);
 #endif
 

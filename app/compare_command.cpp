@@ -1,18 +1,13 @@
 // `camplace compare`: the voxel pipeline against the exact one for one configuration (SPEC §8).
 #include <algorithm>
-#include <filesystem>
 #include <iostream>
 
 #include "camplace/compare/optimizer_validation.hpp"
-#include "camplace/compare/study.hpp"
 #include "camplace/compare/voxel_vs_exact.hpp"
 #include "camplace/core/camera.hpp"
 #include "camplace/core/error.hpp"
 #include "camplace/core/files.hpp"
 #include "camplace/core/scene.hpp"
-#ifdef CAMPLACE_HAVE_OPTIMIZE
-#include "camplace/optimize/optimizer.hpp"
-#endif
 #include "cli_checks.hpp"
 #include "commands.hpp"
 
@@ -112,30 +107,6 @@ void register_compare_optimizer_command(CLI::App& app) {
                       " --out " + args->out;
     compare::validate_optimizer(scene, options, args->out);
     std::cout << "report: " << args->out << "/report.md\n";
-  });
-}
-
-void register_study_command(CLI::App& app) {
-  auto options = std::make_shared<compare::StudyOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "study", "run a study of the paper's examinations (resumable), report in DIR");
-  cmd->add_option("study", options->study_file, "study JSON file (e.g. data/studies/paper.json)")
-      ->required();
-  cmd->add_option("--out", options->out_dir, "output directory; rerun to resume")->required();
-  cmd->callback([options] {
-    core::create_output_directory(options->out_dir, "--out");
-#ifdef CAMPLACE_HAVE_OPTIMIZE
-    options->algorithms = optimize::algorithm_names();
-#endif
-    options->camplace = std::filesystem::read_symlink("/proc/self/exe").string();
-    options->command = "camplace study " + options->study_file + " --out " + options->out_dir;
-    const compare::StudyOutcome outcome = compare::run_study(*options);
-    std::cout << "runs: " << outcome.runs_total << " (" << outcome.runs_done_before << " found, "
-              << outcome.runs_done_now << " run now)"
-              << (outcome.interrupted ? ", interrupted" : "") << "\nreport: " << options->out_dir
-              << "/report.md\n";
-    if (outcome.interrupted)
-      throw std::runtime_error("study interrupted; rerun the same command to resume");
   });
 }
 

@@ -18,6 +18,8 @@ int main(int argc, char** argv) {
 #ifdef CAMPLACE_HAVE_VALIDATION
   camplace::app::register_compare_command(app);
   camplace::app::register_compare_optimizer_command(app);
+#endif
+#ifdef CAMPLACE_HAVE_STUDY
   camplace::app::register_study_command(app);
 #endif
 #ifdef CAMPLACE_HAVE_COMPARE

@@ -10,4 +10,7 @@ namespace camplace::compare::detail {
 void gnuplot_png(const std::string& png, const std::string& script, int width = 800,
                  int height = 560);
 
+/// `text` as a gnuplot single-quoted string ('it''s'), e.g. a file name in a plot command.
+std::string gnuplot_string(const std::string& text);
+
 }  // namespace camplace::compare::detail

@@ -6,15 +6,22 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
 #include "camplace/core/camera.hpp"
+#include "camplace/core/error.hpp"
+#include "camplace/core/json_reader.hpp"
 
 namespace camplace::optimize {
 namespace {
 
 constexpr double kRadToDeg = 1.0 / core::kDegree;
+// Degrees → radians exactly as core::load_camera_config converts them.
+constexpr double kDeg = core::kDegree;
+constexpr int kIntMin = std::numeric_limits<int>::min();
+constexpr int kIntMax = std::numeric_limits<int>::max();
 
 double median(std::vector<double> values) {
   if (values.empty()) return 0.0;
@@ -34,6 +41,65 @@ nlohmann::ordered_json context_json(const RunContext& context) {
           {"time_limit_s", context.time_limit}, {"max_evaluations", context.max_evaluations}};
 }
 
+// Readers of run files: each value as run_json writes it, else InputError naming the entry.
+
+std::uint64_t read_count(const core::JsonNode& node,
+                         std::uint64_t max = std::numeric_limits<std::uint64_t>::max()) {
+  if (!node.value().is_number_unsigned()) {
+    node.fail(std::string("expected a non-negative integer, found ") + node.value().type_name());
+  }
+  const auto v = node.value().get<std::uint64_t>();
+  if (v > max)
+    node.fail("value " + std::to_string(v) + " out of range [0, " + std::to_string(max) + "]");
+  return v;
+}
+
+bool read_bool(const core::JsonNode& node) {
+  if (!node.value().is_boolean()) {
+    node.fail(std::string("expected true or false, found ") + node.value().type_name());
+  }
+  return node.value().get<bool>();
+}
+
+StopReason read_stop_reason(const core::JsonNode& node) {
+  const std::string text = node.string();
+  std::string names;
+  for (StopReason r : {StopReason::tolerance, StopReason::time_limit, StopReason::max_evaluations,
+                       StopReason::interrupted, StopReason::lower_bound}) {
+    if (text == to_string(r)) return r;
+    names += (names.empty() ? "" : ", ") + std::string(to_string(r));
+  }
+  node.fail("unknown stop reason \"" + text + "\" (expected one of: " + names + ")");
+}
+
+core::CameraConfig read_cameras(const core::JsonNode& node) {
+  core::CameraConfig config;
+  for (std::size_t i = 0; i < node.array_size(); ++i) {
+    const core::JsonNode entry = node.at(i);
+    entry.only_keys({"position", "yaw_deg", "pitch_deg"});
+    core::CameraSetting camera;
+    camera.position = entry.at("position").vec3();
+    camera.yaw = entry.at("yaw_deg").number_in(-180.0, 180.0) * kDeg;
+    camera.pitch = entry.at("pitch_deg").number_in(-90.0, 90.0) * kDeg;
+    config.push_back(camera);
+  }
+  return config;
+}
+
+RunContext read_context(const core::JsonNode& node) {
+  node.only_keys({"scene", "mode", "resolution", "start", "time_limit_s", "max_evaluations"});
+  RunContext c;
+  c.scene_file = node.at("scene").string();
+  c.mode = node.at("mode").string();
+  const core::JsonNode resolution = node.at("resolution");
+  if (resolution.array_size() != 3) resolution.fail("expected [nx, ny, nz] (3 integers)");
+  for (std::size_t k = 0; k < 3; ++k) c.resolution[k] = resolution.at(k).integer_in(0, kIntMax);
+  c.start = node.at("start").string();
+  c.time_limit = node.at("time_limit_s").number();
+  c.max_evaluations = read_count(node.at("max_evaluations"));
+  return c;
+}
+
 std::string fixed(double value, int digits) {
   std::ostringstream out;
   out << std::fixed << std::setprecision(digits) << value;
@@ -48,6 +114,7 @@ nlohmann::ordered_json run_json(const RunResult& run, const RunContext& context)
     history.push_back({{"evaluations", h.evaluations}, {"seconds", h.seconds}, {"err", h.err}});
   }
   nlohmann::ordered_json j;
+  j["format_version"] = kRunFileFormat;
   j["cameras"] = cameras_json(run.best);
   j["err"] = run.err;
   j["evaluations"] = run.evaluations;
@@ -74,6 +141,73 @@ nlohmann::ordered_json run_json(const RunResult& run, const RunContext& context)
                                  {"wall_clock", run.wall_ms_per_evaluation}};
   j["memory_kb"] = {{"vm_hwm", run.memory.vm_hwm_kb}, {"vm_peak", run.memory.vm_peak_kb}};
   return j;
+}
+
+RunFile run_from_json(const nlohmann::json& j, const std::string& file) {
+  const core::JsonNode root(j, file, "");
+  // The version first: a newer format may differ in any other entry.
+  if (root.has("format_version")) {
+    const core::JsonNode version = root.at("format_version");
+    if (!version.value().is_number_integer() || version.value().get<long long>() < 1 ||
+        version.value().get<long long>() > kRunFileFormat) {
+      version.fail("unknown run file format " + version.value().dump() +
+                   " (this camplace reads formats 1 to " + std::to_string(kRunFileFormat) +
+                   "; was the file written by a newer camplace?)");
+    }
+  }
+  root.only_keys({"format_version", "cameras",           "err",
+                  "evaluations",    "reached_tolerance", "seconds",
+                  "stop_reason",    "tolerance",         "err_lower_bound",
+                  "start_err",      "search_err",        "evaluations_to_best",
+                  "restarts",       "algorithm",         "seed",
+                  "threads",        "population",        "dimension",
+                  "context",        "history",           "time_per_evaluation_ms",
+                  "memory_kb"});
+  RunFile out;
+  RunResult& run = out.run;
+  run.best = read_cameras(root.at("cameras"));
+  run.err = root.at("err").number();
+  run.evaluations = read_count(root.at("evaluations"));
+  run.reached_tolerance = read_bool(root.at("reached_tolerance"));
+  run.seconds = root.at("seconds").number();
+  run.stop_reason = read_stop_reason(root.at("stop_reason"));
+  run.tolerance = root.at("tolerance").number();
+  run.err_lower_bound = root.at("err_lower_bound").number();
+  run.start_err = root.at("start_err").number();
+  run.search_err = root.at("search_err").number();
+  run.evaluations_to_best = read_count(root.at("evaluations_to_best"));
+  run.restarts = read_count(root.at("restarts"));
+  run.algorithm = root.at("algorithm").string();
+  run.seed =
+      static_cast<unsigned>(read_count(root.at("seed"), std::numeric_limits<unsigned>::max()));
+  run.threads = root.at("threads").integer_in(kIntMin, kIntMax);
+  run.population = root.at("population").integer_in(kIntMin, kIntMax);
+  run.dimension = static_cast<std::size_t>(
+      read_count(root.at("dimension"), std::numeric_limits<std::size_t>::max()));
+  out.context = read_context(root.at("context"));
+  const core::JsonNode history = root.at("history");
+  for (std::size_t i = 0; i < history.array_size(); ++i) {
+    const core::JsonNode h = history.at(i);
+    h.only_keys({"evaluations", "seconds", "err"});
+    run.history.push_back(
+        {read_count(h.at("evaluations")), h.at("seconds").number(), h.at("err").number()});
+  }
+  const core::JsonNode timing = root.at("time_per_evaluation_ms");
+  timing.only_keys({"labelling", "clustering", "distance", "total", "wall_clock"});
+  run.mean_timing.labelling_ms = timing.at("labelling").number();
+  run.mean_timing.clustering_ms = timing.at("clustering").number();
+  run.mean_timing.distance_ms = timing.at("distance").number();
+  run.mean_timing.total_ms = timing.at("total").number();
+  run.wall_ms_per_evaluation = timing.at("wall_clock").number();
+  const core::JsonNode memory = root.at("memory_kb");
+  memory.only_keys({"vm_hwm", "vm_peak"});
+  run.memory.vm_hwm_kb = read_count(memory.at("vm_hwm"));
+  run.memory.vm_peak_kb = read_count(memory.at("vm_peak"));
+  return out;
+}
+
+RunFile read_run_file(const std::string& path) {
+  return run_from_json(core::read_json_file(path), path);
 }
 
 Summary summarize(const std::vector<RunResult>& runs) {

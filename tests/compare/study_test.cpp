@@ -1,5 +1,7 @@
 // `camplace study`: a study finishes, reruns identically, and an interrupted or damaged study
-// resumes without repeating or losing runs.
+// resumes without repeating or losing runs; paths are names, never shell text; a run file the
+// study cannot read is an error naming it. Also compare::run_study with launchers standing in
+// for `camplace optimize`.
 #include <gtest/gtest.h>
 
 #include <signal.h>
@@ -10,9 +12,15 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 #include <thread>
+#include <vector>
 
+#include "camplace/compare/study.hpp"
+#include "camplace/core/error.hpp"
 #include "command.hpp"
 #include "scene_builder.hpp"
 
@@ -38,16 +46,82 @@ std::string study_json(int max_evaluations) {
                      {"name": "ceiling", "family": "domain_ceiling"}]})";
 }
 
-// Columns before the timing ones (vm_peak_kb, seconds, *_ms) of runs.csv.
-std::string without_timing(const std::string& csv) {
-  std::stringstream in(csv), out;
+/// A study of one group (3 cameras), `runs` runs of at most `max_evaluations` evaluations.
+std::string tiny_study_json(int runs, int max_evaluations) {
+  return R"({"description": "tiny", "algorithm": "gaco", "mode": "conservative",
+    "runs_per_group": )" +
+         std::to_string(runs) + R"(, "threads": 1, "time_limit_s": 120,
+    "max_evaluations": )" +
+         std::to_string(max_evaluations) + R"(,
+    "examinations": [{"name": "cameras", "family": "cameras", "params": [3]}]})";
+}
+
+using CsvRow = std::map<std::string, std::string>;
+
+/// A CSV file (no quoted fields) as rows of column name → value.
+std::vector<CsvRow> read_csv(const std::string& path) {
+  std::stringstream in(read(path));
+  auto split = [](const std::string& line) {
+    std::vector<std::string> cells;
+    std::stringstream s(line);
+    std::string cell;
+    while (std::getline(s, cell, ',')) cells.push_back(cell);
+    return cells;
+  };
   std::string line;
+  std::getline(in, line);
+  const std::vector<std::string> header = split(line);
+  std::vector<CsvRow> rows;
   while (std::getline(in, line)) {
-    std::size_t pos = 0;
-    for (int i = 0; i < 20; ++i) pos = line.find(',', pos) + 1;  // keep the first 20 columns
-    out << line.substr(0, pos) << "\n";
+    const std::vector<std::string> cells = split(line);
+    EXPECT_EQ(cells.size(), header.size()) << line;
+    CsvRow row;
+    for (std::size_t i = 0; i < header.size() && i < cells.size(); ++i) row[header[i]] = cells[i];
+    rows.push_back(row);
   }
-  return out.str();
+  return rows;
+}
+
+/// The rows without the timing columns of runs.csv (they vary between runs).
+std::vector<CsvRow> without_timing(std::vector<CsvRow> rows) {
+  for (CsvRow& row : rows) {
+    for (const char* column :
+         {"vm_peak_kb", "seconds", "labelling_ms", "clustering_ms", "distance_ms", "total_ms"}) {
+      EXPECT_EQ(row.erase(column), 1u) << column;
+    }
+  }
+  return rows;
+}
+
+/// Runs the camplace binary with `args`, one argument each, in the directory `cwd` (no shell),
+/// capturing stdout and stderr.
+CommandResult run_in(const std::string& cwd, const std::vector<std::string>& args) {
+  std::vector<std::string> words = {CAMPLACE_BINARY};
+  words.insert(words.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& w : words) argv.push_back(w.data());
+  argv.push_back(nullptr);
+  int out[2];
+  EXPECT_EQ(pipe(out), 0);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    dup2(out[1], STDOUT_FILENO);
+    dup2(out[1], STDERR_FILENO);
+    close(out[0]);
+    close(out[1]);
+    if (chdir(cwd.c_str()) == 0) execv(CAMPLACE_BINARY, argv.data());
+    _exit(127);
+  }
+  close(out[1]);
+  CommandResult result;
+  char buffer[4096];
+  ssize_t n = 0;
+  while ((n = ::read(out[0], buffer, sizeof buffer)) > 0) result.output.append(buffer, n);
+  close(out[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
 }
 
 TEST(Study, FinishesRerunsIdenticallyAndRedoesOnlyMissingRuns) {
@@ -59,6 +133,7 @@ TEST(Study, FinishesRerunsIdenticallyAndRedoesOnlyMissingRuns) {
   EXPECT_NE(first.output.find("runs: 6 (0 found, 6 run now)"), std::string::npos) << first.output;
   const std::string csv = read(dir + "/out/runs.csv");
   EXPECT_EQ(count_lines(csv), 1 + 6);
+  const std::vector<CsvRow> rows = read_csv(dir + "/out/runs.csv");
   const std::string report = read(dir + "/out/report.md");
   EXPECT_NE(report.find("## Budget"), std::string::npos);
   EXPECT_TRUE(fs::exists(dir + "/out/success_vs_cameras.png"));
@@ -75,7 +150,7 @@ TEST(Study, FinishesRerunsIdenticallyAndRedoesOnlyMissingRuns) {
   EXPECT_TRUE(fs::exists(gone));
   EXPECT_EQ(fs::last_write_time(kept), kept_time);
   // With an evaluation budget the rows are the same apart from timing, and the report too.
-  EXPECT_EQ(without_timing(read(dir + "/out/runs.csv")), without_timing(csv));
+  EXPECT_EQ(without_timing(read_csv(dir + "/out/runs.csv")), without_timing(rows));
   const std::string report2 = read(dir + "/out/report.md");
   EXPECT_EQ(report2.substr(0, report2.find("## Time and memory")), report.substr(0, report.find("## Time and memory")));
 }
@@ -119,14 +194,190 @@ TEST(Study, InterruptedStudyResumesWithoutRepeatingOrLosingRuns) {
                                 std::to_string(6 - finished_before) + " run now)"),
             std::string::npos)
       << resumed.output;
-  const std::string csv = read(dir + "/out/runs.csv");
-  EXPECT_EQ(count_lines(csv), 1 + 6);
+  const std::vector<CsvRow> rows = read_csv(dir + "/out/runs.csv");
+  EXPECT_EQ(rows.size(), 6u);
   // Every (group, seed) exactly once.
-  for (const char* key : {"cameras,3,1,", "cameras,3,2,", "cameras,4,1,", "cameras,4,2,", "domain_ceiling,0,1,", "domain_ceiling,0,2,"}) {
-    const std::size_t first = csv.find(key);
-    EXPECT_NE(first, std::string::npos) << key;
-    EXPECT_EQ(csv.find(key, first + 1), std::string::npos) << key;
+  std::multiset<std::string> runs;
+  for (const CsvRow& row : rows) {
+    runs.insert(row.at("family") + "," + row.at("param") + "," + row.at("seed"));
   }
+  for (const char* key : {"cameras,3,1", "cameras,3,2", "cameras,4,1", "cameras,4,2",
+                          "domain_ceiling,0,1", "domain_ceiling,0,2"}) {
+    EXPECT_EQ(runs.count(key), 1u) << key;
+  }
+}
+
+TEST(Study, PathsWithQuotesAndSpacesAreNamesNotShellText) {
+  // The study file and the output directory (so the generated scene, the run directory and the
+  // plots' files) carry a quote and a space; the output directory is the shell injection of
+  // issue 9, which must create a directory of that name and run nothing.
+  const std::string dir = temp_dir("study-quote") + "/it's a dir";
+  const std::string study = write_file(dir + "/it's study.json", tiny_study_json(2, 60));
+  const std::string out = "x';touch injected;'";
+  const CommandResult r = run_in(dir, {"study", study, "--out", out});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("runs: 2 (0 found, 2 run now)"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir + "/injected"));
+  EXPECT_FALSE(fs::exists(dir + "/x"));
+  const std::string run_file = dir + "/" + out + "/runs/cameras-3/run-2.json";
+  ASSERT_TRUE(fs::exists(run_file));
+  const nlohmann::json run = nlohmann::json::parse(read(run_file));
+  EXPECT_EQ(run.at("context").at("scene"), out + "/scenes/cameras-3.json");
+  EXPECT_EQ(run.at("evaluations"), 60);
+  EXPECT_EQ(read_csv(dir + "/" + out + "/runs.csv").size(), 2u);
+  EXPECT_TRUE(fs::exists(dir + "/" + out + "/success_vs_cameras.png"));
+  EXPECT_TRUE(fs::exists(dir + "/" + out + "/time_vs_cameras.png"));
+  EXPECT_NE(read(dir + "/" + out + "/success_vs_cameras.gp").find("x'';touch injected;''"),
+            std::string::npos)
+      << "the quote is doubled inside gnuplot's single-quoted file names";
+}
+
+TEST(Study, DamagedRunFilesAndUnknownFormatsAreErrorsNamingTheFileAndInterruptedRunsRunAgain) {
+  const std::string dir = temp_dir("study-damaged");
+  const std::string study = write_file(dir + "/study.json", tiny_study_json(2, 80));
+  const std::vector<std::string> args = {"study", study, "--out", dir + "/out"};
+  const CommandResult first = run_in(dir, args);
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  const std::string run1 = dir + "/out/runs/cameras-3/run-1.json";
+  const std::string run2 = dir + "/out/runs/cameras-3/run-2.json";
+  const std::string good1 = read(run1), good2 = read(run2);
+
+  // Not JSON: an error naming the file; the file is kept as it is, not run again.
+  write_file(run1, "{\"cameras\": [");
+  const CommandResult damaged = run_in(dir, args);
+  EXPECT_EQ(damaged.exit_code, 1) << damaged.output;
+  EXPECT_NE(damaged.output.find("error: " + run1 + ": not valid JSON"), std::string::npos)
+      << damaged.output;
+  EXPECT_EQ(read(run1), "{\"cameras\": [");
+  write_file(run1, good1);
+
+  // A format this version does not know (written by a newer camplace, say).
+  nlohmann::ordered_json newer = nlohmann::ordered_json::parse(good2);
+  EXPECT_EQ(newer.at("format_version"), 2);
+  newer["format_version"] = 3;
+  write_file(run2, newer.dump(2));
+  const CommandResult unknown = run_in(dir, args);
+  EXPECT_EQ(unknown.exit_code, 1) << unknown.output;
+  EXPECT_NE(unknown.output.find("error: " + run2 + ": /format_version: unknown run file format 3"),
+            std::string::npos)
+      << unknown.output;
+  // A run file without the version is format 1 (the files under docs/reports).
+  newer.erase("format_version");
+  write_file(run2, newer.dump(2));
+
+  // An interrupted run is run again, with the same result (evaluation budget, same seed).
+  nlohmann::ordered_json interrupted = nlohmann::ordered_json::parse(good1);
+  interrupted["stop_reason"] = "interrupted";
+  write_file(run1, interrupted.dump(2));
+  const CommandResult resumed = run_in(dir, args);
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_NE(resumed.output.find("runs: 2 (1 found, 1 run now)"), std::string::npos)
+      << resumed.output;
+  const nlohmann::json again = nlohmann::json::parse(read(run1));
+  const nlohmann::json before = nlohmann::json::parse(good1);
+  EXPECT_EQ(again.at("stop_reason"), before.at("stop_reason"));
+  EXPECT_EQ(again.at("err"), before.at("err"));
+  EXPECT_EQ(again.at("cameras"), before.at("cameras"));
+}
+
+/// A stand-in for `camplace optimize`: records the launch and copies a real run file (from
+/// docs/reports, 3 cameras) to where the run's `--out=` directory puts it.
+struct FakeOptimize {
+  std::vector<compare::OptimizeLaunch> launches;
+  bool write_run_file = true;
+  compare::LaunchOutcome outcome;
+
+  compare::LaunchOutcome operator()(const compare::OptimizeLaunch& launch) {
+    launches.push_back(launch);
+    std::string out, seed;
+    for (std::size_t i = 0; i < launch.args.size(); ++i) {
+      if (launch.args[i].rfind("--out=", 0) == 0) out = launch.args[i].substr(6);
+      if (launch.args[i] == "--seed" && i + 1 < launch.args.size()) seed = launch.args[i + 1];
+    }
+    if (write_run_file) {
+      fs::copy_file(std::string(CAMPLACE_SOURCE_DIR) +
+                        "/docs/reports/study_cameras/runs/cameras-3/run-1.json",
+                    out + "/run-" + seed + ".json", fs::copy_options::overwrite_existing);
+    }
+    return outcome;
+  }
+};
+
+TEST(Study, RunStudyLaunchesEachMissingRunWithOneArgumentPerValue) {
+  const std::string dir = temp_dir("study-launcher") + "/it's out";
+  const std::string study = write_file(dir + "/study.json", tiny_study_json(2, 50));
+  compare::StudyOptions options;
+  options.study_file = study;
+  options.out_dir = dir;
+  options.command = "test";
+  auto fake = std::make_shared<FakeOptimize>();
+  options.launch = [fake](const compare::OptimizeLaunch& l) { return (*fake)(l); };
+  const compare::StudyOutcome outcome = compare::run_study(options);
+  EXPECT_EQ(outcome.runs_total, 2);
+  EXPECT_EQ(outcome.runs_done_now, 2);
+  EXPECT_FALSE(outcome.interrupted);
+  ASSERT_EQ(fake->launches.size(), 2u);
+  const std::string run_dir = dir + "/runs/cameras-3";
+  const std::vector<std::string> expected = {"--algorithm",  "gaco",
+                                             "--seed",       "2",
+                                             "--runs",       "1",
+                                             "--threads",    "1",
+                                             "--time-limit", "120.000",
+                                             "--max-evals",  "50",
+                                             "--mode",       "conservative",
+                                             "--quiet",      "--out=" + run_dir,
+                                             "--",           dir + "/scenes/cameras-3.json"};
+  EXPECT_EQ(fake->launches[1].args, expected);
+  EXPECT_EQ(fake->launches[1].output_file, run_dir + "/last-output.txt");
+  // The rows are the copied run file's.
+  const std::vector<CsvRow> rows = read_csv(dir + "/runs.csv");
+  ASSERT_EQ(rows.size(), 2u);
+  const nlohmann::json run = nlohmann::json::parse(read(
+      std::string(CAMPLACE_SOURCE_DIR) + "/docs/reports/study_cameras/runs/cameras-3/run-1.json"));
+  EXPECT_EQ(rows[1].at("seed"), "2");
+  EXPECT_EQ(rows[1].at("evaluations"), std::to_string(run.at("evaluations").get<long long>()));
+  EXPECT_EQ(rows[1].at("stop_reason"), run.at("stop_reason").get<std::string>());
+
+  // Everything found: nothing is launched.
+  fake->launches.clear();
+  EXPECT_EQ(compare::run_study(options).runs_done_before, 2);
+  EXPECT_TRUE(fake->launches.empty());
+}
+
+TEST(Study, RunStudyStopsAtAnInterruptAndReportsAFailedRun) {
+  const std::string dir = temp_dir("study-launch-fail");
+  const std::string study = write_file(dir + "/study.json", tiny_study_json(3, 50));
+  compare::StudyOptions options;
+  options.study_file = study;
+  options.out_dir = dir + "/out";
+  auto fake = std::make_shared<FakeOptimize>();
+  options.launch = [fake](const compare::OptimizeLaunch& l) { return (*fake)(l); };
+
+  // Ctrl-C during the first run, which still finishes: the study stops after it.
+  fake->outcome.interrupted = true;
+  compare::StudyOutcome outcome = compare::run_study(options);
+  EXPECT_TRUE(outcome.interrupted);
+  EXPECT_EQ(outcome.runs_done_now, 1);
+  EXPECT_EQ(fake->launches.size(), 1u);
+  EXPECT_NE(read(dir + "/out/report.md").find("**Interrupted**"), std::string::npos);
+
+  // A run that ends without a run file and without Ctrl-C is an error naming the run.
+  fake->outcome = {false, "exit status 1"};
+  fake->write_run_file = false;
+  try {
+    compare::run_study(options);
+    ADD_FAILURE() << "no error";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("cameras-3 seed 2"), std::string::npos) << what;
+    EXPECT_NE(what.find("exit status 1"), std::string::npos) << what;
+  }
+  // Killed by Ctrl-C before writing anything: interrupted, no error.
+  fake->outcome = {true, "killed by signal 2 (Interrupt)"};
+  outcome = compare::run_study(options);
+  EXPECT_TRUE(outcome.interrupted);
+  EXPECT_EQ(outcome.runs_done_before, 1);
+  EXPECT_EQ(outcome.runs_done_now, 0);
 }
 
 }  // namespace

@@ -2,18 +2,38 @@
 /// Studies of the paper's examinations (SPEC §8–9): groups of R optimiser runs on generated
 /// scenes, one scene parameter varied per examination; resumable; a report with the paper's
 /// plots.
+#include <functional>
 #include <string>
 #include <vector>
 
 namespace camplace::compare {
 
+/// One run of a study, to be carried out as `camplace optimize ARGS` in a process of its own
+/// (the run file records the process's peak memory, a figure of the report).
+struct OptimizeLaunch {
+  std::vector<std::string> args;  ///< the arguments after `camplace optimize`, one per entry
+  std::string output_file;        ///< file that receives the run's standard output (replaced)
+};
+
+/// How a launched run ended.
+struct LaunchOutcome {
+  /// Ctrl-C (SIGINT) arrived while the run was going: the run then writes its best result as
+  /// "interrupted", or died of the signal. The study stops after this run.
+  bool interrupted = false;
+  /// Empty when the run exited with status 0; else how it ended, for messages ("exit status 1",
+  /// "killed by signal 9", "could not be started: ...").
+  std::string failure;
+};
+
+/// Carries out one run and waits for it. A Ctrl-C while it runs must reach the run without
+/// ending the caller (as std::system does); the launcher reports it in LaunchOutcome.
+using RunLauncher = std::function<LaunchOutcome(const OptimizeLaunch& launch)>;
+
 struct StudyOptions {
   std::string study_file;  ///< the study JSON (see data/studies/paper.json)
-  std::string out_dir;
-  std::string camplace;  ///< path of the camplace executable that runs `optimize`
-  std::string command;   ///< the command line, quoted in the report
-  std::vector<std::string>
-      algorithms;  ///< solver names `optimize` accepts (the study's is checked)
+  std::string out_dir;     ///< must exist
+  std::string command;     ///< the command line, quoted in the report
+  RunLauncher launch;      ///< runs `camplace optimize`
 };
 
 /// What a study run did.
@@ -24,10 +44,13 @@ struct StudyOutcome {
   bool interrupted = false;  ///< Ctrl-C: the report covers the runs finished so far
 };
 
-/// Runs every missing run of the study (each as `camplace optimize ... --runs 1`, so peak
-/// memory is per run), then writes DIR/report.md, DIR/runs.csv, DIR/groups.csv and the plots.
-/// A run counts as finished when DIR/runs/<group>/run-<seed>.json exists and was not
-/// interrupted. Throws core::InputError for a bad study file.
+/// Runs every missing run of the study through options.launch (each as
+/// `optimize SCENE ... --runs 1`, so peak memory is per run), then writes DIR/report.md,
+/// DIR/runs.csv and the plots. A run counts as finished when
+/// DIR/runs/<group>/run-<seed>.json exists and was not interrupted; an interrupted one is run
+/// again. Throws core::InputError for a bad study file and for a run file that is damaged or of
+/// a format this version does not read (optimize::read_run_file), std::runtime_error when a run
+/// fails.
 StudyOutcome run_study(const StudyOptions& options);
 
 }  // namespace camplace::compare

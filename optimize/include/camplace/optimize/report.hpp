@@ -23,10 +23,32 @@ struct RunContext {
   std::uint64_t max_evaluations = 0;
 };
 
-/// The run file's JSON: "cameras" (the load_camera_config format), "err", "evaluations",
-/// "reached_tolerance", "seconds", "stop_reason", "history", "time_per_evaluation_ms",
-/// "memory_kb" and the context.
+/// The format of the run files run_json writes ("format_version"). Files without the key are
+/// format 1, the same layout without it.
+constexpr int kRunFileFormat = 2;
+
+/// The run file's JSON: "format_version" (kRunFileFormat), "cameras" (the load_camera_config
+/// format), "err", "evaluations", "reached_tolerance", "seconds", "stop_reason", "history",
+/// "time_per_evaluation_ms", "memory_kb" and the context.
 nlohmann::ordered_json run_json(const RunResult& run, const RunContext& context);
+
+/// A run file read back: the run and the context it was made in.
+struct RunFile {
+  RunResult run;
+  RunContext context;
+};
+
+/// The inverse of run_json: run_json(run_from_json(j).run, ...context) gives j again (apart
+/// from "format_version", which is always kRunFileFormat). Angles are read as
+/// core::load_camera_config reads them, so `best` is the configuration `camplace evaluate`
+/// reads from the file. Throws core::InputError naming `file` (used only in messages), the
+/// entry and the reason for a run file of an unknown format version, a missing, extra or
+/// mistyped entry.
+RunFile run_from_json(const nlohmann::json& j, const std::string& file);
+
+/// Reads and parses the run file `path` with run_from_json. Throws core::InputError when the
+/// file cannot be read, is not JSON or is not a run file this version reads.
+RunFile read_run_file(const std::string& path);
 
 /// Aggregates over R runs.
 struct Summary {

@@ -1,178 +1,18 @@
-// Studies of the paper's examinations (SPEC §8–9).
-#include "camplace/compare/study.hpp"
-
-#include <sys/wait.h>
+// The report of a study (SPEC §9): runs.csv, report.md beside the paper's figures, and plots.
+#include "study_report.hpp"
 
 #include <algorithm>
-#include <cmath>
-#include <csignal>
-#include <cstdio>
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
 #include <functional>
 #include <map>
-#include <optional>
 #include <sstream>
 
-#include "camplace/compare/scene_generator.hpp"
-#include "camplace/core/error.hpp"
 #include "camplace/core/files.hpp"
-#include "camplace/core/json_reader.hpp"
-#include "camplace/core/scene.hpp"
 #include "format.hpp"
 #include "gnuplot.hpp"
 
-namespace camplace::compare {
+namespace camplace::compare::detail {
 
 namespace {
-
-using detail::num;
-
-namespace fs = std::filesystem;
-
-struct Examination {
-  std::string name, family;
-  std::vector<std::optional<int>> params;  ///< one empty entry for families without a param
-};
-
-struct StudySpec {
-  std::string description, algorithm = "gaco", mode = "conservative";
-  int runs_per_group = 3, threads = 2;
-  unsigned first_seed = 1, scene_seed = 1;
-  double time_limit = 600.0;
-  long long max_evaluations = 10000;
-  std::vector<Examination> examinations;
-};
-
-StudySpec parse_study(const std::string& path, const std::vector<std::string>& algorithms) {
-  const nlohmann::json doc = core::read_json_file(path);
-  const core::JsonNode root(doc, path, "");
-  root.only_keys({"description", "algorithm", "mode", "runs_per_group", "threads", "first_seed",
-                  "scene_seed", "time_limit_s", "max_evaluations", "examinations"});
-  StudySpec s;
-  if (root.has("description")) s.description = root.at("description").string();
-  if (root.has("algorithm")) {
-    s.algorithm = root.at("algorithm").string();
-    if (!algorithms.empty() &&
-        std::find(algorithms.begin(), algorithms.end(), s.algorithm) == algorithms.end()) {
-      std::string list;
-      for (const std::string& a : algorithms) list += (list.empty() ? "" : ", ") + a;
-      root.at("algorithm")
-          .fail("unknown solver \"" + s.algorithm + "\" (expected one of: " + list + ")");
-    }
-  }
-  if (root.has("mode")) {
-    s.mode = root.at("mode").string();
-    if (s.mode != "center" && s.mode != "conservative")
-      root.at("mode").fail("expected center or conservative");
-  }
-  s.runs_per_group = root.at("runs_per_group").integer_in(1, 1000);
-  if (root.has("threads")) s.threads = root.at("threads").integer_in(1, 256);
-  if (root.has("first_seed")) s.first_seed = root.at("first_seed").integer_in(0, 1 << 30);
-  if (root.has("scene_seed")) s.scene_seed = root.at("scene_seed").integer_in(0, 1 << 30);
-  s.time_limit = root.at("time_limit_s").number_in(0.1, 1e7);
-  s.max_evaluations = root.at("max_evaluations").integer_in(1, 2000000000);
-  const core::JsonNode list = root.at("examinations");
-  if (list.array_size() == 0) list.fail("a study needs at least one examination");
-  for (std::size_t i = 0; i < list.array_size(); ++i) {
-    const core::JsonNode e = list.at(i);
-    e.only_keys({"name", "family", "params"});
-    Examination ex;
-    ex.family = e.at("family").string();
-    ex.name = e.has("name") ? e.at("name").string() : ex.family;
-    if (e.has("params")) {
-      const core::JsonNode p = e.at("params");
-      for (std::size_t k = 0; k < p.array_size(); ++k)
-        ex.params.push_back(p.at(k).integer_in(-1000, 1000));
-    }
-    if (ex.params.empty()) ex.params.push_back(std::nullopt);
-    for (const std::optional<int>& param : ex.params) {
-      try {
-        generate_scene_json(ex.family, param, s.scene_seed);  // validates family and param
-      } catch (const core::InputError& err) {
-        e.fail(err.reason());
-      }
-    }
-    s.examinations.push_back(ex);
-  }
-  return s;
-}
-
-/// One finished run as read back from its run file.
-struct RunRow {
-  std::string examination, family, group;
-  int param = 0;
-  unsigned seed = 0;
-  // x values of the group's scene
-  long voxels = 0;
-  int cameras = 0, static_objects = 0, static_facets = 0, dynamic_objects = 0, dynamic_facets = 0;
-  int target_objects = 0, target_facets = 0, time_steps = 0, events = 0;
-  std::string resolution;
-  // the run
-  double err = 0, tolerance = 0, seconds = 0;
-  long long evaluations = 0;
-  bool reached = false;
-  std::string stop_reason;
-  double labelling_ms = 0, clustering_ms = 0, distance_ms = 0, total_ms = 0;
-  long long vm_peak_kb = 0, vm_hwm_kb = 0;
-};
-
-std::string group_name(const Examination& e, const std::optional<int>& param) {
-  return param ? e.family + "-" + std::to_string(*param) : e.family;
-}
-
-std::string quote(const std::string& s) { return "'" + s + "'"; }
-
-void describe_scene(const core::Scene& scene, RunRow& row) {
-  auto facets = [](const std::vector<core::SceneObject>& objects) {
-    int n = 0;
-    for (const auto& o : objects) n += static_cast<int>(o.mesh.triangles.size());
-    return n;
-  };
-  row.voxels = static_cast<long>(scene.voxels[0]) * scene.voxels[1] * scene.voxels[2];
-  row.resolution = std::to_string(scene.voxels[0]) + "x" + std::to_string(scene.voxels[1]) + "x" +
-                   std::to_string(scene.voxels[2]);
-  row.cameras = scene.cameras.count;
-  row.static_objects = static_cast<int>(scene.static_obstacles.size());
-  row.static_facets = facets(scene.static_obstacles);
-  row.time_steps = static_cast<int>(scene.time_steps.size());
-  for (const auto& step : scene.time_steps) {
-    row.dynamic_objects += static_cast<int>(step.dynamic_obstacles.size());
-    row.dynamic_facets += facets(step.dynamic_obstacles);
-    for (const auto& e : step.events) {
-      ++row.events;
-      row.target_objects += static_cast<int>(e.targets.size());
-      row.target_facets += facets(e.targets);
-    }
-  }
-}
-
-bool read_run(const std::string& path, RunRow& row) {
-  std::ifstream in(path);
-  if (!in) return false;
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-    row.stop_reason = j.at("stop_reason").get<std::string>();
-    if (row.stop_reason == "interrupted") return false;  // not finished: run again
-    row.err = j.at("err").get<double>();
-    row.tolerance = j.at("tolerance").get<double>();
-    row.seconds = j.at("seconds").get<double>();
-    row.evaluations = j.at("evaluations").get<long long>();
-    row.reached = j.at("reached_tolerance").get<bool>();
-    const auto& t = j.at("time_per_evaluation_ms");
-    row.labelling_ms = t.at("labelling").get<double>();
-    row.clustering_ms = t.at("clustering").get<double>();
-    row.distance_ms = t.at("distance").get<double>();
-    row.total_ms = t.at("total").get<double>();
-    row.vm_peak_kb = j.at("memory_kb").at("vm_peak").get<long long>();
-    row.vm_hwm_kb = j.at("memory_kb").at("vm_hwm").get<long long>();
-  } catch (const std::exception&) {
-    return false;  // unreadable: run again
-  }
-  return true;
-}
 
 /// Whether a rerun with the same seeds reproduces the rows: only when no run was ended by the
 /// clock (the evaluation count reached by a time limit depends on the machine's speed).
@@ -194,13 +34,6 @@ std::string clock_note(const std::vector<RunRow>& rows) {
          " before their evaluation budget: their evaluation counts and Err depend on the "
          "machine's speed; every other row is reproduced by a rerun with the same seeds apart "
          "from the timing columns.\n\n";
-}
-
-std::string read(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
 }
 
 double median(std::vector<double> v) {
@@ -308,17 +141,16 @@ std::string plot(const std::string& dir, const std::string& name, const std::str
     for (const GroupStats* g : members)
       dat << num(x_value(*g), 6) << " " << num(value(*g), 6) << "\n";
     dat << "\n\n";
-    plot_cmd += std::string(plot_cmd.empty() ? "plot " : ", ") + "'" + dir + "/" + name +
-                ".dat' index " + std::to_string(blocks++) + " using 1:2 with " +
-                (percent_bars ? "boxes" : "linespoints") + " title '" + label + "'";
+    plot_cmd += std::string(plot_cmd.empty() ? "plot " : ", ") +
+                gnuplot_string(dir + "/" + name + ".dat") + " index " + std::to_string(blocks++) +
+                " using 1:2 with " + (percent_bars ? "boxes" : "linespoints") + " title '" + label +
+                "'";
   }
   if (blocks == 0) return "";
   core::write_file_atomically(dir + "/" + name + ".dat", dat.str());
   detail::gnuplot_png(dir + "/" + name + ".png", cmd.str() + plot_cmd + "\n");
   return "![" + title + "](" + name + ".png)\n\n";
 }
-
-}  // namespace
 
 /// Thousands separators for counts ("160,000").
 std::string count_text(double v) {
@@ -421,72 +253,10 @@ std::string paper_comparison(const std::vector<GroupStats>& groups,
   return t.str();
 }
 
-StudyOutcome run_study(const StudyOptions& options) {
-  const StudySpec spec = parse_study(options.study_file, options.algorithms);
-  const std::string dir = options.out_dir;
-  fs::create_directories(dir + "/scenes");
-  StudyOutcome outcome;
-  std::vector<RunRow> rows;
-  int total_runs = 0;
-  for (const Examination& ex : spec.examinations) {
-    total_runs += static_cast<int>(ex.params.size()) * spec.runs_per_group;
-  }
-  for (const Examination& ex : spec.examinations) {
-    for (const std::optional<int>& param : ex.params) {
-      const std::string group = group_name(ex, param);
-      const std::string scene_path = dir + "/scenes/" + group + ".json";
-      core::write_file_atomically(scene_path,
-                                  generate_scene_json(ex.family, param, spec.scene_seed));
-      RunRow shape;
-      describe_scene(core::load_scene(scene_path), shape);
-      shape.examination = ex.name;
-      shape.family = ex.family;
-      shape.group = group;
-      shape.param = param.value_or(0);
-      const std::string run_dir = dir + "/runs/" + group;
-      for (int r = 0; r < spec.runs_per_group; ++r) {
-        ++outcome.runs_total;
-        RunRow row = shape;
-        row.seed = spec.first_seed + r;
-        const std::string run_file = run_dir + "/run-" + std::to_string(row.seed) + ".json";
-        if (read_run(run_file, row)) {
-          ++outcome.runs_done_before;
-          rows.push_back(row);
-          continue;
-        }
-        if (outcome.interrupted) continue;
-        std::fprintf(stderr, "study: %s seed %u (run %d of %d)\n", group.c_str(), row.seed,
-                     outcome.runs_total, total_runs);
-        const std::string cmd =
-            quote(options.camplace) + " optimize " + quote(scene_path) + " --algorithm " +
-            spec.algorithm + " --seed " + std::to_string(row.seed) + " --runs 1 --threads " +
-            std::to_string(spec.threads) + " --time-limit " + num(spec.time_limit, 3) +
-            " --max-evals " + std::to_string(spec.max_evaluations) + " --mode " + spec.mode +
-            " --quiet --out " + quote(run_dir) + " > " + quote(run_dir + "/last-output.txt");
-        fs::create_directories(run_dir);
-        const int status = std::system(cmd.c_str());
-        // system() ignores SIGINT in this process while the child runs; the child writes its
-        // best result and reports "interrupted", which ends the study here.
-        if (read_run(run_file, row)) {
-          ++outcome.runs_done_now;
-          rows.push_back(row);
-          continue;
-        }
-        // Ctrl-C reaches the whole foreground process group: the run file then says
-        // "interrupted", or the shell around the child died of SIGINT.
-        const bool by_sigint = (WIFSIGNALED(status) && WTERMSIG(status) == SIGINT) ||
-                               (WIFEXITED(status) && WEXITSTATUS(status) == 130) ||
-                               read(run_file).find("\"interrupted\"") != std::string::npos;
-        if (!by_sigint) {
-          throw std::runtime_error("study: camplace optimize failed for " + group + " seed " +
-                                   std::to_string(row.seed) + " (see " + run_dir +
-                                   "/last-output.txt)");
-        }
-        outcome.interrupted = true;
-      }
-    }
-  }
+}  // namespace
 
+void write_study_report(const StudySpec& spec, const std::vector<RunRow>& rows,
+                        const std::string& command, bool interrupted, const std::string& dir) {
   // runs.csv: every finished run (timing columns: seconds, *_ms).
   std::ostringstream csv;
   csv << "examination,family,param,seed,resolution,voxels,cameras,static_objects,static_facets,"
@@ -509,7 +279,7 @@ StudyOutcome run_study(const StudyOptions& options) {
   std::ostringstream md;
   md << "# Study: the paper's examinations\n\n";
   if (!spec.description.empty()) md << spec.description << "\n\n";
-  md << "Made by:\n\n    " << options.command << "\n\n"
+  md << "Made by:\n\n    " << command << "\n\n"
      << "## Budget\n\n| | this study | the paper |\n|---|---|---|\n"
      << "| runs per group | " << spec.runs_per_group << " | 20 |\n"
      << "| stop | tolerance (½ voxel diagonal)², or " << spec.max_evaluations << " evaluations, or "
@@ -578,9 +348,9 @@ StudyOutcome run_study(const StudyOptions& options) {
           "top box\n"
           "set style data histograms\nset style histogram rowstacked\nset style fill solid 0.7\n"
           "set boxwidth 0.6\nset yrange [0:*]\n"
-          "plot '" +
-              dir +
-              "/time_vs_cameras.dat' using 2:xtic(1) title 'intersection (labelling)', "
+          "plot " +
+              gnuplot_string(dir + "/time_vs_cameras.dat") +
+              " using 2:xtic(1) title 'intersection (labelling)', "
               "'' using 3 title 'clustering'\n");
       md << "![Time per iteration against cameras](time_vs_cameras.png)\n\n";
     }
@@ -593,9 +363,8 @@ StudyOutcome run_study(const StudyOptions& options) {
       {});
   md << "Data: `runs.csv` (one row per run), plot data and gnuplot scripts beside each PNG, run "
         "files under `runs/`, generated scenes under `scenes/`.\n";
-  if (outcome.interrupted) md << "\n**Interrupted**: rerun the same command to finish the study.\n";
+  if (interrupted) md << "\n**Interrupted**: rerun the same command to finish the study.\n";
   core::write_file_atomically(dir + "/report.md", md.str());
-  return outcome;
 }
 
-}  // namespace camplace::compare
+}  // namespace camplace::compare::detail

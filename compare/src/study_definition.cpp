@@ -1,0 +1,71 @@
+// Study files (SPEC §9): the examinations of the paper and the budget of their runs.
+#include "study_definition.hpp"
+
+#include <algorithm>
+
+#include "camplace/compare/scene_generator.hpp"
+#include "camplace/core/error.hpp"
+#include "camplace/core/json_reader.hpp"
+#include "camplace/optimize/optimizer.hpp"
+
+namespace camplace::compare::detail {
+
+StudySpec parse_study(const std::string& path) {
+  const nlohmann::json doc = core::read_json_file(path);
+  const core::JsonNode root(doc, path, "");
+  root.only_keys({"description", "algorithm", "mode", "runs_per_group", "threads", "first_seed",
+                  "scene_seed", "time_limit_s", "max_evaluations", "examinations"});
+  StudySpec s;
+  if (root.has("description")) s.description = root.at("description").string();
+  if (root.has("algorithm")) {
+    s.algorithm = root.at("algorithm").string();
+    const std::vector<std::string>& algorithms = optimize::algorithm_names();
+    if (std::find(algorithms.begin(), algorithms.end(), s.algorithm) == algorithms.end()) {
+      std::string list;
+      for (const std::string& a : algorithms) list += (list.empty() ? "" : ", ") + a;
+      root.at("algorithm")
+          .fail("unknown solver \"" + s.algorithm + "\" (expected one of: " + list + ")");
+    }
+  }
+  if (root.has("mode")) {
+    s.mode = root.at("mode").string();
+    if (s.mode != "center" && s.mode != "conservative")
+      root.at("mode").fail("expected center or conservative");
+  }
+  s.runs_per_group = root.at("runs_per_group").integer_in(1, 1000);
+  if (root.has("threads")) s.threads = root.at("threads").integer_in(1, 256);
+  if (root.has("first_seed")) s.first_seed = root.at("first_seed").integer_in(0, 1 << 30);
+  if (root.has("scene_seed")) s.scene_seed = root.at("scene_seed").integer_in(0, 1 << 30);
+  s.time_limit = root.at("time_limit_s").number_in(0.1, 1e7);
+  s.max_evaluations = root.at("max_evaluations").integer_in(1, 2000000000);
+  const core::JsonNode list = root.at("examinations");
+  if (list.array_size() == 0) list.fail("a study needs at least one examination");
+  for (std::size_t i = 0; i < list.array_size(); ++i) {
+    const core::JsonNode e = list.at(i);
+    e.only_keys({"name", "family", "params"});
+    Examination ex;
+    ex.family = e.at("family").string();
+    ex.name = e.has("name") ? e.at("name").string() : ex.family;
+    if (e.has("params")) {
+      const core::JsonNode p = e.at("params");
+      for (std::size_t k = 0; k < p.array_size(); ++k)
+        ex.params.push_back(p.at(k).integer_in(-1000, 1000));
+    }
+    if (ex.params.empty()) ex.params.push_back(std::nullopt);
+    for (const std::optional<int>& param : ex.params) {
+      try {
+        generate_scene_json(ex.family, param, s.scene_seed);  // validates family and param
+      } catch (const core::InputError& err) {
+        e.fail(err.reason());
+      }
+    }
+    s.examinations.push_back(ex);
+  }
+  return s;
+}
+
+std::string group_name(const Examination& e, const std::optional<int>& param) {
+  return param ? e.family + "-" + std::to_string(*param) : e.family;
+}
+
+}  // namespace camplace::compare::detail

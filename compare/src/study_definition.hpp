@@ -1,0 +1,32 @@
+#pragma once
+// A study file (data/studies/*.json) read into its examinations and budget. Private to compare.
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace camplace::compare::detail {
+
+/// One examination: a scene family of the generator and the parameters of its groups.
+struct Examination {
+  std::string name, family;
+  std::vector<std::optional<int>> params;  ///< one empty entry for families without a param
+};
+
+/// The study: its examinations and the budget of every run.
+struct StudySpec {
+  std::string description, algorithm = "gaco", mode = "conservative";
+  int runs_per_group = 3, threads = 2;
+  unsigned first_seed = 1, scene_seed = 1;
+  double time_limit = 600.0;  ///< seconds per run
+  long long max_evaluations = 10000;
+  std::vector<Examination> examinations;
+};
+
+/// Reads the study file `path`; the algorithm must be one of optimize::algorithm_names() and
+/// every (family, param) one the scene generator makes. Throws core::InputError.
+StudySpec parse_study(const std::string& path);
+
+/// The group's name: "<family>-<param>", or the family alone.
+std::string group_name(const Examination& e, const std::optional<int>& param);
+
+}  // namespace camplace::compare::detail
