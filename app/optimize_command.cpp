@@ -16,6 +16,7 @@
 
 #include "camplace/core/error.hpp"
 #include "camplace/core/files.hpp"
+#include "camplace/core/provenance.hpp"
 #include "camplace/core/scene.hpp"
 #include "camplace/optimize/voxel_objective.hpp"
 #include "camplace/optimize/optimizer.hpp"
@@ -123,6 +124,7 @@ void run_optimize(const OptimizeArgs& args) {
   context.start = args.start;
   context.time_limit = args.time_limit;
   context.max_evaluations = static_cast<std::uint64_t>(args.max_evals);
+  context.provenance = core::make_provenance(scene);
 
   core::create_output_directory(args.out, "--out");
 

@@ -66,4 +66,41 @@ std::string now_iso8601() {
   return text.data();
 }
 
+Provenance make_provenance(const Scene& scene) {
+  return {build_info(), scene.file, hash_scene(scene), host_name(), now_iso8601()};
+}
+
+nlohmann::ordered_json provenance_json(const Provenance& p) {
+  nlohmann::ordered_json meshes = nlohmann::ordered_json::array();
+  for (const auto& [path, hash] : p.scene.meshes) meshes.push_back({{"path", path}, {"sha256", hash}});
+  return {{"camplace_version", p.build.version},
+          {"commit", p.build.commit},
+          {"scene", p.scene_file},
+          {"scene_sha256", p.scene.combined},
+          {"scene_file_sha256", p.scene.scene},
+          {"mesh_files", meshes},
+          {"host", p.host},
+          {"started", p.started}};
+}
+
+Provenance provenance_from_json(const JsonNode& node) {
+  node.only_keys({"camplace_version", "commit", "scene", "scene_sha256", "scene_file_sha256",
+                  "mesh_files", "host", "started"});
+  Provenance p;
+  p.build.version = node.at("camplace_version").string();
+  p.build.commit = node.at("commit").string();
+  p.scene_file = node.at("scene").string();
+  p.scene.combined = node.at("scene_sha256").string();
+  p.scene.scene = node.at("scene_file_sha256").string();
+  const JsonNode meshes = node.at("mesh_files");
+  for (std::size_t i = 0; i < meshes.array_size(); ++i) {
+    const JsonNode m = meshes.at(i);
+    m.only_keys({"path", "sha256"});
+    p.scene.meshes.emplace_back(m.at("path").string(), m.at("sha256").string());
+  }
+  p.host = node.at("host").string();
+  p.started = node.at("started").string();
+  return p;
+}
+
 }  // namespace camplace::core

@@ -133,6 +133,7 @@ nlohmann::ordered_json run_json(const RunResult& run, const RunContext& context)
   j["population"] = run.population;
   j["dimension"] = run.dimension;
   j["context"] = context_json(context);
+  if (context.provenance) j["provenance"] = core::provenance_json(*context.provenance);
   j["history"] = history;
   j["time_per_evaluation_ms"] = {{"labelling", run.mean_timing.labelling_ms},
                                  {"clustering", run.mean_timing.clustering_ms},
@@ -162,7 +163,7 @@ RunFile run_from_json(const nlohmann::json& j, const std::string& file) {
                   "restarts",       "algorithm",         "seed",
                   "threads",        "population",        "dimension",
                   "context",        "history",           "time_per_evaluation_ms",
-                  "memory_kb"});
+                  "memory_kb",      "provenance"});
   RunFile out;
   RunResult& run = out.run;
   run.best = read_cameras(root.at("cameras"));
@@ -185,6 +186,9 @@ RunFile run_from_json(const nlohmann::json& j, const std::string& file) {
   run.dimension = static_cast<std::size_t>(
       read_count(root.at("dimension"), std::numeric_limits<std::size_t>::max()));
   out.context = read_context(root.at("context"));
+  if (root.has("provenance")) {
+    out.context.provenance = core::provenance_from_json(root.at("provenance"));
+  }
   const core::JsonNode history = root.at("history");
   for (std::size_t i = 0; i < history.array_size(); ++i) {
     const core::JsonNode h = history.at(i);
@@ -254,6 +258,7 @@ nlohmann::ordered_json summary_json(const std::vector<RunResult>& runs, const Ru
   }
   nlohmann::ordered_json j;
   j["context"] = context_json(context);
+  if (context.provenance) j["provenance"] = core::provenance_json(*context.provenance);
   if (!runs.empty()) {
     j["algorithm"] = runs.front().algorithm;
     j["threads"] = runs.front().threads;

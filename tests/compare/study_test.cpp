@@ -21,6 +21,7 @@
 
 #include "camplace/compare/study.hpp"
 #include "camplace/core/error.hpp"
+#include "camplace/optimize/report.hpp"
 #include "command.hpp"
 #include "scene_builder.hpp"
 
@@ -253,16 +254,17 @@ TEST(Study, DamagedRunFilesAndUnknownFormatsAreErrorsNamingTheFileAndInterrupted
 
   // A format this version does not know (written by a newer camplace, say).
   nlohmann::ordered_json newer = nlohmann::ordered_json::parse(good2);
-  EXPECT_EQ(newer.at("format_version"), 2);
-  newer["format_version"] = 3;
+  EXPECT_EQ(newer.at("format_version"), optimize::kRunFileFormat);
+  newer["format_version"] = 99;
   write_file(run2, newer.dump(2));
   const CommandResult unknown = run_in(dir, args);
   EXPECT_EQ(unknown.exit_code, 1) << unknown.output;
-  EXPECT_NE(unknown.output.find("error: " + run2 + ": /format_version: unknown run file format 3"),
+  EXPECT_NE(unknown.output.find("error: " + run2 + ": /format_version: unknown run file format 99"),
             std::string::npos)
       << unknown.output;
   // A run file without the version is format 1 (the files under docs/reports).
   newer.erase("format_version");
+  newer.erase("provenance");
   write_file(run2, newer.dump(2));
 
   // An interrupted run is run again, with the same result (evaluation budget, same seed).

@@ -1,10 +1,12 @@
 #pragma once
 /// What made a result: the camplace build, content hashes of the scene and its mesh files, the
 /// host and the time. Every output file records these (README: provenance).
+#include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "camplace/core/json_reader.hpp"
 #include "camplace/core/scene.hpp"
 
 namespace camplace::core {
@@ -37,5 +39,21 @@ SceneHashes hash_scene(const Scene& scene);
 /// The machine's host name and the current local time as ISO 8601 ("2026-11-29T08:26:25+0000").
 std::string host_name();
 std::string now_iso8601();
+
+/// Everything a result file records about what made it.
+struct Provenance {
+  BuildInfo build;
+  std::string scene_file;  ///< the scene's path as given
+  SceneHashes scene;
+  std::string host;
+  std::string started;  ///< ISO 8601 local time
+};
+/// The provenance of work on `scene` starting now.
+Provenance make_provenance(const Scene& scene);
+/// {"camplace_version", "commit", "scene", "scene_sha256", "scene_file_sha256", "mesh_files":
+/// [{"path", "sha256"}], "host", "started"}.
+nlohmann::ordered_json provenance_json(const Provenance& provenance);
+/// The inverse of provenance_json; InputError naming the entry on a malformed object.
+Provenance provenance_from_json(const JsonNode& node);
 
 }  // namespace camplace::core

@@ -5,10 +5,12 @@
 #include <array>
 #include <cstdint>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
 
+#include "camplace/core/provenance.hpp"
 #include "camplace/optimize/optimizer.hpp"
 
 namespace camplace::optimize {
@@ -21,11 +23,14 @@ struct RunContext {
   std::string start;  ///< "random", "corners" or the start file
   double time_limit = 0.0;
   std::uint64_t max_evaluations = 0;
+  /// What made the run (build, scene content hashes, host, start time); absent in files of
+  /// formats 1 and 2.
+  std::optional<core::Provenance> provenance;
 };
 
 /// The format of the run files run_json writes ("format_version"). Files without the key are
-/// format 1, the same layout without it.
-constexpr int kRunFileFormat = 2;
+/// format 1, the same layout without it. Format 3 adds "provenance".
+constexpr int kRunFileFormat = 3;
 
 /// The run file's JSON: "format_version" (kRunFileFormat), "cameras" (the load_camera_config
 /// format), "err", "evaluations", "reached_tolerance", "seconds", "stop_reason", "history",
