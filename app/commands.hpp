@@ -17,6 +17,7 @@ void register_compare_command(CLI::App& app);
 void register_compare_optimizer_command(CLI::App& app);
 #endif
 #ifdef CAMPLACE_HAVE_STUDY
+void register_validate_command(CLI::App& app);
 void register_study_command(CLI::App& app);
 #endif
 

@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
 #endif
 #ifdef CAMPLACE_HAVE_STUDY
   camplace::app::register_study_command(app);
+  camplace::app::register_validate_command(app);
 #endif
 #ifdef CAMPLACE_HAVE_COMPARE
   camplace::app::register_generate_command(app);

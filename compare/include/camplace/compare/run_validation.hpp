@@ -1,0 +1,72 @@
+#pragma once
+/// `camplace validate`: every optimizer result in a folder checked against the exact solution
+/// (SPEC §8). For each run file (an `optimize` folder's run-<seed>.json, or a study folder's
+/// runs/<group>/run-<seed>.json) the run's best configuration is evaluated by the exact
+/// pipeline, and by the voxel pipeline with the exact pipeline's FOV (the inscribed pyramid,
+/// SPEC §1), so that over-estimates compare like with like.
+#include <array>
+#include <atomic>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace camplace::compare {
+
+/// One run's exact check. Err in m², distances in m.
+struct RunValidation {
+  std::string run;    ///< the run file's path relative to the folder
+  std::string scene;  ///< the scene file as the run recorded it
+  std::string mode;   ///< voxel labelling mode of the run
+  std::array<int, 3> resolution{0, 0, 0};
+  double voxel_err = 0.0;           ///< as the run recorded it (the scene's own FOV)
+  double voxel_err_same_fov = 0.0;  ///< recomputed with the exact pipeline's pyramid FOV
+  double exact_err = 0.0;           ///< `camplace evaluate --pipeline exact` of the run file
+  double tolerance = 0.0;           ///< what the run had to reach (see `target`)
+  double err_lower_bound = 0.0;     ///< the run's conservative lower bound (0 in center mode)
+  /// Success threshold: the tolerance, or in conservative mode max(tolerance, lower bound)
+  /// (SPEC §4); the same threshold judges voxel and exact Err.
+  double target = 0.0;
+  bool reached_voxel = false;  ///< voxel_err ≤ target
+  bool reached_exact = false;  ///< exact_err ≤ target
+  /// max over states of d_voxel − d_exact (same FOV); > 0: the voxel result over-estimated a
+  /// distance (not conservative).
+  double max_overestimate = 0.0;
+  double seconds = 0.0;  ///< wall time of the check (from the cache: when it was computed)
+  bool cached = false;   ///< taken from DIR/validation-cache
+  std::string error;     ///< non-empty: this run could not be checked, and why
+};
+
+/// Progress after each finished run.
+struct ValidationProgress {
+  int done = 0, total = 0;
+  double seconds = 0.0;  ///< since the start
+};
+
+struct ValidateOptions {
+  std::string dir;      ///< an `optimize` or `study` output folder
+  std::string command;  ///< the command line, quoted in the report
+  int threads = 0;  ///< runs checked in parallel; 0 = all cores
+  std::function<void(const ValidationProgress&)> on_progress;
+  const std::atomic<bool>* interrupt = nullptr;  ///< set (e.g. by Ctrl-C): stop after the runs
+                                                 ///< under way; the finished ones are kept
+};
+
+struct ValidationOutcome {
+  std::vector<RunValidation> rows;  ///< one per run file, in path order (checked or failed)
+  int from_cache = 0;
+  int failed = 0;            ///< rows with an error
+  bool interrupted = false;  ///< rows holds the runs finished before the interrupt
+};
+
+/// Checks every run file under options.dir (cached per run file content and scene content in
+/// DIR/validation-cache/, so a rerun is instant and an interrupted one resumes) and writes
+/// DIR/validation.csv and DIR/validation.md atomically. A run whose scene is missing or has
+/// changed since the run (its recorded SHA-256), or whose run file is corrupt, becomes a row
+/// with an error; the others are still checked. Throws core::InputError when the folder holds
+/// no run file.
+ValidationOutcome validate_runs(const ValidateOptions& options);
+
+/// The rows of DIR/validation.csv (for reports); empty when the file does not exist.
+std::vector<RunValidation> read_validation_csv(const std::string& dir);
+
+}  // namespace camplace::compare

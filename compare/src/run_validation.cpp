@@ -1,0 +1,425 @@
+// `camplace validate` (SPEC §8, issue 10): each run file's best configuration evaluated by the
+// exact pipeline and by the voxel pipeline with the same (pyramid) FOV; cached per run.
+#include "camplace/compare/run_validation.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <sstream>
+#include <thread>
+
+#include "camplace/core/error.hpp"
+#include "camplace/core/files.hpp"
+#include "camplace/core/json_reader.hpp"
+#include "camplace/core/names.hpp"
+#include "camplace/core/provenance.hpp"
+#include "camplace/exact/evaluator.hpp"
+#include "camplace/optimize/report.hpp"
+#include "camplace/voxel/evaluator.hpp"
+#include "format.hpp"
+
+namespace camplace::compare {
+
+namespace fs = std::filesystem;
+using detail::num;
+using detail::resolution_text;
+
+namespace {
+
+/// Bump when the cached numbers change meaning (a cache entry of another version is ignored).
+constexpr int kCacheFormat = 1;
+constexpr const char* kCacheDir = "validation-cache";
+
+using Clock = std::chrono::steady_clock;
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw core::InputError(path, "", "cannot open the file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+/// Every run-*.json below dir (not in the cache folder), sorted.
+std::vector<fs::path> find_run_files(const fs::path& dir) {
+  std::vector<fs::path> out;
+  std::error_code ec;
+  for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::end(it);
+       it.increment(ec)) {
+    if (it->is_directory() && it->path().filename() == kCacheDir) {
+      it.disable_recursion_pending();
+      continue;
+    }
+    const std::string name = it->path().filename().string();
+    if (it->is_regular_file() && name.rfind("run-", 0) == 0 && it->path().extension() == ".json") {
+      out.push_back(it->path());
+    }
+  }
+  if (ec) throw core::InputError(dir.string(), "", "cannot list the folder: " + ec.message());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+/// A scene with what the checks need, loaded once and shared by the threads (read-only).
+struct LoadedScene {
+  core::Scene scene;
+  core::Scene pyramid_scene;  ///< the same with the exact pipeline's FOV (SPEC §1)
+  std::string hash;           ///< core::SceneHashes::combined
+};
+
+class SceneCache {
+ public:
+  /// The scene at `path`; throws what core::load_scene throws.
+  std::shared_ptr<const LoadedScene> get(const std::string& path) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto found = scenes_.find(path);
+    if (found != scenes_.end()) return found->second;
+    auto loaded = std::make_shared<LoadedScene>();
+    loaded->scene = core::load_scene(path);
+    loaded->pyramid_scene = loaded->scene;
+    loaded->pyramid_scene.cameras.fov = core::FovShape::pyramid;
+    loaded->hash = core::hash_scene(loaded->scene).combined;
+    scenes_.emplace(path, loaded);
+    return loaded;
+  }
+
+  /// The voxel evaluator for (scene, mode, resolution) with the pyramid FOV.
+  std::shared_ptr<const voxel::VoxelEvaluator> evaluator(const std::string& path,
+                                                         const LoadedScene& scene,
+                                                         const voxel::VoxelOptions& options) {
+    const std::string key = path + "|" + core::name_of(options.mode) + "|" +
+                            resolution_text(options.resolution);
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      auto found = evaluators_.find(key);
+      if (found != evaluators_.end()) return found->second;
+    }
+    // Built outside the lock (it takes a while); a second thread may build the same one, and
+    // the first stored wins — both are equal.
+    auto built = std::make_shared<const voxel::VoxelEvaluator>(scene.pyramid_scene, options);
+    std::lock_guard<std::mutex> lock(mutex_);
+    return evaluators_.emplace(key, built).first->second;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::map<std::string, std::shared_ptr<const LoadedScene>> scenes_;
+  std::map<std::string, std::shared_ptr<const voxel::VoxelEvaluator>> evaluators_;
+};
+
+/// The scene path a run recorded, resolved: as recorded (relative to the working directory),
+/// or else the study layout's copy DIR/scenes/<file name>.
+std::optional<std::string> resolve_scene(const std::string& recorded, const fs::path& dir) {
+  if (fs::is_regular_file(recorded)) return recorded;
+  const fs::path in_study = dir / "scenes" / fs::path(recorded).filename();
+  if (fs::path(recorded).is_relative() && fs::is_regular_file(in_study)) return in_study.string();
+  return std::nullopt;
+}
+
+nlohmann::ordered_json cache_json(const RunValidation& r) {
+  return {{"format", kCacheFormat},
+          {"voxel_err_same_fov", r.voxel_err_same_fov},
+          {"exact_err", r.exact_err},
+          {"max_overestimate", r.max_overestimate},
+          {"seconds", r.seconds}};
+}
+
+bool read_cache(const fs::path& file, RunValidation& r) {
+  std::ifstream in(file);
+  if (!in) return false;
+  try {
+    const nlohmann::json j = nlohmann::json::parse(in);
+    if (j.at("format").get<int>() != kCacheFormat) return false;
+    r.voxel_err_same_fov = j.at("voxel_err_same_fov").get<double>();
+    r.exact_err = j.at("exact_err").get<double>();
+    r.max_overestimate = j.at("max_overestimate").get<double>();
+    r.seconds = j.at("seconds").get<double>();
+  } catch (const std::exception&) {
+    return false;  // a damaged cache entry is recomputed
+  }
+  return true;
+}
+
+/// Checks one run file; fills `row` (its error on failure).
+void check_run(const fs::path& dir, const fs::path& file, SceneCache& scenes, RunValidation& row) {
+  row.run = fs::relative(file, dir).generic_string();
+  const auto start = Clock::now();
+  try {
+    const std::string text = read_text(file.string());
+    nlohmann::json j;
+    try {
+      j = nlohmann::json::parse(text);
+    } catch (const nlohmann::json::parse_error&) {
+      throw core::InputError(file.string(), "", "not valid JSON (a damaged run file?)");
+    }
+    const optimize::RunFile run = optimize::run_from_json(j, file.string());
+    const optimize::RunContext& context = run.context;
+    row.scene = context.scene_file;
+    row.mode = context.mode;
+    row.resolution = context.resolution;
+    row.voxel_err = run.run.err;
+    row.tolerance = run.run.tolerance;
+    row.err_lower_bound = run.run.err_lower_bound;
+    const auto mode = core::from_name<core::LabelMode>(context.mode);
+    if (!mode) {
+      throw core::InputError(file.string(), "/context/mode",
+                             "unknown mode \"" + context.mode + "\"");
+    }
+    const auto scene_path = resolve_scene(context.scene_file, dir);
+    if (!scene_path) {
+      throw core::InputError(file.string(), "/context/scene",
+                             "the scene file \"" + context.scene_file + "\" does not exist");
+    }
+    const auto scene = scenes.get(*scene_path);
+    if (context.provenance && context.provenance->scene.combined != scene->hash) {
+      throw core::InputError(file.string(), "/provenance/scene_sha256",
+                             "the scene " + *scene_path +
+                                 " (or a mesh file it uses) has changed since the run (SHA-256 " +
+                                 context.provenance->scene.combined + " then, " + scene->hash +
+                                 " now)");
+    }
+    if (static_cast<int>(run.run.best.size()) != scene->scene.cameras.count) {
+      throw core::InputError(file.string(), "/cameras",
+                             "the run has " + std::to_string(run.run.best.size()) +
+                                 " cameras, the scene " + *scene_path + " " +
+                                 std::to_string(scene->scene.cameras.count));
+    }
+    row.target = *mode == core::LabelMode::conservative
+                     ? std::max(row.tolerance, row.err_lower_bound)
+                     : row.tolerance;
+    const fs::path cache_file =
+        dir / kCacheDir /
+        (core::sha256_hex(text + "\n" + scene->hash + "\n" + std::to_string(kCacheFormat)) +
+         ".json");
+    row.cached = read_cache(cache_file, row);
+    if (!row.cached) {
+      const auto evaluator = scenes.evaluator(*scene_path, *scene, {*mode, context.resolution});
+      const core::Evaluation voxel = evaluator->evaluate(run.run.best);
+      const exact::ExactEvaluation exact = exact::evaluate_exact(scene->scene, run.run.best);
+      row.voxel_err_same_fov = voxel.err;
+      row.exact_err = exact.err;
+      row.max_overestimate = -std::numeric_limits<double>::infinity();
+      for (std::size_t s = 0; s < voxel.states.size(); ++s) {
+        row.max_overestimate =
+            std::max(row.max_overestimate, voxel.states[s].d_model - exact.states[s].d_model);
+      }
+      row.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+      core::write_file_atomically(cache_file.string(), cache_json(row).dump(1) + "\n");
+    }
+    row.reached_voxel = row.voxel_err <= row.target;
+    row.reached_exact = row.exact_err <= row.target;
+  } catch (const core::InputError& e) {
+    row.error = e.what();
+  } catch (const std::exception& e) {
+    row.error = file.string() + ": " + e.what();
+  }
+}
+
+const char* kCsvHeader =
+    "run,scene,mode,resolution,voxel_err,voxel_err_same_fov,exact_err,tolerance,reached_voxel,"
+    "reached_exact,max_overestimate,seconds,err_lower_bound,target,error";
+
+/// A CSV field: quoted when it holds a comma, a quote or a line break.
+std::string csv_field(const std::string& text) {
+  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+std::string csv_text(const std::vector<RunValidation>& rows) {
+  std::ostringstream out;
+  out << kCsvHeader << "\n";
+  for (const RunValidation& r : rows) {
+    const bool ok = r.error.empty();
+    auto number = [&](double v) { return ok ? core::format_number(v) : std::string(); };
+    auto flag = [&](bool v) { return ok ? std::string(v ? "true" : "false") : std::string(); };
+    out << csv_field(r.run) << ',' << csv_field(r.scene) << ',' << r.mode << ','
+        << (r.resolution[0] > 0 ? resolution_text(r.resolution) : std::string()) << ','
+        << number(r.voxel_err) << ',' << number(r.voxel_err_same_fov) << ','
+        << number(r.exact_err) << ',' << number(r.tolerance) << ',' << flag(r.reached_voxel)
+        << ',' << flag(r.reached_exact) << ',' << number(r.max_overestimate) << ','
+        << number(r.seconds) << ',' << number(r.err_lower_bound) << ',' << number(r.target)
+        << ',' << csv_field(r.error) << "\n";
+  }
+  return out.str();
+}
+
+std::string markdown_text(const ValidateOptions& options, const ValidationOutcome& outcome) {
+  const auto& rows = outcome.rows;
+  int checked = 0, reached_voxel = 0, reached_exact = 0, false_successes = 0, over = 0;
+  double worst_over = -std::numeric_limits<double>::infinity();
+  for (const RunValidation& r : rows) {
+    if (!r.error.empty()) continue;
+    ++checked;
+    reached_voxel += r.reached_voxel;
+    reached_exact += r.reached_exact;
+    false_successes += r.reached_voxel && !r.reached_exact;
+    over += r.max_overestimate > 0.0;
+    worst_over = std::max(worst_over, r.max_overestimate);
+  }
+  const core::BuildInfo build = core::build_info();
+  std::ostringstream md;
+  md << "# Exact check of the optimizer results in " << options.dir << "\n\n"
+     << "Made by camplace " << build.version << " (commit " << build.commit << ") on "
+     << core::host_name() << ", " << core::now_iso8601() << ":\n\n    " << options.command
+     << "\n\n"
+     << "Each run's best configuration evaluated by the exact pipeline (CGAL Nef polyhedra, "
+        "inscribed "
+     << "pyramid FOV) and by the voxel pipeline at the run's mode and resolution with the same "
+        "pyramid FOV (`voxel_err_same_fov`). A run *reached* its target when Err ≤ the tolerance "
+        "(center mode) or ≤ max(tolerance, conservative lower bound) (conservative mode, SPEC "
+        "§4); the same target judges voxel and exact Err. A *false success* reached it by its "
+        "voxel Err but not by its exact Err. `max_overestimate` = max over states of d_voxel − "
+        "d_exact (same FOV); > 0 means the voxel result over-estimated a distance.\n\n";
+  md << "| runs | checked | failed | from cache | reached (voxel) | reached (exact) | false "
+        "successes | runs with max_overestimate > 0 | largest overestimate [m] |\n"
+     << "|---|---|---|---|---|---|---|---|---|\n"
+     << "| " << rows.size() << " | " << checked << " | " << outcome.failed << " | "
+     << outcome.from_cache << " | " << reached_voxel << " | " << reached_exact << " | "
+     << false_successes << " | " << over << " | "
+     << (checked > 0 ? num(worst_over, 4) : std::string("–")) << " |\n\n";
+  if (outcome.interrupted) {
+    md << "**Interrupted**: the runs not listed were not checked; rerun the command to "
+          "resume.\n\n";
+  }
+  if (outcome.failed > 0) {
+    md << "## Runs that could not be checked\n\n";
+    for (const RunValidation& r : rows) {
+      if (!r.error.empty()) md << "- `" << r.run << "`: " << r.error << "\n";
+    }
+    md << "\n";
+  }
+  md << "## Runs\n\n| run | mode | resolution | voxel Err [m²] | voxel Err, pyramid FOV [m²] | "
+        "exact Err [m²] | target [m²] | reached voxel / exact | max overestimate [m] |\n"
+     << "|---|---|---|---|---|---|---|---|---|\n";
+  for (const RunValidation& r : rows) {
+    if (!r.error.empty()) continue;
+    md << "| " << r.run << " | " << r.mode << " | " << resolution_text(r.resolution) << " | "
+       << num(r.voxel_err, 5) << " | " << num(r.voxel_err_same_fov, 5) << " | "
+       << num(r.exact_err, 5) << " | " << num(r.target, 5) << " | "
+       << (r.reached_voxel ? "yes" : "no") << " / " << (r.reached_exact ? "yes" : "no")
+       << " | " << num(r.max_overestimate, 4) << " |\n";
+  }
+  md << "\nAll values: `validation.csv` (full precision).\n";
+  return md.str();
+}
+
+}  // namespace
+
+ValidationOutcome validate_runs(const ValidateOptions& options) {
+  const fs::path dir(options.dir);
+  if (!fs::is_directory(dir)) throw core::InputError(options.dir, "", "not a folder");
+  const std::vector<fs::path> files = find_run_files(dir);
+  if (files.empty()) {
+    throw core::InputError(options.dir, "",
+                           "holds no run file (run-<seed>.json of camplace optimize or study)");
+  }
+  const int threads = std::max(
+      1, std::min<int>(options.threads > 0 ? options.threads
+                                           : static_cast<int>(std::thread::hardware_concurrency()),
+                       static_cast<int>(files.size())));
+  std::vector<RunValidation> rows(files.size());
+  std::vector<char> done(files.size(), 0);
+  SceneCache scenes;
+  std::atomic<std::size_t> next{0};
+  std::mutex progress_mutex;
+  int finished = 0;
+  const auto start = Clock::now();
+  auto stop_requested = [&] { return options.interrupt != nullptr && options.interrupt->load(); };
+  auto worker = [&] {
+    for (;;) {
+      if (stop_requested()) return;
+      const std::size_t i = next.fetch_add(1);
+      if (i >= files.size()) return;
+      check_run(dir, files[i], scenes, rows[i]);
+      std::lock_guard<std::mutex> lock(progress_mutex);
+      done[i] = 1;
+      ++finished;
+      if (options.on_progress) {
+        options.on_progress({finished, static_cast<int>(files.size()),
+                             std::chrono::duration<double>(Clock::now() - start).count()});
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (std::thread& t : pool) t.join();
+
+  ValidationOutcome outcome;
+  outcome.interrupted = finished < static_cast<int>(files.size());
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    if (!done[i]) continue;
+    outcome.from_cache += rows[i].cached;
+    outcome.failed += !rows[i].error.empty();
+    outcome.rows.push_back(std::move(rows[i]));
+  }
+  core::write_file_atomically((dir / "validation.csv").string(), csv_text(outcome.rows));
+  core::write_file_atomically((dir / "validation.md").string(), markdown_text(options, outcome));
+  return outcome;
+}
+
+std::vector<RunValidation> read_validation_csv(const std::string& dir) {
+  std::vector<RunValidation> out;
+  std::ifstream in(fs::path(dir) / "validation.csv");
+  if (!in) return out;
+  std::string line;
+  std::getline(in, line);
+  if (line != kCsvHeader) return out;
+  while (std::getline(in, line)) {
+    // Fields: split on commas outside quotes.
+    std::vector<std::string> f;
+    std::string field;
+    bool quoted = false;
+    for (std::size_t k = 0; k < line.size(); ++k) {
+      const char c = line[k];
+      if (quoted) {
+        if (c == '"' && k + 1 < line.size() && line[k + 1] == '"') {
+          field += '"';
+          ++k;
+        } else if (c == '"') {
+          quoted = false;
+        } else {
+          field += c;
+        }
+      } else if (c == '"') {
+        quoted = true;
+      } else if (c == ',') {
+        f.push_back(field);
+        field.clear();
+      } else {
+        field += c;
+      }
+    }
+    f.push_back(field);
+    if (f.size() != 15) continue;
+    RunValidation r;
+    r.run = f[0];
+    r.scene = f[1];
+    r.mode = f[2];
+    r.error = f[14];
+    if (r.error.empty()) {
+      std::sscanf(f[3].c_str(), "%dx%dx%d", &r.resolution[0], &r.resolution[1], &r.resolution[2]);
+      r.voxel_err = std::stod(f[4]);
+      r.voxel_err_same_fov = std::stod(f[5]);
+      r.exact_err = std::stod(f[6]);
+      r.tolerance = std::stod(f[7]);
+      r.reached_voxel = f[8] == "true";
+      r.reached_exact = f[9] == "true";
+      r.max_overestimate = std::stod(f[10]);
+      r.seconds = std::stod(f[11]);
+      r.err_lower_bound = std::stod(f[12]);
+      r.target = std::stod(f[13]);
+    }
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+}  // namespace camplace::compare
