@@ -8,6 +8,7 @@
 #include <atomic>
 #include <cerrno>
 #include <csignal>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
@@ -148,6 +149,9 @@ void register_study_command(CLI::App& app) {
   cmd->add_option("study", options->study_file, "study JSON file (e.g. data/studies/paper.json)")
       ->required();
   cmd->add_option("--out", options->out_dir, "output directory; rerun to resume")->required();
+  cmd->add_flag("--validate", options->validate,
+                "after the runs, check each against the exact pipeline (camplace validate) and "
+                "add the check to the report");
   cmd->callback([options] {
     core::create_output_directory(options->out_dir, "--out");
     // The running binary, so a study's runs use the same camplace as the study.
@@ -157,7 +161,13 @@ void register_study_command(CLI::App& app) {
     options->launch = [program](const compare::OptimizeLaunch& launch) {
       return launch_optimize(program, launch);
     };
-    options->command = "camplace study " + options->study_file + " --out " + options->out_dir;
+    options->command = "camplace study " + options->study_file + " --out " + options->out_dir +
+                       (options->validate ? " --validate" : "");
+    if (options->validate) {
+      options->on_validate_progress = [](const compare::ValidationProgress& p) {
+        std::fprintf(stderr, "validate: %d/%d runs, %.0f s\n", p.done, p.total, p.seconds);
+      };
+    }
     const compare::StudyOutcome outcome = compare::run_study(*options);
     std::cout << "runs: " << outcome.runs_total << " (" << outcome.runs_done_before << " found, "
               << outcome.runs_done_now << " run now)"

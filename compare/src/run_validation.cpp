@@ -13,6 +13,7 @@
 #include <sstream>
 #include <thread>
 
+#include "camplace/core/err.hpp"
 #include "camplace/core/error.hpp"
 #include "camplace/core/files.hpp"
 #include "camplace/core/json_reader.hpp"
@@ -189,9 +190,8 @@ void check_run(const fs::path& dir, const fs::path& file, SceneCache& scenes, Ru
                                  " cameras, the scene " + *scene_path + " " +
                                  std::to_string(scene->scene.cameras.count));
     }
-    row.target = *mode == core::LabelMode::conservative
-                     ? std::max(row.tolerance, row.err_lower_bound)
-                     : row.tolerance;
+    row.target = core::success_target(*mode == core::LabelMode::conservative, row.tolerance,
+                                      row.err_lower_bound);
     const fs::path cache_file =
         dir / kCacheDir /
         (core::sha256_hex(text + "\n" + scene->hash + "\n" + std::to_string(kCacheFormat)) +

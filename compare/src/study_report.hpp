@@ -19,11 +19,16 @@ struct RunRow {
   std::string resolution;
   // the run
   double err = 0, tolerance = 0, seconds = 0;
+  double target = 0;  ///< core::success_target: the tolerance, or max(tolerance, L) (conservative)
   long long evaluations = 0;
   bool reached = false;
   std::string stop_reason;
   double labelling_ms = 0, clustering_ms = 0, distance_ms = 0, total_ms = 0;
   long long vm_peak_kb = 0, vm_hwm_kb = 0;
+  // the exact check (camplace validate), when there is one for this run
+  bool checked = false;
+  double exact_err = 0, max_overestimate = 0;
+  bool reached_exact = false;
 };
 
 /// Writes DIR/runs.csv (one row per run, in the order of `rows`), DIR/report.md (quoting

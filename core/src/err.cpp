@@ -2,6 +2,8 @@
 
 #include "camplace/core/evaluation.hpp"
 
+#include <algorithm>
+
 namespace camplace::core {
 
 double error_functional(const std::vector<ErrTerm>& terms) {
@@ -19,6 +21,10 @@ double error_of(const std::vector<StateResult>& states) {
   terms.reserve(states.size());
   for (const StateResult& s : states) terms.push_back({s.weight, s.d_true, s.d_model});
   return error_functional(terms);
+}
+
+double success_target(bool conservative, double tolerance, double err_lower_bound) {
+  return conservative ? std::max(tolerance, err_lower_bound) : tolerance;
 }
 
 double default_tolerance(const Box3& area, const std::array<int, 3>& resolution) {

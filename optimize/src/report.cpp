@@ -10,6 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "camplace/core/statistics.hpp"
 #include "camplace/core/camera.hpp"
 #include "camplace/core/error.hpp"
 #include "camplace/core/json_reader.hpp"
@@ -22,13 +23,6 @@ constexpr double kRadToDeg = 1.0 / core::kDegree;
 constexpr double kDeg = core::kDegree;
 constexpr int kIntMin = std::numeric_limits<int>::min();
 constexpr int kIntMax = std::numeric_limits<int>::max();
-
-double median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const std::size_t m = values.size() / 2;
-  return values.size() % 2 == 1 ? values[m] : 0.5 * (values[m - 1] + values[m]);
-}
 
 nlohmann::ordered_json cameras_json(const core::CameraConfig& config) {
   // The same text `camplace evaluate --cameras` reads (core::load_camera_config).
@@ -232,10 +226,10 @@ Summary summarize(const std::vector<RunResult>& runs) {
       s.best_run = static_cast<int>(i);
     }
   }
-  s.median_evaluations = median(evals);
-  s.median_seconds = median(secs);
-  s.median_evaluations_reached = median(evals_ok);
-  s.median_seconds_reached = median(secs_ok);
+  s.median_evaluations = core::median(evals);
+  s.median_seconds = core::median(secs);
+  s.median_evaluations_reached = core::median(evals_ok);
+  s.median_seconds_reached = core::median(secs_ok);
   return s;
 }
 

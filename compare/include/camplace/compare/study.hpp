@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "camplace/compare/run_validation.hpp"
+
 namespace camplace::compare {
 
 /// One run of a study, to be carried out as `camplace optimize ARGS` in a process of its own
@@ -34,6 +36,11 @@ struct StudyOptions {
   std::string out_dir;     ///< must exist
   std::string command;     ///< the command line, quoted in the report
   RunLauncher launch;      ///< runs `camplace optimize`
+  /// After the runs, check each against the exact pipeline (validate_runs) and add the check to
+  /// the report. Without it, the report still shows an earlier `camplace validate DIR`.
+  bool validate = false;
+  int validate_threads = 0;  ///< 0 = all cores
+  std::function<void(const ValidationProgress&)> on_validate_progress;
 };
 
 /// What a study run did.
