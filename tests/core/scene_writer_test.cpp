@@ -61,8 +61,9 @@ void expect_same_objects(const std::vector<core::SceneObject>& a,
   }
 }
 
-// Every field of the scene but the file it came from; the objects' entries (JSON pointers) only
-// when both scenes were loaded from files.
+// Every field of the scene but the files it came from (the scene file and its mesh files: the
+// writer writes meshes inline); the objects' entries (JSON pointers) only when both scenes were
+// loaded from files.
 void expect_same_scene(const core::Scene& a, const core::Scene& b, bool entries = true) {
   EXPECT_EQ(a.area.min, b.area.min);
   EXPECT_EQ(a.area.max, b.area.max);
@@ -215,7 +216,9 @@ TEST(SceneWriter, SceneWithEveryFeatureRoundTripsExactly) {
   EXPECT_EQ(scene.time_steps[1].critical[0].entry, "/time_steps/1/critical/0");
   EXPECT_EQ(scene.static_obstacles[1].name, "/static_obstacles/1");
 
-  expect_round_trip(scene, dir);
+  const core::Scene back = expect_round_trip(scene, dir);
+  EXPECT_FALSE(scene.mesh_files.empty());
+  EXPECT_TRUE(back.mesh_files.empty());  // the meshes are written inline
 
   // Each object keeps its form: a tetrahedron's points in the order given (the loader turned
   // its faces outward), a box as min and max, anything else as a mesh.

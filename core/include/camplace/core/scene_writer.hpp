@@ -1,7 +1,8 @@
 #pragma once
 /// The scene file of a Scene (SPEC §2 format): the inverse of load_scene. Loading what is
 /// written gives back the same scene, number for number and vertex for vertex (the objects'
-/// entries are the JSON pointers where they are written, the file is the new path).
+/// entries are the JSON pointers where they are written, the file is the new path, and no
+/// mesh files are referenced: meshes are written inline).
 #include <nlohmann/json.hpp>
 #include <string>
 
