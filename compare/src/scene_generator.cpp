@@ -27,17 +27,18 @@
 #include "camplace/core/files.hpp"
 #include "camplace/core/geometry.hpp"
 #include "camplace/core/scene.hpp"
+#include "camplace/core/scene_writer.hpp"
 
 namespace camplace::compare {
 
 namespace {
 
 using core::Box3;
+using core::SceneObject;
 using core::TriangleMesh;
 using core::Vec3;
-using Json = nlohmann::ordered_json;
 
-constexpr double kPi = 3.14159265358979323846;
+using core::kPi;
 // Generated (non-basic) vertices are rounded to micrometres: readable files, same text.
 constexpr double kRound = 1e6;
 // Random placements keep bounding boxes this far apart (m) and this far inside S's walls.
@@ -49,23 +50,6 @@ constexpr double kTargetMinHeight = 1.45;
 
 // ---------------------------------------------------------------------------------------------
 // Objects
-
-/// One object as written: a tetrahedron (its 4 points as given) or an inline mesh.
-struct Object {
-  std::string name;
-  TriangleMesh mesh;  ///< outward; for a tetrahedron the 4 points in the given order
-  bool tetrahedron = false;
-};
-
-struct Event {
-  double weight = 0.0;
-  std::vector<Object> targets;
-};
-
-struct Step {
-  std::vector<Object> dynamic;
-  std::vector<Event> events;
-};
 
 using Tetra = std::array<Vec3, 4>;  ///< base triangle (points 0, 1, 2) and apex (point 3)
 
@@ -80,14 +64,22 @@ void orient_outward(TriangleMesh& mesh) {
   }
 }
 
-Object tetra_object(const NamedTetra& t) {
-  Object o;
-  o.name = t.name;
-  o.tetrahedron = true;
-  o.mesh.vertices.assign(t.points.begin(), t.points.end());
-  o.mesh.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
-  orient_outward(o.mesh);
+SceneObject scene_object(std::string name, TriangleMesh mesh) {
+  SceneObject o;
+  o.name = std::move(name);
+  o.mesh = std::move(mesh);
+  o.bounds = core::bounding_box(o.mesh);
   return o;
+}
+
+/// The tetrahedron as the scene loader makes it of a "tetrahedron" entry (the 4 points in the
+/// given order, turned outward), so the scene writer writes it as one.
+SceneObject tetra_object(const NamedTetra& t) {
+  TriangleMesh mesh;
+  mesh.vertices.assign(t.points.begin(), t.points.end());
+  mesh.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  orient_outward(mesh);
+  return scene_object(t.name, std::move(mesh));
 }
 
 Vec3 rounded(const Vec3& v) {
@@ -123,7 +115,7 @@ int corners_for(int facets) {
 /// tetrahedron back (written as given); for the n ≥ 8 the facet families use, the polygon
 /// bulges beyond each edge by at most 36 % of the centroid–edge distance (a few cm here; every
 /// generated scene is checked against S and the other objects by the scene loader).
-Object finer(const NamedTetra& t, int facets) {
+SceneObject finer(const NamedTetra& t, int facets) {
   if (facets == 4) return tetra_object(t);
   const int n = corners_for(facets);
   const Vec3& a = t.points[0];
@@ -142,10 +134,7 @@ Object finer(const NamedTetra& t, int facets) {
     const double tau = 2.0 * kPi * j / n;
     ring.push_back(g + scale * (u * std::cos(tau) + w * std::sin(tau)));
   }
-  Object o;
-  o.name = t.name;
-  o.mesh = pyramid(ring, t.points[3]);
-  return o;
+  return scene_object(t.name, pyramid(ring, t.points[3]));
 }
 
 /// Splits `total` facets over `parts` objects: even counts ≥ 4, as equal as possible, the
@@ -259,18 +248,27 @@ std::vector<double> event_weights(int events) {
   }
 }
 
-std::vector<Object> finer_all(const std::vector<NamedTetra>& tetras, int facets) {
-  std::vector<Object> out;
+std::vector<SceneObject> finer_all(const std::vector<NamedTetra>& tetras, int facets) {
+  std::vector<SceneObject> out;
   for (const NamedTetra& t : tetras) out.push_back(finer(t, facets));
   return out;
 }
 
 /// The basic persons at places 0..events−1, each part with `facets` facets.
-std::vector<Event> person_events(int events, int facets) {
+std::vector<core::Event> person_events(int events, int facets) {
   const std::vector<double> weights = event_weights(events);
-  std::vector<Event> out;
+  std::vector<core::Event> out;
   for (int l = 0; l < events; ++l) out.push_back({weights[l], finer_all(person(l), facets)});
   return out;
+}
+
+/// A time step with these robot links and events; its time and critical objects are set when
+/// the scene is finished.
+core::TimeStep time_step(std::vector<SceneObject> dynamic, std::vector<core::Event> events) {
+  core::TimeStep step;
+  step.dynamic_obstacles = std::move(dynamic);
+  step.events = std::move(events);
+  return step;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -302,10 +300,10 @@ struct PyramidShape {
 
 /// Draws pyramids with the given facet counts at random places in S until each has its
 /// bounding box kClearance away from every box in `avoid` (and from the ones drawn before).
-std::vector<Object> place_randomly(std::mt19937& rng, const std::vector<int>& facets,
-                                   const PyramidShape& shape, const std::string& name,
-                                   std::vector<Box3> avoid) {
-  std::vector<Object> out;
+std::vector<SceneObject> place_randomly(std::mt19937& rng, const std::vector<int>& facets,
+                                        const PyramidShape& shape, const std::string& name,
+                                        std::vector<Box3> avoid) {
+  std::vector<SceneObject> out;
   for (std::size_t j = 0; j < facets.size(); ++j) {
     const int n = corners_for(facets[j]);
     const bool upright = shape.upright || j % 2 == 0;
@@ -332,11 +330,10 @@ std::vector<Object> place_randomly(std::mt19937& rng, const std::vector<int>& fa
         continue;
       }
       avoid.push_back(box);
-      Object o;
-      o.name = name + " " + std::to_string(j + 1) + " (" + (upright ? "upright" : "inverted") +
-               " pyramid over a " + std::to_string(n) + "-gon)";
-      o.mesh = std::move(mesh);
-      out.push_back(std::move(o));
+      out.push_back(scene_object(name + " " + std::to_string(j + 1) + " (" +
+                                     (upright ? "upright" : "inverted") + " pyramid over a " +
+                                     std::to_string(n) + "-gon)",
+                                 std::move(mesh)));
       placed = true;
     }
     // The free floor of S is far larger than what these objects need: not finding a place is a
@@ -346,9 +343,9 @@ std::vector<Object> place_randomly(std::mt19937& rng, const std::vector<int>& fa
   return out;
 }
 
-std::vector<Box3> boxes_of(const std::vector<Object>& objects) {
+std::vector<Box3> boxes_of(const std::vector<SceneObject>& objects) {
   std::vector<Box3> out;
-  for (const Object& o : objects) out.push_back(core::bounding_box(o.mesh));
+  for (const SceneObject& o : objects) out.push_back(o.bounds);
   return out;
 }
 
@@ -379,85 +376,29 @@ const std::vector<SceneFamily> kFamilies = {
      "cameras in the upper fourth of S's height only (domain preset upper_fourth)"},
 };
 
-struct SceneSpec {
-  std::array<int, 3> voxels = kBasicVoxels;
-  int cameras = kBasicCameras;
-  std::string domain = "room";
-  std::vector<Object> statics;
-  std::vector<Step> steps;
-  std::string note;
+/// A generated scene and what its description says beyond the scene itself.
+struct GeneratedScene {
+  core::Scene scene;
+  std::string domain = "room";  ///< the cameras' domain preset
+  std::string note;             ///< appended to the description
 };
 
-SceneSpec basic_scene() {
-  SceneSpec s;
-  s.statics = finer_all(basic_static(), 4);
-  for (int h = 0; h < 2; ++h) s.steps.push_back({finer_all(robot_pose(h), 4), person_events(3, 4)});
-  return s;
-}
-
-SceneSpec build(const SceneFamily& family, int i, unsigned seed) {
-  SceneSpec s = basic_scene();
-  const std::string& f = family.name;
-  std::mt19937 rng(seed);
-  if (f == "resolution") {
-    s.voxels = {16 + 4 * i, 12 + 3 * i, 12 + 3 * i};
-  } else if (f == "static_facets") {
-    s.statics = finer_all(basic_static(), 4 + 30 * i);
-  } else if (f == "static_objects") {
-    std::vector<NamedTetra> tetras = basic_static();
-    const std::vector<NamedTetra> extra = extra_static();
-    tetras.insert(tetras.end(), extra.begin(), extra.begin() + i);
-    s.statics = finer_all(tetras, 4);
-    s.note =
-        " Note: SPEC §9 lists \"6+4i facets at 2+i objects\", impossible for closed "
-        "polyhedra (each has at least 4 facets); this scene has 2+i tetrahedra, 8+4i facets.";
-  } else if (f == "dynamic_facets") {
-    for (int h = 0; h < 2; ++h) s.steps[h].dynamic = finer_all(robot_pose(h), 4 + 10 * i);
-  } else if (f == "dynamic_objects") {
-    s.steps.resize(1);
-    std::vector<Box3> avoid = boxes_of(s.statics);
-    for (const Event& e : s.steps[0].events) {
-      const std::vector<Box3> b = boxes_of(e.targets);
-      avoid.insert(avoid.end(), b.begin(), b.end());
-    }
-    // Robot-like links on the floor, tops in [0.5, 0.95] m (< 1 m, see the file comment).
-    const PyramidShape shape{0.15, 0.3, 0.5, 0.95, 0.5, true};
-    s.steps[0].dynamic =
-        place_randomly(rng, split_facets(24 + 4 * i, 2 + i), shape, "robot part", avoid);
-  } else if (f == "dynamic_steps") {
-    s.steps.clear();
-    for (int h = 0; h < i; ++h)
-      s.steps.push_back({finer_all(two_link_robot(h), 4), person_events(3, 4)});
-  } else if (f == "unmodelled_facets") {
-    for (Step& step : s.steps) step.events = person_events(3, 4 + 10 * i);
-  } else if (f == "unmodelled_objects") {
-    std::vector<Box3> avoid = boxes_of(s.statics);
-    for (const Step& step : s.steps) {
-      const std::vector<Box3> b = boxes_of(step.dynamic);
-      avoid.insert(avoid.end(), b.begin(), b.end());
-    }
-    // Person-part-like pyramids 1.5–1.9 m tall (≥ 1.45 m, see the file comment), alternately
-    // upright (like legs-head) and inverted (like shoulders-feet).
-    const PyramidShape shape{0.15, 0.3, 1.5, 1.9, 0.3, false};
-    const Event event{1.0,
-                      place_randomly(rng, split_facets(24 + 4 * i, 2 + i), shape, "target", avoid)};
-    for (Step& step : s.steps) step.events = {event};
-  } else if (f == "unmodelled_events") {
-    s.steps.clear();
-    for (int h = 0; h < 3; ++h)
-      s.steps.push_back({finer_all(robot_pose(h), 4), person_events(i, 4)});
-  } else if (f == "cameras") {
-    s.cameras = i;
-  } else if (f == "domain_ceiling") {
-    s.domain = "ceiling";
-  } else if (f == "domain_upper_fourth") {
-    s.domain = "upper_fourth";
+GeneratedScene basic_scene() {
+  GeneratedScene g;
+  core::Scene& s = g.scene;
+  s.area = kArea;
+  s.voxels = kBasicVoxels;
+  s.cameras.count = kBasicCameras;
+  s.cameras.half_angle = 30.0 * core::kDegree;  // "half_angle_deg": 30, as the loader reads it
+  s.cameras.fov = core::FovShape::cone;
+  s.cameras.sides = 16;
+  s.static_obstacles = finer_all(basic_static(), 4);
+  for (int h = 0; h < 2; ++h) {
+    s.time_steps.push_back(time_step(finer_all(robot_pose(h), 4), person_events(3, 4)));
   }
-  return s;
+  s.dynamic_mode = core::DynamicMode::masked;
+  return g;
 }
-
-// ---------------------------------------------------------------------------------------------
-// Output
 
 /// x rounded down to 6 decimals, never above x.
 double floor6(double x) {
@@ -466,49 +407,120 @@ double floor6(double x) {
   return k / 1e6;
 }
 
-Json vec_json(const Vec3& v) { return Json::array({v.x(), v.y(), v.z()}); }
-
-Json object_json(const Object& o) {
-  Json j;
-  j["name"] = o.name;
-  if (o.tetrahedron) {
-    Json points = Json::array();
-    for (const Vec3& v : o.mesh.vertices) points.push_back(vec_json(v));
-    j["tetrahedron"] = points;
-  } else {
-    Json vertices = Json::array(), triangles = Json::array();
-    for (const Vec3& v : o.mesh.vertices) vertices.push_back(vec_json(v));
-    for (const auto& t : o.mesh.triangles) triangles.push_back(Json::array({t[0], t[1], t[2]}));
-    j["mesh"] = {{"vertices", vertices}, {"triangles", triangles}};
+/// What every family shares once its objects are placed: the domains of the preset, the times
+/// h and the critical objects of the time steps (SPEC §2 defaults), the plausibility thresholds.
+void finish(GeneratedScene& g) {
+  core::Scene& s = g.scene;
+  const std::optional<core::CameraDomain> domain = core::domain_preset(s.area, g.domain);
+  CAMPLACE_ASSERT(domain.has_value());
+  s.cameras.domains.assign(s.cameras.count, *domain);
+  for (std::size_t h = 0; h < s.time_steps.size(); ++h) {
+    s.time_steps[h].t = static_cast<double>(h);
+    s.time_steps[h].critical = s.time_steps[h].dynamic_obstacles;
   }
-  return j;
+  // The smallest target part, rounded down: a component holding a whole part is never smaller,
+  // so no true target part is discarded (data/README.md, "plausibility").
+  double min_volume = INFINITY, min_height = INFINITY;
+  for (const core::TimeStep& step : s.time_steps) {
+    for (const core::Event& e : step.events) {
+      for (const SceneObject& o : e.targets) {
+        min_volume = std::min(min_volume, std::abs(core::signed_volume(o.mesh)));
+        min_height = std::min(min_height, o.bounds.size().z());
+      }
+    }
+  }
+  s.plausibility = {floor6(min_volume), floor6(min_height)};
 }
 
-Json objects_json(const std::vector<Object>& objects) {
-  Json list = Json::array();
-  for (const Object& o : objects) list.push_back(object_json(o));
-  return list;
+GeneratedScene build(const SceneFamily& family, int i, unsigned seed) {
+  GeneratedScene g = basic_scene();
+  core::Scene& s = g.scene;
+  const std::string& f = family.name;
+  std::mt19937 rng(seed);
+  if (f == "resolution") {
+    s.voxels = {16 + 4 * i, 12 + 3 * i, 12 + 3 * i};
+  } else if (f == "static_facets") {
+    s.static_obstacles = finer_all(basic_static(), 4 + 30 * i);
+  } else if (f == "static_objects") {
+    std::vector<NamedTetra> tetras = basic_static();
+    const std::vector<NamedTetra> extra = extra_static();
+    tetras.insert(tetras.end(), extra.begin(), extra.begin() + i);
+    s.static_obstacles = finer_all(tetras, 4);
+    g.note =
+        " Note: SPEC §9 lists \"6+4i facets at 2+i objects\", impossible for closed "
+        "polyhedra (each has at least 4 facets); this scene has 2+i tetrahedra, 8+4i facets.";
+  } else if (f == "dynamic_facets") {
+    for (int h = 0; h < 2; ++h) {
+      s.time_steps[h].dynamic_obstacles = finer_all(robot_pose(h), 4 + 10 * i);
+    }
+  } else if (f == "dynamic_objects") {
+    s.time_steps.resize(1);
+    std::vector<Box3> avoid = boxes_of(s.static_obstacles);
+    for (const core::Event& e : s.time_steps[0].events) {
+      const std::vector<Box3> b = boxes_of(e.targets);
+      avoid.insert(avoid.end(), b.begin(), b.end());
+    }
+    // Robot-like links on the floor, tops in [0.5, 0.95] m (< 1 m, see the file comment).
+    const PyramidShape shape{0.15, 0.3, 0.5, 0.95, 0.5, true};
+    s.time_steps[0].dynamic_obstacles =
+        place_randomly(rng, split_facets(24 + 4 * i, 2 + i), shape, "robot part", avoid);
+  } else if (f == "dynamic_steps") {
+    s.time_steps.clear();
+    for (int h = 0; h < i; ++h) {
+      s.time_steps.push_back(time_step(finer_all(two_link_robot(h), 4), person_events(3, 4)));
+    }
+  } else if (f == "unmodelled_facets") {
+    for (core::TimeStep& step : s.time_steps) step.events = person_events(3, 4 + 10 * i);
+  } else if (f == "unmodelled_objects") {
+    std::vector<Box3> avoid = boxes_of(s.static_obstacles);
+    for (const core::TimeStep& step : s.time_steps) {
+      const std::vector<Box3> b = boxes_of(step.dynamic_obstacles);
+      avoid.insert(avoid.end(), b.begin(), b.end());
+    }
+    // Person-part-like pyramids 1.5–1.9 m tall (≥ 1.45 m, see the file comment), alternately
+    // upright (like legs-head) and inverted (like shoulders-feet).
+    const PyramidShape shape{0.15, 0.3, 1.5, 1.9, 0.3, false};
+    const core::Event event{
+        1.0, place_randomly(rng, split_facets(24 + 4 * i, 2 + i), shape, "target", avoid)};
+    for (core::TimeStep& step : s.time_steps) step.events = {event};
+  } else if (f == "unmodelled_events") {
+    s.time_steps.clear();
+    for (int h = 0; h < 3; ++h) {
+      s.time_steps.push_back(time_step(finer_all(robot_pose(h), 4), person_events(i, 4)));
+    }
+  } else if (f == "cameras") {
+    s.cameras.count = i;
+  } else if (f == "domain_ceiling") {
+    g.domain = "ceiling";
+  } else if (f == "domain_upper_fourth") {
+    g.domain = "upper_fourth";
+  }
+  finish(g);
+  return g;
 }
 
-std::size_t facets_of(const std::vector<Object>& objects) {
+// ---------------------------------------------------------------------------------------------
+// Output
+
+std::size_t facets_of(const std::vector<SceneObject>& objects) {
   std::size_t n = 0;
-  for (const Object& o : objects) n += o.mesh.triangles.size();
+  for (const SceneObject& o : objects) n += o.mesh.triangles.size();
   return n;
 }
 
 /// Internal invariants of every generated scene (the scene loader checks the rest).
-void check_invariants(const SceneSpec& s) {
-  CAMPLACE_ASSERT(!s.steps.empty());
-  for (const Step& step : s.steps) {
-    CAMPLACE_ASSERT(!step.dynamic.empty());  // the critical objects (SPEC §2 default)
-    for (const Object& o : step.dynamic) {
-      CAMPLACE_ASSERT(core::bounding_box(o.mesh).max.z() < kDynamicTopLimit);
+void check_invariants(const core::Scene& s) {
+  CAMPLACE_ASSERT(!s.time_steps.empty());
+  for (const core::TimeStep& step : s.time_steps) {
+    CAMPLACE_ASSERT(!step.critical.empty());
+    for (const SceneObject& o : step.dynamic_obstacles) {
+      CAMPLACE_ASSERT(o.bounds.max.z() < kDynamicTopLimit);
     }
     double sum = 0.0;
-    for (const Event& e : step.events) {
+    for (const core::Event& e : step.events) {
       sum += e.weight;
-      for (const Object& o : e.targets) {
-        CAMPLACE_ASSERT(core::bounding_box(o.mesh).size().z() >= kTargetMinHeight);
+      for (const SceneObject& o : e.targets) {
+        CAMPLACE_ASSERT(o.bounds.size().z() >= kTargetMinHeight);
       }
     }
     CAMPLACE_ASSERT(std::abs(sum - 1.0) < 1e-12);
@@ -516,14 +528,16 @@ void check_invariants(const SceneSpec& s) {
 }
 
 std::string describe(const SceneFamily& family, std::optional<int> param, unsigned seed,
-                     const SceneSpec& s) {
+                     const GeneratedScene& g) {
+  const core::Scene& s = g.scene;
   std::size_t dyn_facets = 0, dyn_objects = 0;
-  for (const Step& step : s.steps) {
-    dyn_facets += facets_of(step.dynamic);
-    dyn_objects += step.dynamic.size();
+  for (const core::TimeStep& step : s.time_steps) {
+    dyn_facets += facets_of(step.dynamic_obstacles);
+    dyn_objects += step.dynamic_obstacles.size();
   }
+  const std::vector<core::Event>& events = s.time_steps[0].events;
   std::size_t target_facets = 0, target_objects = 0;
-  for (const Event& e : s.steps[0].events) {
+  for (const core::Event& e : events) {
     target_facets += facets_of(e.targets);
     target_objects += e.targets.size();
   }
@@ -535,55 +549,15 @@ std::string describe(const SceneFamily& family, std::optional<int> param, unsign
   if (param) d << ", param i = " << *param;
   d << " (" << family.what << "), seed " << seed
     << (family.random ? "" : " (the placement does not depend on the seed)") << ". Static "
-    << facets_of(s.statics) << " facets at " << s.statics.size() << " objects; dynamic "
-    << dyn_facets << " facets at " << dyn_objects << " objects in " << s.steps.size()
-    << " time step" << (s.steps.size() == 1 ? "" : "s") << "; unmodelled " << target_facets
-    << " facets at " << target_objects << " objects in " << s.steps[0].events.size() << " event"
-    << (s.steps[0].events.size() == 1 ? "" : "s") << " (the same targets in every time step); "
-    << s.cameras << " cameras, domain " << s.domain << "; voxels " << s.voxels[0] << "x"
-    << s.voxels[1] << "x" << s.voxels[2] << "." << s.note;
+    << facets_of(s.static_obstacles) << " facets at " << s.static_obstacles.size()
+    << " objects; dynamic " << dyn_facets << " facets at " << dyn_objects << " objects in "
+    << s.time_steps.size() << " time step" << (s.time_steps.size() == 1 ? "" : "s")
+    << "; unmodelled " << target_facets << " facets at " << target_objects << " objects in "
+    << events.size() << " event" << (events.size() == 1 ? "" : "s")
+    << " (the same targets in every time step); " << s.cameras.count << " cameras, domain "
+    << g.domain << "; voxels " << s.voxels[0] << "x" << s.voxels[1] << "x" << s.voxels[2] << "."
+    << g.note;
   return d.str();
-}
-
-std::string scene_json(const SceneSpec& s, const std::string& description) {
-  check_invariants(s);
-  double min_volume = INFINITY, min_height = INFINITY;
-  for (const Step& step : s.steps) {
-    for (const Event& e : step.events) {
-      for (const Object& o : e.targets) {
-        min_volume = std::min(min_volume, std::abs(core::signed_volume(o.mesh)));
-        min_height = std::min(min_height, core::bounding_box(o.mesh).size().z());
-      }
-    }
-  }
-  Json doc;
-  doc["description"] = description;
-  doc["area"] = {{"min", vec_json(kArea.min)}, {"max", vec_json(kArea.max)}};
-  doc["voxels"] = Json::array({s.voxels[0], s.voxels[1], s.voxels[2]});
-  doc["cameras"] = {{"count", s.cameras},
-                    {"half_angle_deg", 30},
-                    {"fov", "cone"},
-                    {"sides", 16},
-                    {"domain", s.domain}};
-  doc["static_obstacles"] = objects_json(s.statics);
-  Json steps = Json::array();
-  for (std::size_t h = 0; h < s.steps.size(); ++h) {
-    Json events = Json::array();
-    for (const Event& e : s.steps[h].events) {
-      events.push_back({{"weight", e.weight}, {"targets", objects_json(e.targets)}});
-    }
-    Json step;
-    step["t"] = static_cast<double>(h);
-    step["dynamic_obstacles"] = objects_json(s.steps[h].dynamic);
-    step["events"] = events;
-    steps.push_back(step);
-  }
-  doc["time_steps"] = steps;
-  doc["dynamic_mode"] = "masked";
-  // The smallest target part, rounded down: a component holding a whole part is never smaller,
-  // so no true target part is discarded (data/README.md, "plausibility").
-  doc["plausibility"] = {{"min_volume", floor6(min_volume)}, {"min_height", floor6(min_height)}};
-  return doc.dump(1) + "\n";
 }
 
 const SceneFamily& find_family(const std::string& name) {
@@ -622,8 +596,10 @@ std::string generate_scene_json(const std::string& family, std::optional<int> pa
                                 unsigned seed) {
   const SceneFamily& f = find_family(family);
   check_param(f, param);
-  const SceneSpec spec = build(f, param.value_or(0), seed);
-  return scene_json(spec, describe(f, param, seed, spec));
+  const GeneratedScene g = build(f, param.value_or(0), seed);
+  check_invariants(g.scene);
+  // The scene file as the scene writer writes it; the description names family, param, seed.
+  return core::scene_text(g.scene, describe(f, param, seed, g));
 }
 
 std::string write_generated_scene(const std::string& family, std::optional<int> param,

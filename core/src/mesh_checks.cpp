@@ -62,18 +62,22 @@ std::vector<double> component_volumes(Mesh& sm) {
 }
 
 /// Removes vertices no triangle uses (they are not part of the solid, and CGAL's volume
-/// tests fail on isolated vertices); indices are renumbered.
+/// tests fail on isolated vertices); indices are renumbered. The kept vertices keep their
+/// order, so a mesh using all its vertices is left as it is (and the scene writer's output
+/// loads back vertex for vertex).
 void drop_unused_vertices(TriangleMesh& mesh) {
   std::vector<int> new_index(mesh.vertices.size(), -1);
+  for (const auto& t : mesh.triangles) {
+    for (const int idx : t) new_index[idx] = 0;
+  }
   std::vector<Vec3> used;
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    if (new_index[i] < 0) continue;
+    new_index[i] = static_cast<int>(used.size());
+    used.push_back(mesh.vertices[i]);
+  }
   for (auto& t : mesh.triangles) {
-    for (int& idx : t) {
-      if (new_index[idx] < 0) {
-        new_index[idx] = static_cast<int>(used.size());
-        used.push_back(mesh.vertices[idx]);
-      }
-      idx = new_index[idx];
-    }
+    for (int& idx : t) idx = new_index[idx];
   }
   mesh.vertices = std::move(used);
 }

@@ -11,6 +11,7 @@
 #include "camplace/core/json_reader.hpp"
 #include "camplace/core/names.hpp"
 #include "mesh_checks.hpp"
+#include "scene_format.hpp"
 
 namespace camplace::core {
 
@@ -23,18 +24,6 @@ constexpr double kAreaSlack = 1e-9;
 std::string format_vec(const Vec3& v) {
   return "[" + format_number(v.x()) + ", " + format_number(v.y()) + ", " + format_number(v.z()) +
          "]";
-}
-
-TriangleMesh box_mesh(const Vec3& lo, const Vec3& hi) {
-  TriangleMesh m;
-  for (int i = 0; i < 8; ++i) {
-    m.vertices.emplace_back((i & 1) ? hi.x() : lo.x(), (i & 2) ? hi.y() : lo.y(),
-                            (i & 4) ? hi.z() : lo.z());
-  }
-  // Outward (counter-clockwise seen from outside) faces: -x, +x, -y, +y, -z, +z.
-  m.triangles = {{0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}, {0, 1, 5}, {0, 5, 4},
-                 {2, 6, 7}, {2, 7, 3}, {0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}};
-  return m;
 }
 
 Eigen::Matrix3d rotation_deg(const Vec3& deg) {
@@ -149,10 +138,6 @@ class SceneParser {
 
   CameraDomain parse_domain(const JsonNode& node) const {
     const Box3& s = scene_.area;
-    CameraDomain d;
-    d.x = {s.min.x(), s.max.x()};
-    d.y = {s.min.y(), s.max.y()};
-    d.z = {s.min.z(), s.max.z()};
     std::string preset = "room";
     if (node.is_string()) {
       preset = node.string();
@@ -160,15 +145,13 @@ class SceneParser {
       node.only_keys({"preset", "x", "y", "z", "yaw_deg", "pitch_deg"});
       if (node.has("preset")) preset = node.at("preset").string();
     }
-    if (preset == "ceiling") {
-      d.z = {s.max.z(), s.max.z()};
-    } else if (preset == "upper_fourth") {
-      d.z = {s.max.z() - 0.25 * (s.max.z() - s.min.z()), s.max.z()};
-    } else if (preset != "room") {
+    const std::optional<CameraDomain> base = domain_preset(s, preset);
+    if (!base) {
       (node.is_string() ? node : node.at("preset"))
           .fail("unknown domain preset \"" + preset +
                 "\" (expected room, ceiling or upper_fourth)");
     }
+    CameraDomain d = *base;
     if (node.is_object()) {
       if (node.has("x")) d.x = parse_interval(node.at("x"), s.min.x(), s.max.x(), 1.0);
       if (node.has("y")) d.y = parse_interval(node.at("y"), s.min.y(), s.max.y(), 1.0);
@@ -234,12 +217,13 @@ class SceneParser {
       const Vec3 lo = b.at("min").vec3(), hi = b.at("max").vec3();
       if (!((lo.array() < hi.array()).all()))
         b.fail("box is degenerate: min must be below max on every axis");
-      object.mesh = box_mesh(lo, hi);
+      object.mesh = detail::box_mesh(lo, hi);
     } else if (node.has("tetrahedron")) {
       const JsonNode t = node.at("tetrahedron");
       if (t.array_size() != 4) t.fail("a tetrahedron needs exactly 4 points");
-      for (std::size_t i = 0; i < 4; ++i) object.mesh.vertices.push_back(t.at(i).vec3());
-      object.mesh.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+      std::vector<Vec3> points;
+      for (std::size_t i = 0; i < 4; ++i) points.push_back(t.at(i).vec3());
+      object.mesh = detail::tetrahedron_mesh(points);
     } else if (node.has("mesh")) {
       const JsonNode m = node.at("mesh");
       m.only_keys({"vertices", "triangles"});
@@ -357,6 +341,21 @@ std::vector<StateIndex> states(const Scene& scene) {
       out.push_back({h, l});
   }
   return out;
+}
+
+std::optional<CameraDomain> domain_preset(const Box3& area, const std::string& name) {
+  CameraDomain d;
+  d.x = {area.min.x(), area.max.x()};
+  d.y = {area.min.y(), area.max.y()};
+  d.z = {area.min.z(), area.max.z()};
+  if (name == "ceiling") {
+    d.z = {area.max.z(), area.max.z()};
+  } else if (name == "upper_fourth") {
+    d.z = {area.max.z() - 0.25 * (area.max.z() - area.min.z()), area.max.z()};
+  } else if (name != "room") {
+    return std::nullopt;
+  }
+  return d;
 }
 
 Scene load_scene(const std::string& path) { return SceneParser(path).parse(); }

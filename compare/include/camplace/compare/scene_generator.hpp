@@ -20,7 +20,7 @@ struct SceneFamily {
 /// All families, in the order of the SPEC §9 table.
 const std::vector<SceneFamily>& scene_families();
 
-/// The scene JSON (SPEC §2 format, keys as in data/paper_basic.json, with a "description"
+/// The scene JSON (SPEC §2 format as core::scene_text writes it, with a "description"
 /// naming family, param, seed and the facet and object counts) of `family` with parameter
 /// `param` (must be empty exactly for the families without one); random placements are drawn
 /// from std::mt19937(seed). Same arguments ⇒ identical text. Throws

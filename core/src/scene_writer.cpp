@@ -1,0 +1,217 @@
+// Scene writing: the inverse of the scene loader (scene.cpp, SPEC §2).
+#include "camplace/core/scene_writer.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "camplace/core/error.hpp"
+#include "camplace/core/files.hpp"
+#include "camplace/core/names.hpp"
+#include "scene_format.hpp"
+
+namespace camplace::core {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+constexpr double kDeg = kDegree;  // as the loader reads *_deg entries
+
+Json vec_json(const Vec3& v) { return Json::array({v.x(), v.y(), v.z()}); }
+
+/// A whole number as a JSON integer (30, as hand-written scene files have it), else the double.
+Json number_json(double v) {
+  if (v == std::trunc(v) && std::abs(v) < 1e15) return Json(static_cast<long long>(v));
+  return Json(v);
+}
+
+/// v rounded to `digits` significant decimal digits (to_chars/from_chars: no locale).
+double round_to_digits(double v, int digits) {
+  char buffer[64];
+  const auto written =
+      std::to_chars(buffer, buffer + sizeof buffer, v, std::chars_format::scientific, digits - 1);
+  double r = v;
+  std::from_chars(buffer, written.ptr, r);
+  return r;
+}
+
+/// The degree value the loader reads back as exactly `radians` (d · kDeg), the shortest in
+/// decimal: 30 for the radians of "30".
+Json degrees_json(double radians) {
+  // d ↦ d · kDeg is monotone and each rounding moves the result by at most half an ulp, so
+  // every d the loader turns into `radians` lies within 2 ulps of radians / kDeg.
+  const double nearest = radians / kDeg;
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::vector<double> exact;
+  double d = nearest;
+  for (int k = 0; k < 4; ++k) d = std::nextafter(d, -kInf);
+  for (int k = 0; k < 9; ++k, d = std::nextafter(d, kInf)) {
+    if (d * kDeg == radians) exact.push_back(d);
+  }
+  // Nearest first: of two equally short decimals the one closer to radians / kDeg (0, never a
+  // denormal whose product also rounds to 0).
+  std::stable_sort(exact.begin(), exact.end(), [&](double a, double b) {
+    return std::abs(a - nearest) < std::abs(b - nearest);
+  });
+  // No degree value gives these radians (they were not read from a scene file): the nearest.
+  if (exact.empty()) return number_json(nearest);
+  for (int digits = 1; digits <= 17; ++digits) {
+    for (const double candidate : exact) {
+      const double rounded = round_to_digits(candidate, digits);
+      if (rounded * kDeg == radians) return number_json(rounded);
+    }
+  }
+  return number_json(exact.front());  // 17 digits always read back exactly
+}
+
+Json interval_json(const Interval& iv) { return Json::array({iv.lo, iv.hi}); }
+
+Json degrees_interval_json(const Interval& iv) {
+  return Json::array({degrees_json(iv.lo), degrees_json(iv.hi)});
+}
+
+bool same_interval(const Interval& a, const Interval& b) { return a.lo == b.lo && a.hi == b.hi; }
+
+bool same_domain(const CameraDomain& a, const CameraDomain& b) {
+  return same_interval(a.x, b.x) && same_interval(a.y, b.y) && same_interval(a.z, b.z) &&
+         same_interval(a.yaw, b.yaw) && same_interval(a.pitch, b.pitch);
+}
+
+/// A preset's name when the domain is exactly that preset, else {x, y, z[, yaw_deg, pitch_deg]}.
+Json domain_json(const Box3& area, const CameraDomain& d) {
+  for (const char* preset : {"room", "ceiling", "upper_fourth"}) {
+    if (same_domain(d, *domain_preset(area, preset))) return preset;
+  }
+  const CameraDomain unrestricted;
+  Json j;
+  j["x"] = interval_json(d.x);
+  j["y"] = interval_json(d.y);
+  j["z"] = interval_json(d.z);
+  if (!same_interval(d.yaw, unrestricted.yaw)) j["yaw_deg"] = degrees_interval_json(d.yaw);
+  if (!same_interval(d.pitch, unrestricted.pitch)) j["pitch_deg"] = degrees_interval_json(d.pitch);
+  return j;
+}
+
+Json cameras_json(const Scene& scene) {
+  const CameraSpec& c = scene.cameras;
+  CAMPLACE_ASSERT(c.count >= 1 && c.domains.size() == static_cast<std::size_t>(c.count));
+  Json j;
+  j["count"] = c.count;
+  j["half_angle_deg"] = degrees_json(c.half_angle);
+  j["fov"] = name_of(c.fov);
+  j["sides"] = c.sides;
+  if (c.range) j["range"] = *c.range;
+  bool shared = true;
+  for (const CameraDomain& d : c.domains) shared = shared && same_domain(d, c.domains.front());
+  if (shared) {
+    j["domain"] = domain_json(scene.area, c.domains.front());
+  } else {
+    Json list = Json::array();
+    for (const CameraDomain& d : c.domains) list.push_back(domain_json(scene.area, d));
+    j["camera_domains"] = list;
+  }
+  return j;
+}
+
+bool is_box(const TriangleMesh& mesh) {
+  if (mesh.vertices.size() != 8) return false;
+  const Vec3& lo = mesh.vertices.front();
+  const Vec3& hi = mesh.vertices.back();
+  if (!(lo.array() < hi.array()).all()) return false;
+  const TriangleMesh box = detail::box_mesh(lo, hi);
+  return mesh.vertices == box.vertices && mesh.triangles == box.triangles;
+}
+
+bool is_tetrahedron(const TriangleMesh& mesh) {
+  if (mesh.vertices.size() != 4) return false;
+  TriangleMesh tetra = detail::tetrahedron_mesh(mesh.vertices);
+  // Turned outward as the loader does (validate_and_orient).
+  if (signed_volume(tetra) < 0) {
+    for (auto& t : tetra.triangles) std::swap(t[1], t[2]);
+  }
+  return mesh.triangles == tetra.triangles;
+}
+
+Json object_json(const SceneObject& o) {
+  Json j;
+  j["name"] = o.name;
+  if (is_tetrahedron(o.mesh)) {
+    Json points = Json::array();
+    for (const Vec3& v : o.mesh.vertices) points.push_back(vec_json(v));
+    j["tetrahedron"] = points;
+  } else if (is_box(o.mesh)) {
+    j["box"] = {{"min", vec_json(o.mesh.vertices.front())},
+                {"max", vec_json(o.mesh.vertices.back())}};
+  } else {
+    Json vertices = Json::array(), triangles = Json::array();
+    for (const Vec3& v : o.mesh.vertices) vertices.push_back(vec_json(v));
+    for (const auto& t : o.mesh.triangles) triangles.push_back(Json::array({t[0], t[1], t[2]}));
+    j["mesh"] = {{"vertices", vertices}, {"triangles", triangles}};
+  }
+  return j;
+}
+
+Json objects_json(const std::vector<SceneObject>& objects) {
+  Json list = Json::array();
+  for (const SceneObject& o : objects) list.push_back(object_json(o));
+  return list;
+}
+
+bool same_objects(const std::vector<SceneObject>& a, const std::vector<SceneObject>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    if (a[k].name != b[k].name || a[k].entry != b[k].entry ||
+        a[k].mesh.vertices != b[k].mesh.vertices || a[k].mesh.triangles != b[k].mesh.triangles) {
+      return false;
+    }
+  }
+  return true;
+}
+
+Json time_step_json(const TimeStep& step) {
+  Json j;
+  j["t"] = step.t;
+  j["dynamic_obstacles"] = objects_json(step.dynamic_obstacles);
+  // The loader's default (SPEC §2) copies the dynamic obstacles, entries included.
+  if (!same_objects(step.critical, step.dynamic_obstacles)) {
+    j["critical"] = objects_json(step.critical);
+  }
+  Json events = Json::array();
+  for (const Event& e : step.events) {
+    events.push_back({{"weight", e.weight}, {"targets", objects_json(e.targets)}});
+  }
+  j["events"] = events;
+  return j;
+}
+
+}  // namespace
+
+nlohmann::ordered_json scene_json(const Scene& scene, const std::string& description) {
+  Json doc;
+  if (!description.empty()) doc["description"] = description;
+  doc["area"] = {{"min", vec_json(scene.area.min)}, {"max", vec_json(scene.area.max)}};
+  doc["voxels"] = Json::array({scene.voxels[0], scene.voxels[1], scene.voxels[2]});
+  doc["cameras"] = cameras_json(scene);
+  doc["static_obstacles"] = objects_json(scene.static_obstacles);
+  Json steps = Json::array();
+  for (const TimeStep& step : scene.time_steps) steps.push_back(time_step_json(step));
+  doc["time_steps"] = steps;
+  doc["dynamic_mode"] = name_of(scene.dynamic_mode);
+  const Plausibility& p = scene.plausibility;
+  if (p.min_volume != 0.0 || p.min_height != 0.0) {
+    doc["plausibility"] = {{"min_volume", p.min_volume}, {"min_height", p.min_height}};
+  }
+  return doc;
+}
+
+std::string scene_text(const Scene& scene, const std::string& description) {
+  return scene_json(scene, description).dump(1) + "\n";
+}
+
+void write_scene(const Scene& scene, const std::string& path, const std::string& description) {
+  write_file_atomically(path, scene_text(scene, description));
+}
+
+}  // namespace camplace::core
