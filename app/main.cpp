@@ -47,7 +47,9 @@ int main(int argc, char** argv) {
     return 1;
   } catch (const camplace::core::OptionError& e) {
     // Libraries name options as their structs do; on the command line each is its flag.
-    std::cerr << "error: command line: --" << e.option() << ": " << e.reason() << "\n";
+    // Positional arguments keep their upper-case name (FAMILY); options are --name.
+    const std::string flag = e.option() == "family" ? "FAMILY" : "--" + e.option();
+    std::cerr << "error: command line: " << flag << ": " << e.reason() << "\n";
     return 1;
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";

@@ -566,24 +566,21 @@ const SceneFamily& find_family(const std::string& name) {
   }
   std::string names;
   for (const SceneFamily& f : kFamilies) names += (names.empty() ? "" : ", ") + f.name;
-  throw core::InputError("command line", "FAMILY",
-                         "unknown scene family \"" + name + "\" (expected one of: " + names + ")");
+  throw core::OptionError("family", "unknown scene family \"" + name + "\" (expected one of: " + names + ")");
 }
 
 void check_param(const SceneFamily& f, std::optional<int> param) {
   const std::string range =
       "[" + std::to_string(f.min_param) + ", " + std::to_string(f.max_param) + "]";
   if (f.has_param && !param) {
-    throw core::InputError(
-        "command line", "--param",
-        "family " + f.name + " needs --param i with i in " + range + " (" + f.what + ")");
+    throw core::OptionError("param", "family " + f.name + " needs a parameter i in " + range +
+                                         " (" + f.what + ")");
   }
   if (!f.has_param && param) {
-    throw core::InputError("command line", "--param", "family " + f.name + " takes no --param");
+    throw core::OptionError("param", "family " + f.name + " takes no parameter");
   }
   if (param && (*param < f.min_param || *param > f.max_param)) {
-    throw core::InputError("command line", "--param",
-                           "family " + f.name + " takes i in " + range + " (" + f.what + "), got " +
+    throw core::OptionError("param", "family " + f.name + " takes i in " + range + " (" + f.what + "), got " +
                                std::to_string(*param));
   }
 }
@@ -610,13 +607,13 @@ std::string write_generated_scene(const std::string& family, std::optional<int> 
   // then renamed: a scene that does not load is never published.
   std::error_code ec;
   if (path.empty() || fs::is_directory(path, ec)) {
-    throw core::InputError("command line", "--out", "\"" + path + "\" is not a file name");
+    throw core::OptionError("out", "\"" + path + "\" is not a file name");
   }
   const std::string check = path + ".check" + std::to_string(::getpid());
   try {
     core::write_file_atomically(check, text);
   } catch (const std::exception& e) {
-    throw core::InputError("command line", "--out", e.what());
+    throw core::OptionError("out", e.what());
   }
   try {
     (void)core::load_scene(check);
@@ -630,7 +627,7 @@ std::string write_generated_scene(const std::string& family, std::optional<int> 
   if (ec) {
     const std::string reason = ec.message();
     fs::remove(check, ec);
-    throw core::InputError("command line", "--out", path + ": cannot write: " + reason);
+    throw core::OptionError("out", path + ": cannot write: " + reason);
   }
   return nlohmann::json::parse(text)["description"].get<std::string>();
 }

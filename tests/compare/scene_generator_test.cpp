@@ -373,25 +373,24 @@ void expect_rejected(const std::string& family, std::optional<int> param, const 
   try {
     generate_scene_json(family, param, 1);
     ADD_FAILURE() << family << " " << param.value_or(-1) << " was accepted";
-  } catch (const core::InputError& e) {
-    EXPECT_EQ(e.file(), "command line");
-    EXPECT_EQ(e.entry(), entry) << e.what();
+  } catch (const core::OptionError& e) {
+    EXPECT_EQ(e.option(), entry) << e.what();
     EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
   }
 }
 
 TEST(SceneGenerator, BadFamilyOrParamIsRejected) {
-  expect_rejected("resolutions", 1, "FAMILY", "unknown scene family \"resolutions\"");
-  expect_rejected("", 1, "FAMILY", "expected one of: resolution, static_facets");
-  expect_rejected("resolution", 6, "--param", "[0, 5]");
-  expect_rejected("resolution", -1, "--param", "got -1");
-  expect_rejected("static_objects", 4, "--param", "[0, 3]");
-  expect_rejected("dynamic_steps", 0, "--param", "[1, 5]");
-  expect_rejected("unmodelled_events", 6, "--param", "[1, 5]");
-  expect_rejected("cameras", 2, "--param", "[3, 9]");
-  expect_rejected("cameras", 10, "--param", "[3, 9]");
-  expect_rejected("cameras", std::nullopt, "--param", "needs --param");
-  expect_rejected("domain_ceiling", 0, "--param", "takes no --param");
+  expect_rejected("resolutions", 1, "family", "unknown scene family \"resolutions\"");
+  expect_rejected("", 1, "family", "expected one of: resolution, static_facets");
+  expect_rejected("resolution", 6, "param", "[0, 5]");
+  expect_rejected("resolution", -1, "param", "got -1");
+  expect_rejected("static_objects", 4, "param", "[0, 3]");
+  expect_rejected("dynamic_steps", 0, "param", "[1, 5]");
+  expect_rejected("unmodelled_events", 6, "param", "[1, 5]");
+  expect_rejected("cameras", 2, "param", "[3, 9]");
+  expect_rejected("cameras", 10, "param", "[3, 9]");
+  expect_rejected("cameras", std::nullopt, "param", "needs a parameter i in [3, 9]");
+  expect_rejected("domain_ceiling", 0, "param", "takes no parameter");
 }
 
 TEST(SceneGenerator, WriteGeneratedSceneWritesTheTextAtomically) {
