@@ -23,8 +23,10 @@ double error_of(const std::vector<StateResult>& states) {
   return error_functional(terms);
 }
 
+double lower_bound_threshold(double err_lower_bound) { return err_lower_bound * (1.0 + 1e-12); }
+
 double success_target(bool conservative, double tolerance, double err_lower_bound) {
-  return conservative ? std::max(tolerance, err_lower_bound) : tolerance;
+  return conservative ? std::max(tolerance, lower_bound_threshold(err_lower_bound)) : tolerance;
 }
 
 double default_tolerance(const Box3& area, const std::array<int, 3>& resolution) {

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <thread>
 
+#include "camplace/core/err.hpp"
 #include "camplace/core/error.hpp"
 
 namespace camplace::optimize::detail {
@@ -76,7 +77,7 @@ bool RunState::record(const pagmo::vector_double& x, double err, const core::Tim
     if (!stop_reason_) {
       if (best_err_ <= tolerance_) {
         stop_reason_ = StopReason::tolerance;
-      } else if (lower_bound_ > 0.0 && best_err_ <= lower_bound_ * (1.0 + 1e-12)) {
+      } else if (lower_bound_ > 0.0 && best_err_ <= core::lower_bound_threshold(lower_bound_)) {
         // Err cannot fall below the bound (the relative slack absorbs summation rounding).
         stop_reason_ = StopReason::lower_bound;
       } else if (max_evaluations_ != 0 && index >= max_evaluations_) {
