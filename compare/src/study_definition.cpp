@@ -28,9 +28,10 @@ StudySpec parse_study(const std::string& path) {
     }
   }
   if (root.has("mode")) {
-    s.mode = root.at("mode").string();
-    if (s.mode != "center" && s.mode != "conservative")
-      root.at("mode").fail("expected center or conservative");
+    const std::string mode = root.at("mode").string();
+    const auto parsed = core::from_name<core::LabelMode>(mode);
+    if (!parsed) root.at("mode").fail("expected " + core::names_listed<core::LabelMode>());
+    s.mode = *parsed;
   }
   s.runs_per_group = root.at("runs_per_group").integer_in(1, 1000);
   if (root.has("threads")) s.threads = root.at("threads").integer_in(1, 256);

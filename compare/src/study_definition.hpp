@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "camplace/core/names.hpp"
+
 namespace camplace::compare::detail {
 
 /// One examination: a scene family of the generator and the parameters of its groups.
@@ -14,7 +16,8 @@ struct Examination {
 
 /// The study: its examinations and the budget of every run.
 struct StudySpec {
-  std::string description, algorithm = "gaco", mode = "conservative";
+  std::string description, algorithm = "gaco";
+  core::LabelMode mode = core::LabelMode::conservative;
   int runs_per_group = 3, threads = 2;
   unsigned first_seed = 1, scene_seed = 1;
   double time_limit = 600.0;  ///< seconds per run

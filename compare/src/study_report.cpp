@@ -366,17 +366,17 @@ void write_study_report(const StudySpec& spec, const std::vector<RunRow>& rows,
      << "## Budget\n\n| | this study | the paper |\n|---|---|---|\n"
      << "| runs per group | " << spec.runs_per_group << " | 20 |\n"
      << "| stop | tolerance (½ voxel diagonal)²"
-     << (spec.mode == "conservative"
+     << (spec.mode == core::LabelMode::conservative
              ? " or the conservative lower bound of Err, whichever is larger (SPEC §4)"
              : "")
      << ", or " << spec.max_evaluations << " evaluations, or "
      << num(spec.time_limit, 0) << " s | tolerance 0.046 m², or 3 h |\n"
      << "| solver | pagmo `" << spec.algorithm << "`, " << spec.threads << " threads | MIDACO |\n"
      << "| machine | 2 cores (this project's) | 2.8 GHz Opteron |\n"
-     << "| voxel labelling | " << spec.mode << " | centre of voxel |\n\n"
+     << "| voxel labelling | " << core::name_of(spec.mode) << " | centre of voxel |\n\n"
      << clock_note(rows);
   md << "## Groups\n\n| examination | param | scene | runs | "
-     << (spec.mode == "conservative" ? "reached max(tolerance, lower bound)"
+     << (spec.mode == core::LabelMode::conservative ? "reached max(tolerance, lower bound)"
                                      : "reached tolerance")
      << " | median "
         "evaluations | "

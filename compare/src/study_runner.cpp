@@ -83,7 +83,7 @@ std::vector<std::string> optimize_args(const detail::StudySpec& spec, const std:
           "--threads",    std::to_string(spec.threads),
           "--time-limit", detail::num(spec.time_limit, 3),
           "--max-evals",  std::to_string(spec.max_evaluations),
-          "--mode",       spec.mode,
+          "--mode",       core::name_of(spec.mode),
           "--quiet",      "--out=" + run_dir,
           "--",           scene};
 }
@@ -120,7 +120,7 @@ StudyOutcome run_study(const StudyOptions& options) {
         const std::string run_file = run_dir + "/run-" + std::to_string(row.seed) + ".json";
         const std::optional<optimize::RunResult> before = existing_run(run_file);
         if (before && before->stop_reason != optimize::StopReason::interrupted) {
-          add_result(*before, spec.mode == "conservative", row);
+          add_result(*before, spec.mode == core::LabelMode::conservative, row);
           ++outcome.runs_done_before;
           rows.push_back(row);
           continue;
@@ -138,7 +138,7 @@ StudyOutcome run_study(const StudyOptions& options) {
         if (launched.interrupted) outcome.interrupted = true;
         const std::optional<optimize::RunResult> after = existing_run(run_file);
         if (after && after->stop_reason != optimize::StopReason::interrupted) {
-          add_result(*after, spec.mode == "conservative", row);
+          add_result(*after, spec.mode == core::LabelMode::conservative, row);
           ++outcome.runs_done_now;
           rows.push_back(row);
           continue;
