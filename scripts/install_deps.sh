@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs every Debian 12 package camplace needs to build, test and benchmark.
+# Installs every Debian 12 package camplace needs to build, test (including the clang-format
+# check) and benchmark.
 # The one list of dependencies; README commands and .ci/run call this script.
 set -euo pipefail
 packages=(
@@ -7,7 +8,7 @@ packages=(
   libcgal-dev libssl-dev libgmp-dev libmpfr-dev libboost-dev libeigen3-dev
   libpagmo-dev libtbb-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  python3 gnuplot-nox
+  python3 gnuplot-nox clang-format
 )
 missing=()
 for p in "${packages[@]}"; do
