@@ -27,7 +27,7 @@ struct EvaluateArgs {
   bool json = false, exact_fractions = false;
 };
 
-/// The per-state fields both pipelines report (voxel::StateResult, exact::ExactStateResult).
+/// The per-state fields both pipelines report (voxel::StateResult, core::StateResult).
 template <class StateResult>
 nlohmann::json state_json(const StateResult& s) {
   return {{"time_step", s.time_step},   {"event", s.event},
@@ -104,7 +104,7 @@ nlohmann::json exact_json(const exact::ExactEvaluation& e, bool fractions) {
           {"err", e.err},
           {"states", states},
           {"timing_ms",
-           {{"model", e.timing.model_ms},
+           {{"model", e.timing.labelling_ms},
             {"clustering", e.timing.clustering_ms},
             {"distance", e.timing.distance_ms},
             {"total", e.timing.total_ms}}}};
