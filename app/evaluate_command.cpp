@@ -97,6 +97,7 @@ nlohmann::json exact_json(const exact::ExactEvaluation& e, bool fractions) {
     if (fractions) {
       j["d_true_sq_exact"] = s.d_true_sq_exact;
       j["d_model_sq_exact"] = s.d_model_sq_exact;
+      j["model_volume_exact"] = s.model_volume_exact;
     }
     states.push_back(j);
   }

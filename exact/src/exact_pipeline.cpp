@@ -33,7 +33,7 @@ bool ExactModel::empty() const {
   return std::none_of(impl_->components.begin(), impl_->components.end(),
                       [](const Impl::Component& c) { return c.kept; });
 }
-double ExactModel::volume() const { return CGAL::to_double(impl_->kept_volume); }
+double ExactModel::volume() const { return nearest_double(impl_->kept_volume); }
 int ExactModel::components() const {
   return int(std::count_if(impl_->components.begin(), impl_->components.end(),
                            [](const Impl::Component& c) { return c.kept; }));
@@ -41,8 +41,8 @@ int ExactModel::components() const {
 std::vector<ExactComponent> ExactModel::component_info() const {
   std::vector<ExactComponent> out;
   for (const auto& c : impl_->components)
-    out.push_back({CGAL::to_double(c.volume_exact), CGAL::to_double(c.z_min),
-                   CGAL::to_double(c.z_max), c.kept});
+    out.push_back({nearest_double(c.volume_exact), nearest_double(c.z_min),
+                   nearest_double(c.z_max), c.kept});
   return out;
 }
 core::TriangleMesh ExactModel::boundary_mesh() const {
@@ -118,11 +118,12 @@ ExactEvaluation evaluate_exact(const core::Scene& scene, const core::CameraConfi
     const auto d_model = model_squared_distance(*model, pipeline.critical(s.time_step));
     // SPEC §4: d(C, ∅) is S's diagonal.
     const FT d_model_sq = d_model ? *d_model : core::empty_model_squared_distance<FT>(scene.area);
-    r.d_model = std::sqrt(CGAL::to_double(d_model_sq));
+    r.d_model = std::sqrt(nearest_double(d_model_sq));
     r.d_model_sq_exact = fraction_string(d_model_sq);
     result.timing.distance_ms += ms_since(t0);
 
-    r.model_volume = CGAL::to_double(model->kept_volume);
+    r.model_volume = nearest_double(model->kept_volume);
+    r.model_volume_exact = fraction_string(model->kept_volume);
     for (const auto& c : model->components) (c.kept ? r.components : r.components_removed)++;
     if (!options.export_dir.empty()) export_model(*model, s, options.export_dir);
     result.states.push_back(std::move(r));

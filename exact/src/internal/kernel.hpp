@@ -10,6 +10,7 @@
 #include <sstream>
 #include <string>
 #include <type_traits>
+#include <utility>
 
 #include "camplace/core/geometry.hpp"
 
@@ -29,11 +30,6 @@ using SurfaceMesh = CGAL::Surface_mesh<Point>;
 /// The point with exactly the coordinates of v (every double is a rational).
 inline Point to_point(const core::Vec3& v) { return Point(v.x(), v.y(), v.z()); }
 inline Vector to_vector(const core::Vec3& v) { return Vector(v.x(), v.y(), v.z()); }
-/// p rounded to double.
-inline core::Vec3 to_vec3(const Point& p) {
-  return {CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())};
-}
-
 /// "p/q" of an exact rational, in lowest terms.
 inline std::string fraction_string(const FT& x) {
   const auto& e = CGAL::exact(x);
@@ -44,6 +40,22 @@ inline std::string fraction_string(const FT& x) {
   std::ostringstream out;
   out << num << "/" << den;
   return out.str();
+}
+
+/// x rounded to a neighbouring double: the nearer one (the lower on a tie) when the exact
+/// interval is tight. Unlike CGAL::to_double on a lazy number, the result does not depend on
+/// how far x happens to have been refined, so reports are reproducible.
+inline double nearest_double(const FT& x) {
+  const auto& e = CGAL::exact(x);
+  using ET = std::decay_t<decltype(e)>;
+  const std::pair<double, double> i = CGAL::to_interval(e);
+  if (i.first == i.second) return i.first;
+  return e - ET(i.first) <= ET(i.second) - e ? i.first : i.second;
+}
+
+/// p rounded to double, coordinate by coordinate (nearest_double).
+inline core::Vec3 to_vec3(const Point& p) {
+  return {nearest_double(p.x()), nearest_double(p.y()), nearest_double(p.z())};
 }
 
 /// A lower bound (m) of sqrt of an exact non-negative squared length.
