@@ -25,6 +25,7 @@ struct EvaluateArgs {
   std::string voxels_out;
   bool voxels_out_given = false, export_given = false;
   bool json = false, exact_fractions = false;
+  int threads = 0;  // exact pipeline; 0 = one per core
 };
 
 /// The per-state fields both pipelines report (voxel::StateResult, core::StateResult).
@@ -190,6 +191,7 @@ void run_evaluate(const EvaluateArgs& args) {
   if (want_exact) {
     exact::ExactOptions exact_options;
     exact_options.export_dir = args.export_dir;
+    exact_options.threads = args.threads;
     ex = exact_json(exact::evaluate_exact(scene, config, exact_options), args.exact_fractions);
   }
 #endif
@@ -235,6 +237,9 @@ void register_evaluate_command(CLI::App& app) {
   cmd->add_flag("--json", args->json, "print one JSON object on stdout");
   cmd->add_flag("--exact-fractions", args->exact_fractions,
                 "exact pipeline: add squared distances as exact fractions \"p/q\"");
+  cmd->add_option("--threads", args->threads,
+                  "exact pipeline: states evaluated in parallel (default: one thread per core)")
+      ->check(CLI::Range(1, 256));
   CLI::Option* export_mesh = cmd->add_option(
       "--export-mesh", args->export_dir,
       "exact pipeline: write each state's model and each camera's pyramid (OFF) to DIR");

@@ -9,10 +9,16 @@
 //   internal/model.hpp     components, exact volumes, plausibility filter, d(C, M)
 // Every double input is converted exactly to a rational.
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <filesystem>
+#include <mutex>
+#include <optional>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "camplace/core/distance.hpp"
 #include "camplace/core/sensor_model.hpp"
@@ -41,8 +47,8 @@ int ExactModel::components() const {
 std::vector<ExactComponent> ExactModel::component_info() const {
   std::vector<ExactComponent> out;
   for (const auto& c : impl_->components)
-    out.push_back({nearest_double(c.volume_exact), nearest_double(c.z_min),
-                   nearest_double(c.z_max), c.kept});
+    out.push_back(
+        {nearest_double(c.volume_exact), nearest_double(c.z_min), nearest_double(c.z_max), c.kept});
   return out;
 }
 core::TriangleMesh ExactModel::boundary_mesh() const {
@@ -87,47 +93,131 @@ void export_model(const ExactModel::Impl& model, const core::StateIndex& s,
               pts, tris);
 }
 
+/// The outcome of one state, computed by whichever thread evaluated it.
+struct StateOutput {
+  core::StateResult result;
+  std::shared_ptr<ExactModel::Impl> model;
+  double labelling_ms = 0.0, clustering_ms = 0.0, distance_ms = 0.0;
+};
+
+StateOutput evaluate_state(Pipeline& pipeline, const core::Scene& scene, const core::StateIndex& s,
+                           const std::string& export_dir) {
+  StateOutput out;
+  auto t0 = Clock::now();
+  Nef m = pipeline.model(s);
+  out.labelling_ms = ms_since(t0);
+
+  t0 = Clock::now();
+  out.model = cluster(std::move(m), scene.plausibility);
+  out.clustering_ms = ms_since(t0);
+
+  t0 = Clock::now();
+  core::StateResult& r = out.result;
+  r.time_step = s.time_step;
+  r.event = s.event;
+  r.weight = scene.time_steps[s.time_step].events[s.event].weight;
+  const auto d_true = core::true_squared_distance(scene, s);
+  r.d_true = std::sqrt(d_true.value);
+  r.d_true_sq_exact = d_true.fraction;
+  const auto d_model = model_squared_distance(*out.model, pipeline.critical(s.time_step));
+  // SPEC §4: d(C, ∅) is S's diagonal.
+  const FT d_model_sq = d_model ? *d_model : core::empty_model_squared_distance<FT>(scene.area);
+  r.d_model = std::sqrt(nearest_double(d_model_sq));
+  r.d_model_sq_exact = fraction_string(d_model_sq);
+  out.distance_ms = ms_since(t0);
+
+  r.model_volume = nearest_double(out.model->kept_volume);
+  r.model_volume_exact = fraction_string(out.model->kept_volume);
+  for (const auto& c : out.model->components) (c.kept ? r.components : r.components_removed)++;
+  if (!export_dir.empty()) export_model(*out.model, s, export_dir);
+  return out;
+}
+
+/// The number of worker threads for ExactOptions::threads (0: one per core). CGAL built without
+/// thread support keeps shared statics in its lazy numbers, so it gets one thread.
+std::size_t thread_count(int requested) {
+#ifdef CGAL_HAS_THREADS
+  if (requested > 0) return std::size_t(requested);
+  return std::max(1u, std::thread::hardware_concurrency());
+#else
+  (void)requested;
+  return 1;
+#endif
+}
+
+/// The states (indices into `states`) split into tasks for the worker threads: whole time steps,
+/// so that a thread reuses its per-step caches, largest first; a time step's events are split
+/// only when there are fewer time steps than threads.
+std::vector<std::vector<std::size_t>> make_tasks(const std::vector<core::StateIndex>& states,
+                                                 int threads) {
+  std::vector<std::vector<std::size_t>> steps;
+  for (std::size_t i = 0; i < states.size(); ++i) {
+    if (i == 0 || states[i].time_step != states[i - 1].time_step) steps.emplace_back();
+    steps.back().push_back(i);
+  }
+  const std::size_t workers = thread_count(threads);
+  const std::size_t chunks = steps.empty() ? 1 : (workers + steps.size() - 1) / steps.size();
+  std::vector<std::vector<std::size_t>> tasks;
+  for (const auto& step : steps) {
+    const std::size_t n = std::min(chunks, step.size());
+    for (std::size_t k = 0; k < n; ++k)
+      tasks.emplace_back(step.begin() + k * step.size() / n,
+                         step.begin() + (k + 1) * step.size() / n);
+  }
+  std::stable_sort(tasks.begin(), tasks.end(),
+                   [](const auto& a, const auto& b) { return a.size() > b.size(); });
+  return tasks;
+}
+
 }  // namespace
 
 ExactEvaluation evaluate_exact(const core::Scene& scene, const core::CameraConfig& config,
                                const ExactOptions& options) {
   const auto t_total = Clock::now();
-  ExactEvaluation result;
-  Pipeline pipeline(scene, config);
+  core::check_configuration(scene, config);
   if (!options.export_dir.empty()) {
     std::filesystem::create_directories(options.export_dir);
-    export_fovs(pipeline, options.export_dir);
+    export_fovs(Pipeline(scene, config), options.export_dir);
   }
-  for (const auto& s : core::states(scene)) {
-    auto t0 = Clock::now();
-    Nef m = pipeline.model(s);
-    result.timing.labelling_ms += ms_since(t0);
+  const std::vector<core::StateIndex> states = core::states(scene);
+  const auto tasks = make_tasks(states, options.threads);
+  std::vector<StateOutput> outputs(states.size());
+  // Each thread owns its Pipeline: CGAL's lazy exact numbers and Nef polyhedra are never shared
+  // between threads; a model built by a worker is handed over when the worker has joined.
+  std::atomic<std::size_t> next_task{0};
+  std::mutex error_mutex;
+  std::exception_ptr error;
+  auto work = [&] {
+    try {
+      std::optional<Pipeline> pipeline;
+      for (std::size_t t = next_task++; t < tasks.size(); t = next_task++) {
+        if (!pipeline) pipeline.emplace(scene, config);
+        for (std::size_t i : tasks[t])
+          outputs[i] = evaluate_state(*pipeline, scene, states[i], options.export_dir);
+      }
+    } catch (...) {
+      const std::lock_guard<std::mutex> lock(error_mutex);
+      if (!error) error = std::current_exception();
+      next_task = tasks.size();
+    }
+  };
+  const std::size_t workers = std::min(thread_count(options.threads), tasks.size());
+  if (workers <= 1) {
+    work();
+  } else {
+    std::vector<std::thread> threads;
+    for (std::size_t w = 0; w < workers; ++w) threads.emplace_back(work);
+    for (auto& thread : threads) thread.join();
+  }
+  if (error) std::rethrow_exception(error);
 
-    t0 = Clock::now();
-    auto model = cluster(std::move(m), scene.plausibility);
-    result.timing.clustering_ms += ms_since(t0);
-
-    t0 = Clock::now();
-    core::StateResult r;
-    r.time_step = s.time_step;
-    r.event = s.event;
-    r.weight = scene.time_steps[s.time_step].events[s.event].weight;
-    const auto d_true = core::true_squared_distance(scene, s);
-    r.d_true = std::sqrt(d_true.value);
-    r.d_true_sq_exact = d_true.fraction;
-    const auto d_model = model_squared_distance(*model, pipeline.critical(s.time_step));
-    // SPEC §4: d(C, ∅) is S's diagonal.
-    const FT d_model_sq = d_model ? *d_model : core::empty_model_squared_distance<FT>(scene.area);
-    r.d_model = std::sqrt(nearest_double(d_model_sq));
-    r.d_model_sq_exact = fraction_string(d_model_sq);
-    result.timing.distance_ms += ms_since(t0);
-
-    r.model_volume = nearest_double(model->kept_volume);
-    r.model_volume_exact = fraction_string(model->kept_volume);
-    for (const auto& c : model->components) (c.kept ? r.components : r.components_removed)++;
-    if (!options.export_dir.empty()) export_model(*model, s, options.export_dir);
-    result.states.push_back(std::move(r));
-    if (options.keep_models) result.models.emplace_back(std::move(model));
+  ExactEvaluation result;
+  for (auto& out : outputs) {
+    result.timing.labelling_ms += out.labelling_ms;
+    result.timing.clustering_ms += out.clustering_ms;
+    result.timing.distance_ms += out.distance_ms;
+    result.states.push_back(std::move(out.result));
+    if (options.keep_models) result.models.emplace_back(std::move(out.model));
   }
   result.err = core::error_of(result.states);
   result.timing.total_ms = ms_since(t_total);

@@ -3,7 +3,8 @@
 // FOV, the shadow volumes of occluding objects and the silhouette cones of occupying ones.
 // Cones and shadows are convex hulls of exact points: K(P) = conv(c, c + T(P − c)) and
 // shadow(P) = conv(P, c + T(P − c)) for a convex P, with T a power of two large enough that the
-// far cap lies outside S (only M ⊂ S matters). Private to exact_pipeline.cpp.
+// far cap lies outside the pipeline's clip box (a box around S: only M ⊂ S matters). Private to
+// exact_pipeline.cpp.
 #include <CGAL/intersections.h>
 
 #include <algorithm>
@@ -19,12 +20,13 @@
 
 namespace camplace::exact::internal {
 
-/// A camera's centre c and how far S reaches from it.
+/// A camera's centre c and how far the clip box reaches from it.
 struct ViewPoint {
   Point position;
-  double reach = 0.0;  ///< upper bound (m) of the distance from c to any point of S
+  double reach = 0.0;  ///< upper bound (m) of the distance from c to any point of the clip box
 };
 
+/// The view point of a camera for the clip box `area` (m, world frame).
 inline ViewPoint view_point(const core::CameraSetting& setting, const core::Box3& area) {
   ViewPoint cam;
   cam.position = to_point(setting.position);
@@ -40,7 +42,7 @@ inline ViewPoint view_point(const core::CameraSetting& setting, const core::Box3
 
 /// The camera's FOV (SPEC §1): the inscribed regular k-sided pyramid, its edges shared with core
 /// (and thus the voxel pipeline), optionally cut by the far plane (p − c)·d ≤ range; unlimited
-/// pyramids are cut beyond S. Not yet intersected with S.
+/// pyramids are cut beyond the clip box. Not yet intersected with it.
 inline Nef fov_nef(const ViewPoint& cam, const core::CameraSetting& setting,
                    const core::CameraSpec& spec) {
   const core::Fov fov(setting, core::FovShape::pyramid, spec.half_angle, spec.sides, spec.range);
@@ -53,7 +55,10 @@ inline Nef fov_nef(const ViewPoint& cam, const core::CameraSetting& setting,
       pts.push_back(cam.position + ev * (range / (ev * d)));
     }
   } else {
-    const FT t(std::exp2(std::ceil(std::log2(2.0 * cam.reach))));
+    // The edges make the angle α with the axis, so the far cap lies at axial distance t·cos α:
+    // at least twice the reach (a far cap at t = 2·reach alone would cut into the box for
+    // α ≥ 60°).
+    const FT t(std::exp2(std::ceil(std::log2(2.0 * cam.reach / std::cos(spec.half_angle)))));
     for (const auto& e : fov.pyramid_edges()) pts.push_back(cam.position + to_vector(e) * t);
   }
   return hull_nef(pts);

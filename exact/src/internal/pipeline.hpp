@@ -9,6 +9,7 @@
 //   V = ∪ silhouette cones of the occupying objects, each cut where an occluding object hides
 //       it (occupied_cone).
 //   M = reg(S ∖ obstacles ∖ ∪_c Free_c) (SPEC §4, regularised: closure of the interior).
+#include <cmath>
 #include <optional>
 #include <unordered_map>
 #include <vector>
@@ -29,6 +30,14 @@ class Pipeline {
   Pipeline(const core::Scene& scene, const core::CameraConfig& config) : scene_(scene) {
     core::check_configuration(scene, config);
     area_ = box_nef(scene.area);
+    // The FOVs are clipped to a box a little larger than S rather than to S itself: the model's
+    // facets on S's faces then never coincide with a free region's facets, and each Nef boolean
+    // does the costly local overlay only where the boundaries really cross (about 20% of the
+    // booleans' time on paper_basic). Free space outside S changes nothing in M ⊂ S.
+    const double margin = std::exp2(std::floor(std::log2(scene.area.diagonal() / 16.0)));
+    const core::Box3 clip{scene.area.min - core::Vec3::Constant(margin),
+                          scene.area.max + core::Vec3::Constant(margin)};
+    const Nef clip_box = box_nef(clip);
     auto add = [this](const std::vector<core::SceneObject>& objects) {
       for (const auto& o : objects) solids_.try_emplace(&o, o.mesh);
     };
@@ -40,22 +49,25 @@ class Pipeline {
     }
     for (const auto& setting : config) {
       Camera cam;
-      cam.view = view_point(setting, scene.area);
-      cam.fov = fov_nef(cam.view, setting, scene.cameras) * area_;
+      cam.view = view_point(setting, clip);
+      cam.fov = fov_nef(cam.view, setting, scene.cameras) * clip_box;
       cameras_.push_back(std::move(cam));
     }
     step_free_.resize(cameras_.size());
     step_area_.resize(scene.time_steps.size());
   }
 
-  /// The regularised model of a state before the filter.
+  /// The regularised model of a state before the filter: S minus the obstacles minus each
+  /// camera's free region in turn. Subtracting the free regions one by one from the shrinking
+  /// model costs less than their balanced union followed by one subtraction (each Nef boolean
+  /// visits every vertex of both operands, and the model stays smaller than the union).
   Nef model(const core::StateIndex& s) {
     const auto objects = core::state_objects(scene_, s);
-    std::vector<Nef> frees;
-    for (std::size_t c = 0; c < cameras_.size(); ++c) frees.push_back(state_free(c, s, objects));
-    const Nef free_union = union_all(std::move(frees));
     Nef m = step_area(s.time_step, objects);
-    if (!free_union.is_empty()) m -= free_union;
+    for (std::size_t c = 0; c < cameras_.size() && !m.is_empty(); ++c) {
+      const Nef free = state_free(c, s, objects);
+      if (!free.is_empty()) m -= free;
+    }
     return m.regularization();
   }
 
@@ -67,13 +79,13 @@ class Pipeline {
   }
 
   /// FOV ∩ S of camera c (for export).
-  const Nef& fov(std::size_t c) const { return cameras_[c].fov; }
+  Nef fov(std::size_t c) const { return cameras_[c].fov * area_; }
   std::size_t camera_count() const { return cameras_.size(); }
 
  private:
   struct Camera {
     ViewPoint view;
-    Nef fov;  ///< pyramid ∩ S
+    Nef fov;  ///< pyramid ∩ clip box
     std::optional<Nef> static_free;
   };
 
@@ -120,8 +132,8 @@ class Pipeline {
     return free;
   }
 
-  /// FOV ∩ S minus the static obstacles' shadows (cached per camera). Static obstacles always
-  /// occlude (SPEC §3), so this part depends on no time step.
+  /// FOV ∩ clip box minus the static obstacles' shadows (cached per camera). Static obstacles
+  /// always occlude (SPEC §3), so this part depends on no time step.
   const Nef& static_free(std::size_t c, const std::vector<core::StateObject>& objects) {
     Camera& cam = cameras_[c];
     if (!cam.static_free) {

@@ -21,6 +21,10 @@ struct ExactOptions {
   std::string export_dir;
   /// Keep each state's model in ExactEvaluation::models (for validation).
   bool keep_models = false;
+  /// Worker threads evaluating states in parallel (each with its own Nef objects; whole time
+  /// steps per thread, so the per-step caches still help); 0 = std::thread::hardware_concurrency().
+  /// The results do not depend on it and are always in state order.
+  int threads = 0;
 };
 
 /// One connected component of a model (connected through interiors), before the filter.
