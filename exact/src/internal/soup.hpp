@@ -46,6 +46,20 @@ struct TriangleSoup {
     if (inserted) points.push_back(v->point());
     return it->second;
   }
+  /// True when the cycle turns strictly the same way at every vertex, seen along `normal`.
+  static bool strictly_convex(const std::vector<Nef::Vertex_const_handle>& cycle,
+                              const Vector& normal) {
+    const std::size_t n = cycle.size();
+    CGAL::Orientation turn = CGAL::COPLANAR;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Point& a = cycle[i]->point();
+      const auto o = CGAL::orientation(a, cycle[(i + 1) % n]->point(), cycle[(i + 2) % n]->point(),
+                                       a + normal);
+      if (o == CGAL::COPLANAR || (turn != CGAL::COPLANAR && o != turn)) return false;
+      turn = o;
+    }
+    return true;
+  }
   /// Appends triangle abc with its normal pointing the way of `outward`.
   void add_triangle(std::size_t a, std::size_t b, std::size_t c, const Vector& outward) {
     const Vector cross = CGAL::cross_product(points[b] - points[a], points[c] - points[a]);
@@ -84,8 +98,11 @@ inline void TriangleSoup::add_halffacet(Nef::Halffacet_const_handle f) {
     }
   }
   if (cycles.empty()) throw std::logic_error("exact pipeline: a facet without a boundary cycle");
-  if (cycles.size() == 1 && isolated.empty() && cycles[0].size() == 3) {
-    add_triangle(index_of(cycles[0][0]), index_of(cycles[0][1]), index_of(cycles[0][2]), normal);
+  if (cycles.size() == 1 && isolated.empty() && strictly_convex(cycles[0], normal)) {
+    // A fan; the cycle of a facet is simple, so turning one way at every vertex means convex.
+    const auto& cycle = cycles[0];
+    for (std::size_t i = 1; i + 1 < cycle.size(); ++i)
+      add_triangle(index_of(cycle[0]), index_of(cycle[i]), index_of(cycle[i + 1]), normal);
     return;
   }
   using Cdt = FacetTriangulation::Cdt;
