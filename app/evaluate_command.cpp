@@ -26,9 +26,10 @@ struct EvaluateArgs {
   std::string voxels_out;
   bool voxels_out_given = false, export_given = false;
   bool json = false, exact_fractions = false;
+  int threads = 0;  // exact pipeline; 0 = one per core
 };
 
-/// The per-state fields both pipelines report (voxel::StateResult, exact::ExactStateResult).
+/// The per-state fields both pipelines report (voxel::StateResult, core::StateResult).
 template <class StateResult>
 nlohmann::json state_json(const StateResult& s) {
   return {{"time_step", s.time_step},   {"event", s.event},
@@ -98,6 +99,7 @@ nlohmann::json exact_json(const exact::ExactEvaluation& e, bool fractions) {
     if (fractions) {
       j["d_true_sq_exact"] = s.d_true_sq_exact;
       j["d_model_sq_exact"] = s.d_model_sq_exact;
+      j["model_volume_exact"] = s.model_volume_exact;
     }
     states.push_back(j);
   }
@@ -105,7 +107,7 @@ nlohmann::json exact_json(const exact::ExactEvaluation& e, bool fractions) {
           {"err", e.err},
           {"states", states},
           {"timing_ms",
-           {{"model", e.timing.model_ms},
+           {{"model", e.timing.labelling_ms},
             {"clustering", e.timing.clustering_ms},
             {"distance", e.timing.distance_ms},
             {"total", e.timing.total_ms}}}};
@@ -191,6 +193,7 @@ void run_evaluate(const EvaluateArgs& args) {
   if (want_exact) {
     exact::ExactOptions exact_options;
     exact_options.export_dir = args.export_dir;
+    exact_options.threads = args.threads;
     ex = exact_json(exact::evaluate_exact(scene, config, exact_options), args.exact_fractions);
   }
 #endif
@@ -235,6 +238,9 @@ void register_evaluate_command(CLI::App& app) {
   cmd->add_flag("--json", args->json, "print one JSON object on stdout");
   cmd->add_flag("--exact-fractions", args->exact_fractions,
                 "exact pipeline: add squared distances as exact fractions \"p/q\"");
+  cmd->add_option("--threads", args->threads,
+                  "exact pipeline: states evaluated in parallel (default: one thread per core)")
+      ->check(CLI::Range(1, 256));
   CLI::Option* export_mesh = cmd->add_option(
       "--export-mesh", args->export_dir,
       "exact pipeline: write each state's model and each camera's pyramid (OFF) to DIR");

@@ -7,8 +7,10 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <random>
 
 #include "camplace/core/distance.hpp"
+#include "camplace/core/error.hpp"
 #include "camplace/exact/evaluator.hpp"
 #include "scene_builder.hpp"
 
@@ -228,6 +230,39 @@ TEST(ExactModel, TouchingAndOverlappingSetsHaveDistanceZero) {
   // The model wholly inside the critical object: a critical box containing all of S.
   auto around = axis_scene(1, {box_object("c", Vec3(0, 0, 0), Vec3(4, 1, 1))}, {axis_target()});
   EXPECT_EQ(exact::evaluate_exact(around, {kFromLeft}).states[0].d_model_sq_exact, "0/1");
+}
+
+TEST(ExactModel, ThreadCountChangesNoResult) {
+  // 2 time steps × 2 events: one thread, a thread per step, and steps split between threads.
+  std::mt19937 rng(42);
+  core::Scene scene = testing::random_scene(rng, {8, 6, 6});
+  const auto config = testing::random_config(rng, scene);
+  exact::ExactOptions options;
+  options.threads = 1;
+  const auto one = exact::evaluate_exact(scene, config, options);
+  ASSERT_EQ(one.states.size(), 4u);
+  for (int threads : {2, 3, 4}) {
+    options.threads = threads;
+    const auto many = exact::evaluate_exact(scene, config, options);
+    ASSERT_EQ(many.states.size(), one.states.size());
+    EXPECT_EQ(many.err, one.err) << threads << " threads";
+    for (std::size_t s = 0; s < one.states.size(); ++s) {
+      const auto &a = one.states[s], &b = many.states[s];
+      EXPECT_EQ(b.time_step, a.time_step);
+      EXPECT_EQ(b.event, a.event);
+      EXPECT_EQ(b.d_true_sq_exact, a.d_true_sq_exact) << threads << " threads, state " << s;
+      EXPECT_EQ(b.d_model_sq_exact, a.d_model_sq_exact) << threads << " threads, state " << s;
+      EXPECT_EQ(b.model_volume_exact, a.model_volume_exact) << threads << " threads, state " << s;
+      EXPECT_EQ(b.components, a.components);
+      EXPECT_EQ(b.components_removed, a.components_removed);
+    }
+  }
+}
+
+TEST(ExactModel, ConfigurationOfTheWrongSizeIsRejected) {
+  auto scene = axis_scene(2, {box_object("c", Vec3(0.5, 0.875, 0.375), Vec3(0.625, 1, 0.625))},
+                          {axis_target()});
+  EXPECT_THROW(exact::evaluate_exact(scene, {kFromLeft}), core::InputError);
 }
 
 TEST(ExactModel, ExportWritesModelAndPyramidMeshes) {

@@ -136,6 +136,24 @@ TEST(ExactOracle, PaperBasicAgreesWithTheBruteForceSensorModel) {
 
 }
 
+// Regression: an unlimited pyramid of half angle α ≥ 60° was cut at axial distance t·cos α with
+// t ≈ 2·reach, short of S's far end (here x > 3.2 was outside the FOV). The target sits in a
+// corner, so most of the far end is seen free.
+TEST(ExactOracle, WidePyramidReachesTheFarEndOfTheArea) {
+  using testing::box_object;
+  const core::Box3 area{Vec3(0, 0, 0), Vec3(4, 1, 1)};
+  auto scene = testing::simple_scene(area, {8, 2, 2}, 1, 75.0,
+                                     {box_object("c", Vec3(0, 0.875, 0.375), Vec3(0.25, 1, 0.625))},
+                                     {box_object("target", Vec3(1, 0, 0), Vec3(1.25, 0.2, 0.2))});
+  scene.cameras.fov = core::FovShape::pyramid;
+  scene.cameras.sides = 4;
+  const core::CameraConfig config{testing::camera_at(Vec3(-1, 0.5, 0.5), 0.0, 0.0)};
+  std::mt19937 rng(3);
+  const auto a = compare_with_oracle(scene, config, 1000, rng);
+  EXPECT_GT(a.checked, 900);
+  EXPECT_EQ(a.mismatches, 0);
+}
+
 // Regression (a crash): cameras on S's boundary — (0,0,2) on an edge of the ceiling, (2,0.1,1.8)
 // on the face x = 2. The apex of such a camera's free pyramid touches the model's facet on S's
 // face in a single point, a vertex isolated in that facet (a Nef facet cycle that is an

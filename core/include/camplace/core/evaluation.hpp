@@ -19,6 +19,8 @@ struct StateResult {
   /// Exact pipeline only: d_true² and d_model² as exact fractions "p/q" (empty otherwise).
   std::string d_true_sq_exact;
   std::string d_model_sq_exact;
+  /// Exact pipeline only: model_volume (m³) as an exact fraction "p/q" (empty otherwise).
+  std::string model_volume_exact;
 };
 
 /// Wall-clock split of one evaluation in milliseconds (SPEC §5).

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "camplace/core/camera.hpp"
+#include "camplace/core/evaluation.hpp"
 #include "camplace/core/geometry.hpp"
 #include "camplace/core/scene.hpp"
 
@@ -20,28 +21,10 @@ struct ExactOptions {
   std::string export_dir;
   /// Keep each state's model in ExactEvaluation::models (for validation).
   bool keep_models = false;
-};
-
-/// One state's exact result. Distances in metres, squared distances as exact fractions "p/q".
-struct ExactStateResult {
-  int time_step = 0;
-  int event = 0;
-  double weight = 0.0;
-  double d_true = 0.0;
-  double d_model = 0.0;
-  double model_volume = 0.0;   ///< m³, after the plausibility filter
-  int components = 0;          ///< components kept by the plausibility filter
-  int components_removed = 0;  ///< components the filter discarded
-  std::string d_true_sq_exact;
-  std::string d_model_sq_exact;
-};
-
-/// Wall-clock split of one evaluation (milliseconds).
-struct ExactTiming {
-  double model_ms = 0.0;       ///< FOVs, shadows, silhouette cones and the Nef model
-  double clustering_ms = 0.0;  ///< components, exact volumes and heights, filter
-  double distance_ms = 0.0;    ///< exact distances (d_model and d_true)
-  double total_ms = 0.0;
+  /// Worker threads evaluating states in parallel (each with its own Nef objects; whole time
+  /// steps per thread, so the per-step caches still help); 0 = std::thread::hardware_concurrency().
+  /// The results do not depend on it and are always in state order.
+  int threads = 0;
 };
 
 /// One connected component of a model (connected through interiors), before the filter.
@@ -76,18 +59,17 @@ class ExactModel {
   std::shared_ptr<const Impl> impl_;
 };
 
-/// Exact evaluation of every state (SPEC §6) with the given camera configuration.
-struct ExactEvaluation {
-  double err = 0.0;  ///< Σ ω (d_true − d_model)², m²
-  std::vector<ExactStateResult> states;
-  ExactTiming timing;
+/// Exact evaluation of every state (SPEC §6): Err, the states' results (with d_true² and d_model²
+/// as exact fractions) and the timing (labelling_ms: FOVs, shadows, silhouette cones and the Nef
+/// model).
+struct ExactEvaluation : core::Evaluation {
   std::vector<ExactModel> models;  ///< one per state when ExactOptions::keep_models
 };
 
 /// Evaluates Err exactly for `config` (one setting per camera of `scene`). The FOV is always
 /// the inscribed pyramid with `scene.cameras.sides` sides (SPEC §1), cut at the optional range.
-/// Throws std::invalid_argument when the configuration does not match the scene and
-/// std::runtime_error when an export file cannot be written.
+/// Throws core::InputError when the configuration does not match the scene
+/// (core::check_configuration) and std::runtime_error when an export file cannot be written.
 ExactEvaluation evaluate_exact(const core::Scene& scene, const core::CameraConfig& config,
                                const ExactOptions& options = {});
 

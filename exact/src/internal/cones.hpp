@@ -1,0 +1,209 @@
+#pragma once
+// What one camera cannot see past (SPEC §3), as exact convex hulls turned into Nef polyhedra: its
+// FOV, the shadow volumes of occluding objects and the silhouette cones of occupying ones.
+// Cones and shadows are convex hulls of exact points: K(P) = conv(c, c + T(P − c)) and
+// shadow(P) = conv(P, c + T(P − c)) for a convex P, with T a power of two large enough that the
+// far cap lies outside the pipeline's clip box (a box around S: only M ⊂ S matters). Private to
+// exact_pipeline.cpp.
+#include <CGAL/intersections.h>
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+#include <vector>
+
+#include "camplace/core/camera.hpp"
+#include "camplace/core/error.hpp"
+#include "camplace/core/scene.hpp"
+#include "internal/kernel.hpp"
+#include "internal/solids.hpp"
+
+namespace camplace::exact::internal {
+
+/// A camera's centre c and how far the clip box reaches from it.
+struct ViewPoint {
+  Point position;
+  double reach = 0.0;  ///< upper bound (m) of the distance from c to any point of the clip box
+};
+
+/// The view point of a camera for the clip box `area` (m, world frame).
+inline ViewPoint view_point(const core::CameraSetting& setting, const core::Box3& area) {
+  ViewPoint cam;
+  cam.position = to_point(setting.position);
+  for (int i = 0; i < 8; ++i) {
+    const core::Vec3 corner((i & 1) ? area.max.x() : area.min.x(),
+                            (i & 2) ? area.max.y() : area.min.y(),
+                            (i & 4) ? area.max.z() : area.min.z());
+    cam.reach = std::max(cam.reach, (corner - setting.position).norm());
+  }
+  cam.reach = cam.reach * 1.01 + 1e-6;
+  return cam;
+}
+
+/// The camera's FOV (SPEC §1): the inscribed regular k-sided pyramid, its edges shared with core
+/// (and thus the voxel pipeline), optionally cut by the far plane (p − c)·d ≤ range; unlimited
+/// pyramids are cut beyond the clip box. Not yet intersected with it.
+inline Nef fov_nef(const ViewPoint& cam, const core::CameraSetting& setting,
+                   const core::CameraSpec& spec) {
+  const core::Fov fov(setting, core::FovShape::pyramid, spec.half_angle, spec.sides, spec.range);
+  std::vector<Point> pts{cam.position};
+  if (spec.range) {
+    const Vector d = to_vector(core::view_direction(setting));
+    const FT range(*spec.range);
+    for (const auto& e : fov.pyramid_edges()) {
+      const Vector ev = to_vector(e);
+      pts.push_back(cam.position + ev * (range / (ev * d)));
+    }
+  } else {
+    // The edges make the angle α with the axis, so the far cap lies at axial distance t·cos α:
+    // at least twice the reach (a far cap at t = 2·reach alone would cut into the box for
+    // α ≥ 60°).
+    const FT t(std::exp2(std::ceil(std::log2(2.0 * cam.reach / std::cos(spec.half_angle)))));
+    for (const auto& e : fov.pyramid_edges()) pts.push_back(cam.position + to_vector(e) * t);
+  }
+  return hull_nef(pts);
+}
+
+/// A power of two T with c + T(x − c) outside S for every x at distance ≥ h from c.
+inline FT scale_for(const ViewPoint& cam, double h) {
+  CAMPLACE_ASSERT(h > 0.0);
+  h = std::max(h, 1e-200);  // never reached for a camera outside the solid
+  return FT(std::exp2(std::ceil(std::log2(2.0 * cam.reach / h))));
+}
+
+/// The faces of the solid whose outer side holds c.
+inline std::vector<int> front_faces(const ViewPoint& cam, const Solid& solid) {
+  std::vector<int> out;
+  for (int i = 0; i < int(solid.planes.size()); ++i)
+    if (solid.planes[i].oriented_side(cam.position) == CGAL::ON_POSITIVE_SIDE) out.push_back(i);
+  return out;
+}
+
+inline double plane_distance_lower(const ViewPoint& cam, const Plane& plane) {
+  return sqrt_lower(CGAL::squared_distance(cam.position, plane));
+}
+
+/// Lower bound of the distance from the camera to a convex solid it lies outside of.
+inline double convex_distance_lower(const ViewPoint& cam, const Solid& solid,
+                                    const std::vector<int>& front) {
+  double h = 0.0;
+  for (int i : front) h = std::max(h, plane_distance_lower(cam, solid.planes[i]));
+  return h;
+}
+
+/// The points c + t(p − c).
+inline std::vector<Point> scaled(const ViewPoint& cam, const std::vector<Point>& pts, const FT& t) {
+  std::vector<Point> out;
+  out.reserve(pts.size());
+  for (const auto& p : pts) out.push_back(cam.position + (p - cam.position) * t);
+  return out;
+}
+
+/// Points p whose segment [c, p] meets the solid, within S (c outside the solid).
+inline Nef shadow(const ViewPoint& cam, const Solid& solid) {
+  const auto front = front_faces(cam, solid);
+  if (front.empty()) return Nef();
+  if (solid.convex) {
+    const FT t = scale_for(cam, convex_distance_lower(cam, solid, front));
+    auto pts = solid.points;
+    const auto far = scaled(cam, solid.points, t);
+    pts.insert(pts.end(), far.begin(), far.end());
+    return hull_nef(pts);
+  }
+  std::vector<Nef> parts;
+  for (int i : front) {
+    const FT t = scale_for(cam, plane_distance_lower(cam, solid.planes[i]));
+    const auto& tri = solid.triangles[i];
+    std::vector<Point> face{solid.points[tri[0]], solid.points[tri[1]], solid.points[tri[2]]};
+    auto pts = face;
+    const auto far = scaled(cam, face, t);
+    pts.insert(pts.end(), far.begin(), far.end());
+    parts.push_back(hull_nef(pts));
+  }
+  return union_all(std::move(parts));
+}
+
+/// The silhouette cone of the visible part of an occupying solid: rays from c whose first hit
+/// among {solid} ∪ blockers is on the solid (c outside all of them; blockers occlude).
+///
+/// For each front face f: K(f) ∖ ∪ K(g ∩ H̄_f), g a front face of a blocker meeting conv(c, f),
+/// H̄_f the closed half-space of f's plane on the camera's side. A ray toward f that meets a
+/// blocker first is free up to the blocker and lies in its shadow beyond, so removing the whole
+/// ray from K(f) is exact.
+inline Nef occupied_cone(const ViewPoint& cam, const Solid& solid,
+                         const std::vector<const Solid*>& blockers) {
+  const auto front = front_faces(cam, solid);
+  if (front.empty()) return Nef();
+  // For each front face f: the front faces g of blockers that meet conv(c, f).
+  std::vector<std::vector<std::pair<const Solid*, int>>> blocking(front.size());
+  bool any_blocking = false;
+  for (std::size_t k = 0; k < front.size(); ++k) {
+    const auto& tri = solid.triangles[front[k]];
+    const Tetrahedron tet(cam.position, solid.points[tri[0]], solid.points[tri[1]],
+                          solid.points[tri[2]]);
+    const CGAL::Bbox_3 tet_box = tet.bbox();
+    for (const Solid* b : blockers) {
+      if (!CGAL::do_overlap(tet_box, b->bbox)) continue;
+      for (int g : front_faces(cam, *b)) {
+        const Triangle gt = b->triangle(g);
+        if (CGAL::do_overlap(tet_box, gt.bbox()) && CGAL::do_intersect(tet, gt)) {
+          blocking[k].push_back({b, g});
+          any_blocking = true;
+        }
+      }
+    }
+  }
+  if (solid.convex && !any_blocking) {
+    const FT t = scale_for(cam, convex_distance_lower(cam, solid, front));
+    auto pts = scaled(cam, solid.points, t);
+    pts.push_back(cam.position);
+    return hull_nef(pts);
+  }
+  std::vector<Nef> cones;
+  for (std::size_t k = 0; k < front.size(); ++k) {
+    const auto& tri = solid.triangles[front[k]];
+    const Plane& fplane = solid.planes[front[k]];
+    const FT t = scale_for(cam, plane_distance_lower(cam, fplane));
+    auto pts = scaled(cam, {solid.points[tri[0]], solid.points[tri[1]], solid.points[tri[2]]}, t);
+    pts.push_back(cam.position);
+    Nef cone = hull_nef(pts);
+    std::vector<Nef> blocked_parts;
+    for (const auto& [b, g] : blocking[k]) {
+      // g ∩ H̄_f: the part of g on the camera's side of f's plane (c is on the positive side).
+      const auto& gt = b->triangles[g];
+      std::vector<Point> piece;
+      for (int j = 0; j < 3; ++j) {
+        const Point& p = b->points[gt[j]];
+        const Point& q = b->points[gt[(j + 1) % 3]];
+        const auto sp = fplane.oriented_side(p), sq = fplane.oriented_side(q);
+        if (sp != CGAL::ON_NEGATIVE_SIDE) piece.push_back(p);
+        if ((sp == CGAL::ON_POSITIVE_SIDE && sq == CGAL::ON_NEGATIVE_SIDE) ||
+            (sp == CGAL::ON_NEGATIVE_SIDE && sq == CGAL::ON_POSITIVE_SIDE)) {
+          const auto x = CGAL::intersection(Segment(p, q), fplane);
+          const Point* xp = x ? boost::get<Point>(&*x) : nullptr;
+          CAMPLACE_ASSERT(xp != nullptr);
+          if (xp) piece.push_back(*xp);
+        }
+      }
+      if (piece.size() < 3) continue;
+      const FT tg = scale_for(cam, plane_distance_lower(cam, b->planes[g]));
+      auto bpts = scaled(cam, piece, tg);
+      bpts.push_back(cam.position);
+      blocked_parts.push_back(hull_nef(bpts));
+    }
+    const Nef blocked = union_all(std::move(blocked_parts));
+    if (!blocked.is_empty()) cone -= blocked;
+    cones.push_back(std::move(cone));
+  }
+  return union_all(std::move(cones));
+}
+
+/// True when c lies in one of the closed solids (such a camera sees nothing, SPEC §3.3).
+inline bool camera_inside(const ViewPoint& cam, const std::vector<const Solid*>& solids) {
+  for (const Solid* s : solids)
+    if (CGAL::do_overlap(s->bbox, cam.position.bbox()) && solid_contains(*s, cam.position))
+      return true;
+  return false;
+}
+
+}  // namespace camplace::exact::internal

@@ -1,0 +1,205 @@
+#pragma once
+// The model of one state after the Nef booleans: its components (connected through interiors),
+// their exact volumes and z-extents, the plausibility filter (SPEC §4), and the exact distance
+// from the critical objects to the kept model. Private to exact_pipeline.cpp.
+#include <CGAL/squared_distance_3.h>
+
+#include <algorithm>
+#include <array>
+#include <memory>
+#include <optional>
+#include <unordered_map>
+#include <vector>
+
+#include "camplace/core/error.hpp"
+#include "camplace/core/scene.hpp"
+#include "camplace/exact/evaluator.hpp"
+#include "internal/kernel.hpp"
+#include "internal/solids.hpp"
+#include "internal/soup.hpp"
+
+namespace camplace::exact {
+
+/// The model of one state: the regularised Nef polyhedron before the filter and its components
+/// (SPEC §4), each with its exact boundary, volume and z-extent.
+struct ExactModel::Impl {
+  using Nef = internal::Nef;
+  using Point = internal::Point;
+  using FT = internal::FT;
+  using Triangle = internal::Triangle;
+
+  struct Component {
+    Nef::Volume_const_handle volume;
+    std::vector<Point> points;
+    std::vector<std::array<std::size_t, 3>> triangles;  // outward
+    FT volume_exact = 0;
+    FT z_min = 0, z_max = 0;
+    bool kept = true;
+  };
+  Nef nef;  ///< regularised model before the filter
+  std::vector<Component> components;
+  bool any_removed = false;
+  FT kept_volume = 0;
+
+  const Component* component_of(Nef::Volume_const_handle v) const {
+    for (const auto& c : components)
+      if (c.volume == v) return &c;
+    return nullptr;
+  }
+  bool kept_volume_handle(Nef::Volume_const_handle v) const {
+    const Component* c = component_of(v);
+    return c != nullptr && c->kept;
+  }
+  bool contains(const Point& p) const {
+    const auto o = nef.locate(p);
+    Nef::Volume_const_handle vol;
+    if (CGAL::assign(vol, o)) return vol->mark() && kept_volume_handle(vol);
+    Nef::Halffacet_const_handle f;
+    Nef::Halfedge_const_handle e;
+    Nef::Vertex_const_handle v;
+    bool marked = false;
+    if (CGAL::assign(f, o)) {
+      if (!f->mark()) return false;
+      return kept_volume_handle(f->incident_volume()) ||
+             kept_volume_handle(f->twin()->incident_volume());
+    }
+    if (CGAL::assign(e, o)) marked = e->mark();
+    if (CGAL::assign(v, o)) marked = v->mark();
+    if (!marked) return false;
+    if (!any_removed) return true;
+    // A boundary edge or vertex: in the kept model iff it lies on a kept component's boundary.
+    for (const auto& c : components) {
+      if (!c.kept) continue;
+      for (const auto& t : c.triangles)
+        if (CGAL::do_intersect(Triangle(c.points[t[0]], c.points[t[1]], c.points[t[2]]), p))
+          return true;
+    }
+    return false;
+  }
+};
+
+}  // namespace camplace::exact
+
+namespace camplace::exact::internal {
+
+/// Squared distance lower bound between two boxes.
+inline double bbox_sq_distance(const CGAL::Bbox_3& a, const CGAL::Bbox_3& b) {
+  double sum = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    const double gap = std::max({0.0, a.min(i) - b.max(i), b.min(i) - a.max(i)});
+    sum += gap * gap;
+  }
+  return sum * (1.0 - 1e-9);
+}
+
+/// Splits a regularised Nef model into components (its marked volumes: connected through
+/// interiors), computes their exact volumes and z-extents and applies the filter (SPEC §4).
+inline std::shared_ptr<ExactModel::Impl> cluster(Nef model, const core::Plausibility& filter) {
+  auto impl = std::make_shared<ExactModel::Impl>();
+  impl->nef = std::move(model);
+  const Nef& nef = impl->nef;
+  // Regularised and simplified: no facet separates two marked volumes, so the marked volumes
+  // are exactly the components connected through interiors.
+  for (auto f = nef.halffacets_begin(); f != nef.halffacets_end(); ++f)
+    CAMPLACE_ASSERT(!(f->incident_volume()->mark() && f->twin()->incident_volume()->mark()));
+  // The boundary of a marked volume (outer and inner shells) is the set of halffacets incident
+  // to it; one pass over the halffacets sorts them by volume.
+  std::vector<TriangleSoup> soups;
+  std::unordered_map<const void*, std::size_t> soup_of;
+  auto vol = nef.volumes_begin();
+  if (vol != nef.volumes_end()) ++vol;  // the unbounded outer volume
+  for (; vol != nef.volumes_end(); ++vol) {
+    if (!vol->mark()) continue;
+    soup_of.emplace(&*vol, soups.size());
+    soups.emplace_back();
+    ExactModel::Impl::Component comp;
+    comp.volume = vol;
+    impl->components.push_back(std::move(comp));
+  }
+  for (auto f = nef.halffacets_begin(); f != nef.halffacets_end(); ++f) {
+    const auto it = soup_of.find(&*f->incident_volume());
+    if (it != soup_of.end()) soups[it->second].add_halffacet(f);
+  }
+  for (std::size_t k = 0; k < soups.size(); ++k) {
+    ExactModel::Impl::Component& comp = impl->components[k];
+    comp.points = std::move(soups[k].points);
+    comp.triangles = std::move(soups[k].triangles);
+    FT six_volume = 0;
+    for (const auto& t : comp.triangles) {
+      const Vector a = comp.points[t[0]] - CGAL::ORIGIN, b = comp.points[t[1]] - CGAL::ORIGIN,
+                   c = comp.points[t[2]] - CGAL::ORIGIN;
+      six_volume += CGAL::determinant(a, b, c);
+    }
+    // The triangles are outward (TriangleSoup), so six_volume > 0; kept as a safeguard.
+    CAMPLACE_ASSERT(!CGAL::is_negative(six_volume));
+    if (CGAL::is_negative(six_volume)) {
+      six_volume = -six_volume;
+      for (auto& t : comp.triangles) std::swap(t[1], t[2]);
+    }
+    comp.volume_exact = six_volume / 6;
+    if (!comp.points.empty()) {
+      comp.z_min = comp.z_max = comp.points.front().z();
+      for (const auto& p : comp.points) {
+        if (p.z() < comp.z_min) comp.z_min = p.z();
+        if (p.z() > comp.z_max) comp.z_max = p.z();
+      }
+    }
+    const FT height = comp.z_max - comp.z_min;
+    comp.kept = filter.keeps(comp.volume_exact, height);
+    if (comp.kept)
+      impl->kept_volume += comp.volume_exact;
+    else
+      impl->any_removed = true;
+  }
+  return impl;
+}
+
+/// Exact squared distance between the union of closed solids `critical` and the kept model;
+/// nullopt when the model is empty.
+inline std::optional<FT> model_squared_distance(const ExactModel::Impl& model,
+                                                const std::vector<const Solid*>& critical) {
+  std::optional<FT> best;
+  // Contact or overlap → 0 (SPEC §4: closed sets).
+  for (const auto& comp : model.components) {
+    if (!comp.kept) continue;
+    std::vector<Triangle> tris;
+    std::vector<CGAL::Bbox_3> boxes;
+    CGAL::Bbox_3 comp_box;
+    for (const auto& t : comp.triangles) {
+      tris.emplace_back(comp.points[t[0]], comp.points[t[1]], comp.points[t[2]]);
+      boxes.push_back(tris.back().bbox());
+      comp_box += boxes.back();
+    }
+    for (const Solid* c : critical) {
+      // a vertex of C inside the component, or a vertex of the component inside C
+      for (const auto& p : c->points) {
+        const auto o = model.nef.locate(p);
+        Nef::Volume_const_handle vol;
+        if (CGAL::assign(vol, o) && vol == comp.volume) return FT(0);
+      }
+      if (!comp.points.empty() && solid_contains(*c, comp.points.front())) return FT(0);
+      // boundaries: exact triangle–triangle distances, branch and bound on box distances
+      struct Pair {
+        double lower;
+        int i, j;
+      };
+      std::vector<Pair> pairs;
+      for (int j = 0; j < int(c->triangles.size()); ++j) {
+        const CGAL::Bbox_3 cb = c->triangle(j).bbox();
+        for (int i = 0; i < int(tris.size()); ++i)
+          pairs.push_back({bbox_sq_distance(boxes[i], cb), i, j});
+      }
+      std::sort(pairs.begin(), pairs.end(),
+                [](const Pair& a, const Pair& b) { return a.lower < b.lower; });
+      for (const auto& pr : pairs) {
+        if (best && pr.lower > CGAL::to_interval(*best).second) break;
+        const FT d = CGAL::squared_distance(tris[pr.i], c->triangle(pr.j));
+        if (!best || d < *best) best = d;
+        if (CGAL::is_zero(*best)) return best;
+      }
+    }
+  }
+  return best;
+}
+
+}  // namespace camplace::exact::internal

@@ -1,0 +1,186 @@
+#pragma once
+// The model of each state from the cameras (SPEC §3–4), with the parts shared between states
+// cached per camera: the static part, and the time step's part. Private to exact_pipeline.cpp.
+//
+// For camera c and one state (SPEC §3):
+//   Free_c = (FOV_c ∩ S) ∖ (U ∪ V)
+//   U = ∪ shadow volumes of the occluding objects (core::role_of): points p whose segment
+//       [c, p] meets the object;
+//   V = ∪ silhouette cones of the occupying objects, each cut where an occluding object hides
+//       it (occupied_cone).
+//   M = reg(S ∖ obstacles ∖ ∪_c Free_c) (SPEC §4, regularised: closure of the interior).
+#include <cmath>
+#include <optional>
+#include <unordered_map>
+#include <vector>
+
+#include "camplace/core/camera.hpp"
+#include "camplace/core/error.hpp"
+#include "camplace/core/scene.hpp"
+#include "camplace/core/sensor_model.hpp"
+#include "internal/cones.hpp"
+#include "internal/kernel.hpp"
+#include "internal/solids.hpp"
+
+namespace camplace::exact::internal {
+
+class Pipeline {
+ public:
+  /// Throws core::InputError when the configuration does not match the scene.
+  Pipeline(const core::Scene& scene, const core::CameraConfig& config) : scene_(scene) {
+    core::check_configuration(scene, config);
+    area_ = box_nef(scene.area);
+    // The FOVs are clipped to a box a little larger than S rather than to S itself: the model's
+    // facets on S's faces then never coincide with a free region's facets, and each Nef boolean
+    // does the costly local overlay only where the boundaries really cross (about 20% of the
+    // booleans' time on paper_basic). Free space outside S changes nothing in M ⊂ S.
+    const double margin = std::exp2(std::floor(std::log2(scene.area.diagonal() / 16.0)));
+    const core::Box3 clip{scene.area.min - core::Vec3::Constant(margin),
+                          scene.area.max + core::Vec3::Constant(margin)};
+    const Nef clip_box = box_nef(clip);
+    auto add = [this](const std::vector<core::SceneObject>& objects) {
+      for (const auto& o : objects) solids_.try_emplace(&o, o.mesh);
+    };
+    add(scene.static_obstacles);
+    for (const auto& step : scene.time_steps) {
+      add(step.dynamic_obstacles);
+      add(step.critical);
+      for (const auto& ev : step.events) add(ev.targets);
+    }
+    for (const auto& setting : config) {
+      Camera cam;
+      cam.view = view_point(setting, clip);
+      cam.fov = fov_nef(cam.view, setting, scene.cameras) * clip_box;
+      cameras_.push_back(std::move(cam));
+    }
+    step_free_.resize(cameras_.size());
+    step_area_.resize(scene.time_steps.size());
+  }
+
+  /// The regularised model of a state before the filter: S minus the obstacles minus each
+  /// camera's free region in turn. Subtracting the free regions one by one from the shrinking
+  /// model costs less than their balanced union followed by one subtraction (each Nef boolean
+  /// visits every vertex of both operands, and the model stays smaller than the union).
+  Nef model(const core::StateIndex& s) {
+    const auto objects = core::state_objects(scene_, s);
+    Nef m = step_area(s.time_step, objects);
+    for (std::size_t c = 0; c < cameras_.size() && !m.is_empty(); ++c) {
+      const Nef free = state_free(c, s, objects);
+      if (!free.is_empty()) m -= free;
+    }
+    return m.regularization();
+  }
+
+  /// The critical objects C_h of time step h (SPEC §2).
+  std::vector<const Solid*> critical(int h) const {
+    std::vector<const Solid*> out;
+    for (const auto& o : scene_.time_steps[h].critical) out.push_back(&solid(o));
+    return out;
+  }
+
+  /// FOV ∩ S of camera c (for export).
+  Nef fov(std::size_t c) const { return cameras_[c].fov * area_; }
+  std::size_t camera_count() const { return cameras_.size(); }
+
+ private:
+  struct Camera {
+    ViewPoint view;
+    Nef fov;  ///< pyramid ∩ clip box
+    std::optional<Nef> static_free;
+  };
+
+  const Solid& solid(const core::SceneObject& o) const { return solids_.at(&o); }
+
+  /// The state's objects of this kind.
+  std::vector<const Solid*> of_kind(const std::vector<core::StateObject>& objects,
+                                    core::ObjectKind kind) const {
+    std::vector<const Solid*> out;
+    for (const auto& o : objects)
+      if (o.kind == kind) out.push_back(&solid(*o.object));
+    return out;
+  }
+
+  /// The state's occluding objects, which cut the silhouette cones of occupying ones. Targets
+  /// never occlude (SPEC §3), so they are the same for every event of a time step.
+  std::vector<const Solid*> occluders(const std::vector<core::StateObject>& objects) const {
+    std::vector<const Solid*> out;
+    for (const auto& o : objects) {
+      CAMPLACE_ASSERT(o.kind != core::ObjectKind::target || o.role == core::ObjectRole::occupying);
+      if (o.role == core::ObjectRole::occluding) out.push_back(&solid(*o.object));
+    }
+    return out;
+  }
+
+  /// `free` minus what camera c cannot see past among the state's objects of one kind: shadows
+  /// of the occluding ones, silhouette cones of the occupying ones. Empty when c lies inside one
+  /// of them.
+  Nef remove_hidden(std::size_t c, Nef free, const std::vector<core::StateObject>& objects,
+                    core::ObjectKind kind) const {
+    const ViewPoint& cam = cameras_[c].view;
+    if (free.is_empty()) return free;
+    if (camera_inside(cam, of_kind(objects, kind))) return Nef();
+    const auto blockers = occluders(objects);
+    std::vector<Nef> parts;
+    for (const auto& o : objects) {
+      if (o.kind != kind) continue;
+      parts.push_back(o.role == core::ObjectRole::occluding
+                          ? shadow(cam, solid(*o.object))
+                          : occupied_cone(cam, solid(*o.object), blockers));
+    }
+    const Nef removed = union_all(std::move(parts));
+    if (!removed.is_empty()) free -= removed;
+    return free;
+  }
+
+  /// FOV ∩ clip box minus the static obstacles' shadows (cached per camera). Static obstacles
+  /// always occlude (SPEC §3), so this part depends on no time step.
+  const Nef& static_free(std::size_t c, const std::vector<core::StateObject>& objects) {
+    Camera& cam = cameras_[c];
+    if (!cam.static_free) {
+      CAMPLACE_ASSERT(core::role_of(core::ObjectKind::static_obstacle, scene_.dynamic_mode) ==
+                      core::ObjectRole::occluding);
+      cam.static_free.emplace(
+          remove_hidden(c, cam.fov, objects, core::ObjectKind::static_obstacle));
+    }
+    return *cam.static_free;
+  }
+
+  /// static_free minus the dynamic obstacles' shadows or cones (cached per camera and step).
+  const Nef& step_free(std::size_t c, int h, const std::vector<core::StateObject>& objects) {
+    auto& slot = step_free_[c];
+    if (slot.size() < scene_.time_steps.size()) slot.resize(scene_.time_steps.size());
+    if (!slot[h])
+      slot[h] =
+          remove_hidden(c, static_free(c, objects), objects, core::ObjectKind::dynamic_obstacle);
+    return *slot[h];
+  }
+
+  /// Free_c of SPEC §3 for one state.
+  Nef state_free(std::size_t c, const core::StateIndex& s,
+                 const std::vector<core::StateObject>& objects) {
+    return remove_hidden(c, step_free(c, s.time_step, objects), objects, core::ObjectKind::target);
+  }
+
+  /// S minus the obstacles of step h (cached per step; targets are no obstacles, SPEC §4).
+  const Nef& step_area(int h, const std::vector<core::StateObject>& objects) {
+    if (!step_area_[h]) {
+      Nef a = area_;
+      std::vector<Nef> parts;
+      for (const auto& o : objects)
+        if (core::is_obstacle(o.kind)) parts.push_back(solid(*o.object).as_nef());
+      const Nef obstacles = union_all(std::move(parts));
+      if (!obstacles.is_empty()) a -= obstacles;
+      step_area_[h] = std::move(a);
+    }
+    return *step_area_[h];
+  }
+
+  const core::Scene& scene_;
+  Nef area_;
+  std::unordered_map<const core::SceneObject*, Solid> solids_;
+  std::vector<Camera> cameras_;
+  std::vector<std::vector<std::optional<Nef>>> step_free_;
+  std::vector<std::optional<Nef>> step_area_;
+};
+
+}  // namespace camplace::exact::internal
