@@ -33,7 +33,7 @@ using detail::resolution_text;
 namespace {
 
 /// Bump when the cached numbers change meaning (a cache entry of another version is ignored).
-constexpr int kCacheFormat = 1;
+constexpr int kCacheFormat = 2;  // 2: exact doubles correctly rounded from the exact values
 constexpr const char* kCacheDir = "validation-cache";
 
 using Clock = std::chrono::steady_clock;

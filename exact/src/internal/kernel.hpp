@@ -2,7 +2,6 @@
 // The exact pipeline's kernel and number type, and the exact conversions from and to camplace's
 // double-precision types. Private to exact/src: included only by exact_pipeline.cpp, the one Nef
 // translation unit (STYLE.md).
-#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Nef_polyhedron_3.h>
 #include <CGAL/Surface_mesh.h>
 
@@ -13,34 +12,25 @@
 #include <utility>
 
 #include "camplace/core/geometry.hpp"
+#include "camplace/core/internal/exact_kernel.hpp"
 
 namespace camplace::exact::internal {
 
-using Kernel = CGAL::Exact_predicates_exact_constructions_kernel;
-using FT = Kernel::FT;
-using Point = Kernel::Point_3;
-using Vector = Kernel::Vector_3;
+// Kernel, FT, Point, Vector, to_point, to_vector and fraction_string: shared with core's exact
+// true distance (core/internal/camplace/core/internal/exact_kernel.hpp).
+using core::internal::fraction_string;
+using core::internal::FT;
+using core::internal::Kernel;
+using core::internal::Point;
+using core::internal::to_point;
+using core::internal::to_vector;
+using core::internal::Vector;
 using Plane = Kernel::Plane_3;
 using Triangle = Kernel::Triangle_3;
 using Segment = Kernel::Segment_3;
 using Tetrahedron = Kernel::Tetrahedron_3;
 using Nef = CGAL::Nef_polyhedron_3<Kernel>;
 using SurfaceMesh = CGAL::Surface_mesh<Point>;
-
-/// The point with exactly the coordinates of v (every double is a rational).
-inline Point to_point(const core::Vec3& v) { return Point(v.x(), v.y(), v.z()); }
-inline Vector to_vector(const core::Vec3& v) { return Vector(v.x(), v.y(), v.z()); }
-/// "p/q" of an exact rational, in lowest terms.
-inline std::string fraction_string(const FT& x) {
-  const auto& e = CGAL::exact(x);
-  using ET = std::decay_t<decltype(e)>;
-  typename CGAL::Fraction_traits<ET>::Numerator_type num;
-  typename CGAL::Fraction_traits<ET>::Denominator_type den;
-  typename CGAL::Fraction_traits<ET>::Decompose()(e, num, den);
-  std::ostringstream out;
-  out << num << "/" << den;
-  return out.str();
-}
 
 /// x rounded to a neighbouring double: the nearer one (the lower on a tie) when the exact
 /// interval is tight. Unlike CGAL::to_double on a lazy number, the result does not depend on

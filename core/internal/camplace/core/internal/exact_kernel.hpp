@@ -21,11 +21,6 @@ using Vector = Kernel::Vector_3;
 /// The double coordinates as an exact point (every double is a rational: no rounding).
 inline Point to_point(const Vec3& v) { return Point(v.x(), v.y(), v.z()); }
 inline Vector to_vector(const Vec3& v) { return Vector(v.x(), v.y(), v.z()); }
-/// The point rounded to doubles.
-inline Vec3 to_vec3(const Point& p) {
-  return {CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())};
-}
-
 /// "p/q" of an exact rational, in lowest terms.
 inline std::string fraction_string(const FT& x) {
   const auto& e = CGAL::exact(x);
