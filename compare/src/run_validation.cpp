@@ -200,7 +200,10 @@ void check_run(const fs::path& dir, const fs::path& file, SceneCache& scenes, Ru
     if (!row.cached) {
       const auto evaluator = scenes.evaluator(*scene_path, *scene, {*mode, context.resolution});
       const core::Evaluation voxel = evaluator->evaluate(run.run.best);
-      const exact::ExactEvaluation exact = exact::evaluate_exact(scene->scene, run.run.best);
+      exact::ExactOptions exact_options;
+      exact_options.threads = 1;  // the runs are checked in parallel already
+      const exact::ExactEvaluation exact =
+          exact::evaluate_exact(scene->scene, run.run.best, exact_options);
       row.voxel_err_same_fov = voxel.err;
       row.exact_err = exact.err;
       row.max_overestimate = -std::numeric_limits<double>::infinity();
