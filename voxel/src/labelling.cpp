@@ -1,6 +1,27 @@
-// Labelling (SPEC §3, §5): per camera the voxels in its FOV and the cones over every object
-// triangle; per voxel and state the label κ, center mode (the voxel's centre) or conservative
-// mode (free only when every point of the voxel is free); the unfiltered model.
+// Labelling (SPEC §3, §5): per camera the FOV test and the triangles sorted into bins of the
+// image plane; per voxel and camera the label κ for all states at once, center mode (the
+// voxel's centre) or conservative mode (free only when every point of the voxel is free); the
+// unfiltered models.
+//
+// Issue 11 made this fast without changing an answer. The exact tests are the ones of the
+// previous labeller (tests/support/legacy_labeller.cpp keeps it): Möller–Trumbore on the ray
+// to the voxel centre, the separating-axis test of a triangle's cone against the voxel box, the
+// FOV test on the centre or on the 8 corners, computed from the same numbers. What changed is
+// which of them run:
+//  - a triangle is tested against a voxel only when their projections onto the camera's image
+//    plane (bounding rectangles, padded by 1e-9) share a bin; a triangle that is not wholly in
+//    front of the camera is tested everywhere. If a segment or ray from the camera through
+//    the voxel (centre) meets the triangle, the meeting point projects into both rectangles,
+//    so no triangle that could change a label is skipped;
+//  - each triangle is tested once per voxel and camera for all states (bit masks), not once
+//    per state, and a voxel is done as soon as some camera sees it free in every state;
+//  - the FOV test and the cone test first try cheap decisions with a relative margin of 1e-9
+//    (centre clearly outside, bounding ball clearly inside; voxel centre clearly inside the
+//    triangle's cone) and fall back to the exact test in the margin, so they decide as the
+//    exact test does except where rounding decides (a tie);
+//  - no per-voxel arrays: voxel centres and boxes come from per-axis tables, camera → centre
+//    vectors are computed on the fly.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -9,61 +30,114 @@
 
 namespace camplace::voxel {
 
-using core::Box3;
 using core::Vec3;
-using detail::CameraView;
-using detail::ObjectCone;
-using detail::ObjectInfo;
+using detail::CameraSetup;
+using detail::Scratch;
 using detail::StateInfo;
+using detail::StateMask;
 using detail::TriangleCone;
+using detail::Verdict;
 
-CameraView VoxelEvaluator::Impl::view(const core::CameraSetting& camera) const {
-  CameraView view;
-  view.setting = camera;
-  const core::Fov fov(camera, scene.cameras);
+namespace {
+
+constexpr double kMargin = 1e-9;
+
+/// The bin of image coordinate x (clamped: clamping keeps overlapping intervals overlapping).
+int bin_of(const CameraSetup& cam, double x) {
+  const double f = (x + cam.image_half) * cam.bin_scale;
+  if (!(f > 0.0)) return 0;
+  if (f >= cam.bins) return cam.bins - 1;
+  return static_cast<int>(f);
+}
+
+struct BinRange {
+  int x0 = 0, x1 = 0, y0 = 0, y1 = 0;
+};
+
+/// Bins overlapping [lo, hi] on each axis, padded by the margin.
+BinRange bin_range(const CameraSetup& cam, double xlo, double xhi, double ylo, double yhi) {
+  const double px = kMargin * (1.0 + std::max(std::abs(xlo), std::abs(xhi)));
+  const double py = kMargin * (1.0 + std::max(std::abs(ylo), std::abs(yhi)));
+  return {bin_of(cam, xlo - px), bin_of(cam, xhi + px), bin_of(cam, ylo - py),
+          bin_of(cam, yhi + py)};
+}
+
+}  // namespace
+
+CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera) const {
+  CameraSetup cam;
+  cam.setting = camera;
+  cam.fov.emplace(camera, scene.cameras);
+  const core::Fov& fov = *cam.fov;
   const Vec3& c = camera.position;
-  const int n = grid.count();
-  view.in_fov.assign(n, 0);
-  view.dir.resize(n);
-  view.dist.resize(n);
-  view.cos_b.assign(n, 1.0);
-  view.sin_b.assign(n, 0.0);
-  view.far.resize(n);
-  for (int v = 0; v < n; ++v) {
-    const Vec3 center = grid.voxel_center(v);
-    const Vec3 w = center - c;
-    const double d = w.norm();
-    view.dist[v] = d;
-    view.dir[v] = d > 0 ? Vec3(w / d) : Vec3(Vec3::UnitX());
-    if (!conservative) {
-      view.in_fov[v] = d > 0 && fov.contains(center);
-      view.far[v] = d;
+  cam.c = c;
+  cam.axis = fov.axis();
+  cam.ey = core::up_vector(camera);
+  cam.ex = cam.axis.cross(cam.ey).normalized();
+  cam.abs_ex = cam.ex.cwiseAbs();
+  cam.abs_ey = cam.ey.cwiseAbs();
+  cam.abs_axis = cam.axis.cwiseAbs();
+  cam.pyramid = scene.cameras.fov == core::FovShape::pyramid;
+  cam.normals = fov.pyramid_normals();
+  cam.range = scene.cameras.range;
+  cam.cos_half = std::cos(scene.cameras.half_angle);  // as core::Fov computes it
+  cam.sin_half = std::sin(scene.cameras.half_angle);
+
+  // Bins over the FOV's section at unit depth (the cone's; the pyramid is inscribed).
+  cam.image_half = std::tan(scene.cameras.half_angle);
+  cam.bins = std::clamp(*std::max_element(grid.n.begin(), grid.n.end()), 16, 64);
+  cam.bin_scale = cam.bins / (2.0 * cam.image_half);
+  const int bin_count = cam.bins * cam.bins;
+  std::vector<BinRange> ranges(triangles.size());
+  std::vector<std::uint8_t> projectable(triangles.size(), 1);
+  cam.bin_start.assign(bin_count + 1, 0);
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    double xlo = std::numeric_limits<double>::infinity(), xhi = -xlo, ylo = xlo, yhi = -xlo;
+    for (const Vec3& p : triangles[t]) {
+      const Vec3 q = p - c;
+      const double z = q.dot(cam.axis);
+      if (!(z > kMargin * q.norm())) {
+        projectable[t] = 0;
+        break;
+      }
+      const double x = q.dot(cam.ex) / z, y = q.dot(cam.ey) / z;
+      xlo = std::min(xlo, x);
+      xhi = std::max(xhi, x);
+      ylo = std::min(ylo, y);
+      yhi = std::max(yhi, y);
+    }
+    if (!projectable[t]) {
+      cam.everywhere.push_back(static_cast<int>(t));
       continue;
     }
-    view.far[v] = (w.cwiseAbs() + half_step).norm();
-    if (d <= voxel_radius) continue;  // camera in or at the voxel: never provably free
-    view.sin_b[v] = voxel_radius / d;
-    view.cos_b[v] = std::sqrt(1.0 - view.sin_b[v] * view.sin_b[v]);
-    view.in_fov[v] = box_in_fov(fov, grid.voxel_box(v));
-  }
-  view.objects.resize(objects.size());
-  view.triangles.resize(triangles.size());
-  for (std::size_t o = 0; o < objects.size(); ++o) {
-    const ObjectInfo& info = objects[o];
-    ObjectCone& cone = view.objects[o];
-    const Vec3 w = info.center - c;
-    const double d = w.norm();
-    cone.no_cull = d <= info.radius * (1.0 + 1e-12) + 1e-12;
-    if (!cone.no_cull) {
-      cone.axis = w / d;
-      cone.sin_b = info.radius / d;
-      cone.cos_b = std::sqrt(1.0 - cone.sin_b * cone.sin_b);
+    ranges[t] = bin_range(cam, xlo, xhi, ylo, yhi);
+    for (int by = ranges[t].y0; by <= ranges[t].y1; ++by) {
+      for (int bx = ranges[t].x0; bx <= ranges[t].x1; ++bx) ++cam.bin_start[by * cam.bins + bx + 1];
     }
-    cone.contains_camera = cone.no_cull && core::inside_mesh(*info.mesh, c);
   }
+  for (int b = 0; b < bin_count; ++b) cam.bin_start[b + 1] += cam.bin_start[b];
+  cam.bin_items.resize(cam.bin_start[bin_count]);
+  std::vector<int> fill(cam.bin_start.begin(), cam.bin_start.end() - 1);
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    if (!projectable[t]) continue;
+    for (int by = ranges[t].y0; by <= ranges[t].y1; ++by) {
+      for (int bx = ranges[t].x0; bx <= ranges[t].x1; ++bx) {
+        cam.bin_items[fill[by * cam.bins + bx]++] = static_cast<int>(t);
+      }
+    }
+  }
+
+  cam.inside_object.assign(objects.size(), 0);
+  for (std::size_t o = 0; o < objects.size(); ++o) {
+    const detail::ObjectInfo& info = objects[o];
+    const double d = (info.center - c).norm();
+    const bool near = d <= info.radius * (1.0 + 1e-12) + 1e-12;
+    cam.inside_object[o] = near && core::inside_mesh(*info.mesh, c);
+  }
+  cam.triangles.resize(triangles.size());
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     const auto& tri = triangles[t];
-    TriangleCone& tc = view.triangles[t];
+    TriangleCone& tc = cam.triangles[t];
     const Vec3 a = tri[0] - c, b = tri[1] - c, e = tri[2] - c;
     const double det = a.dot(b.cross(e));
     tc.near_distance = std::sqrt(core::point_triangle_sq_distance(c, tri[0], tri[1], tri[2]));
@@ -77,91 +151,160 @@ CameraView VoxelEvaluator::Impl::view(const core::CameraSetting& camera) const {
     tc.normal[0] = (sign * a.cross(b)).normalized();
     tc.normal[1] = (sign * b.cross(e)).normalized();
     tc.normal[2] = (sign * e.cross(a)).normalized();
+    for (int i = 0; i < 3; ++i) tc.abs_normal[i] = tc.normal[i].cwiseAbs();
   }
-  return view;
+  return cam;
 }
 
-bool VoxelEvaluator::Impl::box_in_fov(const core::Fov& fov, const Box3& box) const {
-  // The FOV (cone with α < 90°, or pyramid, with optional far plane) is convex, so the box
-  // is inside when its 8 corners are.
-  for (int i = 0; i < 8; ++i) {
-    const Vec3 corner((i & 1) ? box.max.x() : box.min.x(), (i & 2) ? box.max.y() : box.min.y(),
-                      (i & 4) ? box.max.z() : box.min.z());
+/// The FOV test of the previous labeller: centre mode `d > 0 && fov.contains(centre)`,
+/// conservative mode all 8 corners in the FOV (it is convex) and the camera not in or at the
+/// voxel. w = centre − camera, d = |w|.
+bool VoxelEvaluator::Impl::in_fov(const CameraSetup& cam, int i, int j, int k, const Vec3& w,
+                                  double d) const {
+  if (!conservative) {
+    // core::Fov::contains on the same numbers (v = p − apex = w, |v| = d).
+    if (!(d > 0)) return false;
+    const double axial = w.dot(cam.axis);
+    if (cam.range && axial > *cam.range) return false;
+    if (!cam.pyramid) return axial >= d * cam.cos_half;
+    for (const Vec3& n : cam.normals) {
+      if (n.dot(w) < 0.0) return false;
+    }
+    return true;
+  }
+  if (d <= voxel_radius) return false;  // camera in or at the voxel: never provably free
+  const double r = voxel_radius;
+  const double tol = kMargin * (d + r);
+  const double axial = w.dot(cam.axis);
+  // Decided without the corners when the centre is clearly outside (then so is a corner: the
+  // FOV's inside-ness is concave) or the bounding ball clearly inside.
+  bool ball_inside = true;
+  if (cam.range) {
+    if (axial > *cam.range + tol) return false;
+    ball_inside = axial + r < *cam.range - tol;
+  }
+  if (!cam.pyramid) {
+    if (axial < d * cam.cos_half - tol) return false;
+    if (ball_inside) {
+      // Angle θ of the centre off the axis plus the ball's angular radius β within α.
+      const double cos_t = axial / d, sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
+      const double sin_b = r / d, cos_b = std::sqrt(1.0 - sin_b * sin_b);
+      if (cos_t * cos_b - sin_t * sin_b > cam.cos_half + kMargin) return true;
+    }
+  } else {
+    bool clear = ball_inside;
+    for (const Vec3& n : cam.normals) {
+      const double s = n.dot(w);
+      if (s < -tol) return false;
+      clear = clear && s > r + tol;
+    }
+    if (clear) return true;
+  }
+  const core::Fov& fov = *cam.fov;
+  for (int q = 0; q < 8; ++q) {
+    const Vec3 corner((q & 1) ? box_max[0][i] : box_min[0][i],
+                      (q & 2) ? box_max[1][j] : box_min[1][j],
+                      (q & 4) ? box_max[2][k] : box_min[2][k]);
     if (!fov.contains(corner)) return false;
   }
   return true;
 }
 
-/// True when the camera stands inside an object of the state: it sees nothing (SPEC §3.3).
-bool VoxelEvaluator::Impl::blind(const CameraView& view, const StateInfo& state) const {
-  for (int o : state.objects) {
-    if (view.objects[o].contains_camera) return true;
-  }
-  return false;
-}
-
-/// κ of SPEC §3 for voxel v seen by one (not blind) camera in one state. Conservative mode
-/// answers `free` only when every point of the voxel is free. With `free_only` the answer
-/// is exact only as free / not free (the model needs no more), which allows early exits.
-Label VoxelEvaluator::Impl::label(const CameraView& view, const StateInfo& state, int v,
-                                  bool free_only) const {
-  if (!view.in_fov[v]) return Label::undetectable;
-  return conservative ? label_conservative(view, state, v, free_only)
-                      : label_center(view, state, v, free_only);
-}
-
-bool VoxelEvaluator::Impl::may_meet(const CameraView& view, int o, int v) const {
-  // Bounding cones disjoint ⇔ angle(axes) > β_v + β_o ⇔ cos(angle) < cos(β_v + β_o).
-  const ObjectCone& cone = view.objects[o];
-  if (cone.no_cull) return true;
-  const double cos_sum = view.cos_b[v] * cone.cos_b - view.sin_b[v] * cone.sin_b;
-  return view.dir[v].dot(cone.axis) >= cos_sum - 1e-12;
-}
-
-Label VoxelEvaluator::Impl::label_center(const CameraView& view, const StateInfo& state, int v,
-                                         bool free_only) const {
-  const Vec3& c = view.setting.position;
-  const Vec3& u = view.dir[v];
-  double first = std::numeric_limits<double>::infinity();
-  bool first_occupying = false;
-  for (int o : state.objects) {
-    if (!may_meet(view, o, v)) continue;
-    const ObjectInfo& info = objects[o];
-    for (int t = info.first_triangle; t < info.first_triangle + info.triangle_count; ++t) {
+/// κ of SPEC §3 for the voxel with centre at w from the camera (d = |w|), in the FOV of the camera,
+/// for the states in `interest`: adds to `out` the states where it is occupied and those where it
+/// is otherwise not free. With `free_only` the split between the two is not kept (the model needs
+/// no more).
+void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d,
+                                 StateMask interest, const StateMask* object_states,
+                                 Scratch& scratch, Verdict& out, bool free_only) const {
+  const double x = w.dot(cam.ex), y = w.dot(cam.ey), z = w.dot(cam.axis);
+  if (!conservative) {
+    // The ray from the camera through the centre: every hit in (0, d] blocks the view, and
+    // the first hit along the whole ray occupies the voxel when its object is occupying.
+    BinRange bins{0, cam.bins - 1, 0, cam.bins - 1};
+    if (z > 0.0) bins = bin_range(cam, x / z, x / z, y / z, y / z);
+    const Vec3 u = w / d;
+    scratch.hits.clear();
+    auto test = [&](int t) {
+      const StateMask m = object_states[triangle_object[t]] & interest;
+      if (!m) return;
       const auto& tri = triangles[t];
-      const double hit = core::ray_triangle_hit(c, u, tri[0], tri[1], tri[2]);
-      if (free_only && hit > 0.0 && hit <= view.dist[v]) return Label::undetectable;
-      if (hit > 0.0 && hit < first) {
-        first = hit;
-        first_occupying = info.occupying;
+      const double hit = core::ray_triangle_hit(cam.c, u, tri[0], tri[1], tri[2]);
+      if (!(hit > 0.0)) return;
+      scratch.hits.push_back({hit, t});
+      if (hit <= d) out.blocked |= m;
+    };
+    const bool single = bins.x0 == bins.x1 && bins.y0 == bins.y1;
+    if (!single) ++scratch.visit;
+    for (int by = bins.y0; by <= bins.y1; ++by) {
+      for (int bx = bins.x0; bx <= bins.x1; ++bx) {
+        const int b = by * cam.bins + bx;
+        for (int n = cam.bin_start[b]; n < cam.bin_start[b + 1]; ++n) {
+          const int t = cam.bin_items[n];
+          if (!single) {
+            if (scratch.stamp[t] == scratch.visit) continue;
+            scratch.stamp[t] = scratch.visit;
+          }
+          test(t);
+        }
       }
     }
+    for (int t : cam.everywhere) test(t);
+    if (scratch.hits.empty()) return;
+    if (free_only && !(interest & ~out.blocked)) return;
+    // First hit per state: by distance, ties to the lower triangle index (the previous
+    // labeller's order: objects of a state ascending, their triangles in order).
+    std::sort(scratch.hits.begin(), scratch.hits.end(), [](const auto& a, const auto& b) {
+      return a.t < b.t || (a.t == b.t && a.triangle < b.triangle);
+    });
+    StateMask claimed = 0;
+    for (const Scratch::Hit& h : scratch.hits) {
+      const int o = triangle_object[h.triangle];
+      const StateMask m = object_states[o] & interest & ~claimed;
+      if (objects[o].occupying) out.occupied |= m;
+      claimed |= m;
+      if (claimed == interest) break;
+    }
+    return;
   }
-  if (first_occupying) return Label::occupied;
-  return view.dist[v] < first ? Label::free : Label::undetectable;
-}
-
-Label VoxelEvaluator::Impl::label_conservative(const CameraView& view, const StateInfo& state,
-                                               int v, bool free_only) const {
-  // Free for every point p of the box B when (SPEC §5): no object triangle meets a segment
-  // [c, p] (its cone misses B's cone, or it lies wholly beyond B), and no triangle of an
-  // occupying object lies on any ray through B (its cone misses B's cone).
-  const Vec3 w = view.dir[v] * view.dist[v];  // camera → voxel centre
-  Label verdict = Label::free;
-  for (int o : state.objects) {
-    if (!may_meet(view, o, v)) continue;
-    const ObjectInfo& info = objects[o];
-    for (int t = info.first_triangle; t < info.first_triangle + info.triangle_count; ++t) {
-      const TriangleCone& tc = view.triangles[t];
-      if (tc.flat) continue;
-      if (!info.occupying && tc.near_distance >= view.far[v]) continue;
-      if (cone_misses_box(tc, w)) continue;
-      if (info.occupying) return Label::occupied;
-      if (free_only) return Label::undetectable;
-      verdict = Label::undetectable;
+  // Conservative: free for every point p of the box B when (SPEC §5) no object triangle meets
+  // a segment [c, p] (its cone misses B, or it lies wholly beyond B), and no triangle of an
+  // occupying object lies on any ray through B (its cone misses B).
+  const Vec3 wc = (w / d) * d;  // the previous labeller's dir · dist
+  const double far = (w.cwiseAbs() + half_step).norm();
+  BinRange bins{0, cam.bins - 1, 0, cam.bins - 1};
+  const double rx = cam.abs_ex.dot(half_step), ry = cam.abs_ey.dot(half_step),
+               rz = cam.abs_axis.dot(half_step);
+  const double z_lo = z - rz, z_hi = z + rz;
+  if (z_lo > 0.0) {
+    // The box's projection lies in [min, max] of (x ± rx) / (z ± rz), each axis.
+    const double x0 = x - rx, x1 = x + rx, y0 = y - ry, y1 = y + ry;
+    bins = bin_range(cam, x0 / (x0 >= 0 ? z_hi : z_lo), x1 / (x1 >= 0 ? z_lo : z_hi),
+                     y0 / (y0 >= 0 ? z_hi : z_lo), y1 / (y1 >= 0 ? z_lo : z_hi));
+  }
+  ++scratch.visit;
+  auto test = [&](int t) {
+    if (scratch.stamp[t] == scratch.visit) return;
+    scratch.stamp[t] = scratch.visit;
+    const int o = triangle_object[t];
+    const bool occupying = objects[o].occupying;
+    StateMask m = object_states[o] & interest;
+    // States already decided need no more tests (occupied wins over undetectable).
+    m &= (free_only || !occupying) ? ~(out.occupied | out.blocked) : ~out.occupied;
+    if (!m) return;
+    const TriangleCone& tc = cam.triangles[t];
+    if (tc.flat) return;
+    if (!occupying && tc.near_distance >= far) return;
+    if (cone_misses_box(tc, wc)) return;
+    (occupying ? out.occupied : out.blocked) |= m;
+  };
+  for (int by = bins.y0; by <= bins.y1; ++by) {
+    for (int bx = bins.x0; bx <= bins.x1; ++bx) {
+      const int b = by * cam.bins + bx;
+      for (int n = cam.bin_start[b]; n < cam.bin_start[b + 1]; ++n) test(cam.bin_items[n]);
     }
   }
-  return verdict;
+  for (int t : cam.everywhere) test(t);
 }
 
 /// True when the triangle's infinite cone and the voxel box (centre at w from the camera) are
@@ -170,9 +313,14 @@ Label VoxelEvaluator::Impl::label_conservative(const CameraView& view, const Sta
 /// rounding; touching counts as meeting.
 bool VoxelEvaluator::Impl::cone_misses_box(const TriangleCone& tc, const Vec3& w) const {
   // Cone planes first: cheapest and most often decisive.
-  for (const Vec3& n : tc.normal) {
-    if (n.dot(w) + n.cwiseAbs().dot(half_step) < 0.0) return true;
+  double s[3];
+  for (int i = 0; i < 3; ++i) {
+    s[i] = tc.normal[i].dot(w);
+    if (s[i] + tc.abs_normal[i].dot(half_step) < 0.0) return true;
   }
+  // The box centre clearly inside the cone: they meet (no axis can separate them).
+  const double tol = kMargin * w.norm();
+  if (s[0] > tol && s[1] > tol && s[2] > tol) return false;
   // Axis L: the cone projects to [0, ∞) or (−∞, 0] (relative to the camera) when its edges
   // all project to one side, else to the whole line; the box to L·w ± Σ|L_i|·h_i.
   auto separates = [&](const Vec3& axis) {
@@ -194,34 +342,103 @@ bool VoxelEvaluator::Impl::cone_misses_box(const TriangleCone& tc, const Vec3& w
   return false;
 }
 
-/// Model before filtering: 1 where no camera sees the voxel free, minus obstacle interiors.
-std::vector<std::uint8_t> VoxelEvaluator::Impl::raw_model(const std::vector<CameraView>& views,
-                                                          const StateInfo& state) const {
-  std::vector<const CameraView*> seeing;
-  for (const CameraView& view : views) {
-    if (!blind(view, state)) seeing.push_back(&view);
-  }
-  const auto& removed = removed_by_step[state.time_step];
-  std::vector<std::uint8_t> model(grid.count(), 0);
-  for (int v = 0; v < grid.count(); ++v) {
-    if (removed[v]) continue;
-    bool seen_free = false;
-    for (const CameraView* view : seeing) {
-      if (label(*view, state, v, true) == Label::free) {
-        seen_free = true;
-        break;
+void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, int k_begin,
+                                      int k_end,
+                                      std::vector<std::vector<std::uint8_t>>& models) const {
+  const int nx = grid.n[0], ny = grid.n[1];
+  const int state_count = static_cast<int>(states.size());
+  const int steps = static_cast<int>(removed_by_step.size());
+  Scratch scratch;
+  scratch.stamp.assign(triangles.size(), 0);
+  for (int chunk = 0; chunk * detail::kChunk < state_count; ++chunk) {
+    const int first = chunk * detail::kChunk;
+    const int count = std::min(detail::kChunk, state_count - first);
+    const StateMask all = count == 64 ? ~StateMask(0) : (StateMask(1) << count) - 1;
+    const StateMask* object_states = chunk_object_states[chunk].data();
+    const StateMask* step_states = chunk_step_states[chunk].data();
+    // A camera inside an object of a state sees nothing in that state (SPEC §3.3).
+    std::vector<StateMask> seeing(cameras.size(), 0);
+    for (std::size_t c = 0; c < cameras.size(); ++c) {
+      for (int s = 0; s < count; ++s) {
+        bool blind = false;
+        for (int o : states[first + s].objects) blind = blind || cameras[c].inside_object[o];
+        if (!blind) seeing[c] |= StateMask(1) << s;
       }
     }
-    model[v] = !seen_free;
+    for (int k = k_begin; k < k_end; ++k) {
+      for (int j = 0; j < ny; ++j) {
+        int v = nx * (j + ny * k);
+        for (int i = 0; i < nx; ++i, ++v) {
+          StateMask pending = all;  // not removed, not yet seen free
+          for (int h = 0; h < steps; ++h) {
+            if (removed_by_step[h][v]) pending &= ~step_states[h];
+          }
+          if (pending) {
+            const Vec3 center(box_center[0][i], box_center[1][j], box_center[2][k]);
+            for (std::size_t c = 0; c < cameras.size() && pending; ++c) {
+              const StateMask interest = pending & seeing[c];
+              if (!interest) continue;
+              const CameraSetup& cam = cameras[c];
+              const Vec3 w = center - cam.c;
+              const double d = w.norm();
+              if (!in_fov(cam, i, j, k, w, d)) continue;
+              Verdict verdict;
+              judge(cam, w, d, interest, object_states, scratch, verdict, true);
+              pending &= ~(interest & ~(verdict.occupied | verdict.blocked));
+            }
+          }
+          for (int s = 0; s < count; ++s) models[first + s][v] = (pending >> s) & 1;
+        }
+      }
+    }
   }
-  return model;
 }
 
-std::vector<CameraView> VoxelEvaluator::Impl::views(const core::CameraConfig& config) const {
+std::vector<std::vector<std::uint8_t>> VoxelEvaluator::Impl::all_raw_models(
+    const core::CameraConfig& config) const {
   core::check_configuration(scene, config);
-  std::vector<CameraView> out;
-  out.reserve(config.size());
-  for (const auto& camera : config) out.push_back(view(camera));
+  std::vector<CameraSetup> cameras;
+  cameras.reserve(config.size());
+  for (const auto& camera : config) cameras.push_back(camera_setup(camera));
+  std::vector<std::vector<std::uint8_t>> models(states.size(),
+                                                std::vector<std::uint8_t>(grid.count()));
+  // Slices of a few z-layers each, shared out among the threads (results do not depend on it).
+  const int nz = grid.n[2];
+  const int slices = options.threads <= 1 ? 1 : std::min(nz, 4 * options.threads);
+  detail::parallel_for(slices, options.threads, [&](int s) {
+    raw_models(cameras, nz * s / slices, nz * (s + 1) / slices, models);
+  });
+  return models;
+}
+
+std::vector<Label> VoxelEvaluator::Impl::labels(const CameraSetup& cam, int state) const {
+  const int nx = grid.n[0], ny = grid.n[1], nz = grid.n[2];
+  std::vector<Label> out(grid.count(), Label::undetectable);
+  for (int o : states.at(state).objects) {
+    if (cam.inside_object[o]) return out;  // blind (SPEC §3.3)
+  }
+  const int chunk = state / detail::kChunk;
+  const StateMask interest = StateMask(1) << (state % detail::kChunk);
+  const StateMask* object_states = chunk_object_states[chunk].data();
+  Scratch scratch;
+  scratch.stamp.assign(triangles.size(), 0);
+  int v = 0;
+  for (int k = 0; k < nz; ++k) {
+    for (int j = 0; j < ny; ++j) {
+      for (int i = 0; i < nx; ++i, ++v) {
+        const Vec3 center(box_center[0][i], box_center[1][j], box_center[2][k]);
+        const Vec3 w = center - cam.c;
+        const double d = w.norm();
+        if (!in_fov(cam, i, j, k, w, d)) continue;
+        Verdict verdict;
+        judge(cam, w, d, interest, object_states, scratch, verdict, false);
+        out[v] = verdict.occupied  ? Label::occupied
+                 : verdict.blocked ? Label::undetectable
+                                   : Label::free;
+      }
+    }
+  }
   return out;
 }
+
 }  // namespace camplace::voxel

@@ -27,6 +27,7 @@ int VoxelEvaluator::Impl::add_object(const core::SceneObject& object, core::Obje
   for (const auto& t : object.mesh.triangles) {
     triangles.push_back(
         {object.mesh.vertices[t[0]], object.mesh.vertices[t[1]], object.mesh.vertices[t[2]]});
+    triangle_object.push_back(static_cast<int>(objects.size()));
   }
   objects.push_back(info);
   return static_cast<int>(objects.size()) - 1;
@@ -34,6 +35,16 @@ int VoxelEvaluator::Impl::add_object(const core::SceneObject& object, core::Obje
 
 void VoxelEvaluator::Impl::build() {
   using core::ObjectKind;
+  // Voxel bounds per axis exactly as Grid::voxel_box computes them.
+  for (int a = 0; a < 3; ++a) {
+    for (int i = 0; i < grid.n[a]; ++i) {
+      const double lo = grid.area.min[a] + i * grid.step[a];
+      const double hi = lo + grid.step[a];
+      box_min[a].push_back(lo);
+      box_max[a].push_back(hi);
+      box_center[a].push_back(0.5 * (lo + hi));
+    }
+  }
   const core::DynamicMode mode = scene.dynamic_mode;
   // Objects are shared by the states they belong to, in the order of core::state_objects:
   // static obstacles, the step's dynamic obstacles, the event's targets.
@@ -63,6 +74,18 @@ void VoxelEvaluator::Impl::build() {
     }
     removed_by_step.push_back(obstacle_interiors(step));
     critical_sq_by_step.push_back(critical_distances(step));
+  }
+  // State bit masks per chunk of 64 states: per object and per time step.
+  for (std::size_t first = 0; first < states.size(); first += detail::kChunk) {
+    std::vector<detail::StateMask> by_object(objects.size(), 0);
+    std::vector<detail::StateMask> by_step(scene.time_steps.size(), 0);
+    for (std::size_t s = first; s < std::min(states.size(), first + detail::kChunk); ++s) {
+      const detail::StateMask bit = detail::StateMask(1) << (s - first);
+      for (int o : states[s].objects) by_object[o] |= bit;
+      by_step[states[s].time_step] |= bit;
+    }
+    chunk_object_states.push_back(std::move(by_object));
+    chunk_step_states.push_back(std::move(by_step));
   }
   if (conservative) err_lower_bound = lower_bound();
 }
