@@ -58,6 +58,7 @@ struct ObjectInfo {
   double radius = 0.0;  ///< bounding sphere
   int first_triangle = 0;
   int triangle_count = 0;
+  bool outward = false;  ///< signed volume > 0: the mesh is oriented outward (back-face culling)
 };
 
 /// Per camera and triangle: the infinite cone from the camera over the triangle, as its three
@@ -67,8 +68,21 @@ struct TriangleCone {
   core::Vec3 edge[3];
   core::Vec3 normal[3];
   core::Vec3 abs_normal[3];
+  /// The separating-axis candidates beyond the 3 planes (3 box normals, then the 9 products of
+  /// cone edges and box axes) that can separate: the cone lies on one side of them (`side`
+  /// +1: axis·x ≥ 0 on the cone, −1: ≤ 0); `radius` = Σ|axis_i|·h_i of the voxel box.
+  struct Axis {
+    core::Vec3 axis;
+    double radius;
+    double side;
+  };
+  std::array<Axis, 12> axes;
+  int axis_count = 0;
   double near_distance = 0.0;
   bool flat = false;  ///< camera in the triangle's plane: the cone has no volume
+  /// Camera clearly behind the triangle's plane, outside its (outward, closed) object and
+  /// clear of its surface: conservative mode skips the triangle (see labelling.cpp).
+  bool back = false;
 };
 
 /// Everything about one camera that one evaluation needs and that does not depend on the
@@ -92,6 +106,9 @@ struct CameraSetup {
   std::vector<int> bin_start;   ///< bins² + 1 offsets into bin_items
   std::vector<int> bin_items;   ///< triangle indices, ascending within a bin
   std::vector<int> everywhere;  ///< triangles not wholly in front of the camera: in every bin
+  /// Per triangle: its projection's bounding rectangle (x0, x1, y0, y1), padded; infinite for
+  /// the triangles in `everywhere`.
+  std::vector<std::array<double, 4>> rect;
   std::vector<TriangleCone> triangles;
   std::vector<std::uint8_t> inside_object;  ///< camera inside object o (blind in its states)
 };

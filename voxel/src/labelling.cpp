@@ -83,15 +83,102 @@ CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera
   cam.cos_half = std::cos(scene.cameras.half_angle);  // as core::Fov computes it
   cam.sin_half = std::sin(scene.cameras.half_angle);
 
+  cam.inside_object.assign(objects.size(), 0);
+  for (std::size_t o = 0; o < objects.size(); ++o) {
+    const detail::ObjectInfo& info = objects[o];
+    const double d = (info.center - c).norm();
+    const bool near = d <= info.radius * (1.0 + 1e-12) + 1e-12;
+    cam.inside_object[o] = near && core::inside_mesh(*info.mesh, c);
+  }
+  cam.triangles.resize(triangles.size());
+  std::vector<double> tilt(triangles.size(), 0.0);  // det / scale: 0 when the camera is in-plane
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    const auto& tri = triangles[t];
+    TriangleCone& tc = cam.triangles[t];
+    const Vec3 a = tri[0] - c, b = tri[1] - c, e = tri[2] - c;
+    const double det = a.dot(b.cross(e));
+    tc.near_distance = std::sqrt(core::point_triangle_sq_distance(c, tri[0], tri[1], tri[2]));
+    const double scale = a.norm() * b.norm() * e.norm();
+    tc.flat = !(std::abs(det) > 1e-12 * scale);
+    if (tc.flat) continue;
+    tilt[t] = det / scale;
+    const double sign = det > 0 ? 1.0 : -1.0;
+    tc.edge[0] = a;
+    tc.edge[1] = b;
+    tc.edge[2] = e;
+    tc.normal[0] = (sign * a.cross(b)).normalized();
+    tc.normal[1] = (sign * b.cross(e)).normalized();
+    tc.normal[2] = (sign * e.cross(a)).normalized();
+    for (int i = 0; i < 3; ++i) tc.abs_normal[i] = tc.normal[i].cwiseAbs();
+    // The previous labeller's `separates` on the same numbers, its voxel-independent part
+    // (the edges' projections) done once per camera.
+    auto add_axis = [&](const Vec3& axis) {
+      const double pa = axis.dot(tc.edge[0]), pb = axis.dot(tc.edge[1]),
+                   pc = axis.dot(tc.edge[2]);
+      const double radius = axis.cwiseAbs().dot(half_step);
+      if (pa >= 0.0 && pb >= 0.0 && pc >= 0.0) {
+        tc.axes[tc.axis_count++] = {axis, radius, 1.0};
+      } else if (pa <= 0.0 && pb <= 0.0 && pc <= 0.0) {
+        tc.axes[tc.axis_count++] = {axis, radius, -1.0};
+      }
+    };
+    for (int i = 0; i < 3; ++i) add_axis(Vec3::Unit(i));
+    for (const Vec3& edge : tc.edge) {
+      for (int i = 0; i < 3; ++i) add_axis(edge.cross(Vec3::Unit(i)));
+    }
+  }
+  // Back-face culling (conservative mode). det = (a − c)·((b − c) × (e − c)) = −n·(c − a) with
+  // n = (b − a) × (e − a) the outward normal, so det > 0 means the camera is behind the
+  // triangle's plane. Claim: if the camera c lies outside the closed solid X of an outward
+  // oriented, closed mesh, every ray or segment from c that meets X meets, at its first point
+  // q of X, a triangle T ∋ q with c strictly in front of T's plane. Proof: let d = c − q;
+  // q + εd is outside X (q is the first point). Take z inside X near q, chosen so that the
+  // segment [q + εd, z] crosses the surface only through triangle interiors and transversally
+  // (all but a null set of z do). Its first crossing, at y on triangle T, goes from outside to
+  // inside, so n_T·(q + εd − y) > 0; for ε and |z − q| small only triangles containing q come
+  // near q, so q ∈ T and n_T·(q − y) = 0, hence ε n_T·d > 0. So the triangle through which the
+  // ray first meets X faces the camera, and testing only the other triangles (front-facing or
+  // in-plane) gives the same verdict per object: its cone contains the ray (occupying) and
+  // near(T) ≤ |q − c| ≤ |p − c| (occluding), as for any triangle the ray meets.
+  // Rounding and degenerate cases keep every triangle of the object: an object is culled only
+  // when the mesh is oriented outward (signed volume > 0), the camera is not inside it and is
+  // clear of its surface (nearest triangle farther than 1e-9 of its scale: not on a face, edge
+  // or vertex), and no triangle is near edge-on (|det| > 1e-9·|a||b||e| for all, so none is
+  // skipped as flat and none is misjudged front/back by rounding; a camera in a face's plane
+  // keeps the old behaviour). tests/voxel/labelling_test.cpp covers these cases.
+  for (std::size_t o = 0; o < objects.size(); ++o) {
+    const detail::ObjectInfo& info = objects[o];
+    const int end = info.first_triangle + info.triangle_count;
+    double clearance = std::numeric_limits<double>::infinity();
+    bool clear_tilts = true;
+    for (int t = info.first_triangle; t < end; ++t) {
+      clearance = std::min(clearance, cam.triangles[t].near_distance);
+      clear_tilts = clear_tilts && std::abs(tilt[t]) > 1e-9;
+    }
+    const double scale = (info.center - c).norm() + info.radius;
+    const bool cull =
+        info.outward && !cam.inside_object[o] && clearance > 1e-9 * scale && clear_tilts;
+    for (int t = info.first_triangle; t < end; ++t) cam.triangles[t].back = cull && tilt[t] > 0;
+  }
   // Bins over the FOV's section at unit depth (the cone's; the pyramid is inscribed).
   cam.image_half = std::tan(scene.cameras.half_angle);
-  cam.bins = std::clamp(*std::max_element(grid.n.begin(), grid.n.end()), 16, 64);
+  // Center mode looks up one bin per voxel: fine bins. Conservative mode looks up the bins under
+  // the box's projection and then each triangle's rectangle: coarse bins (fewer repeats).
+  const int n_max = *std::max_element(grid.n.begin(), grid.n.end());
+  cam.bins = conservative ? std::clamp(n_max / 3, 8, 32) : std::clamp(n_max, 16, 64);
   cam.bin_scale = cam.bins / (2.0 * cam.image_half);
   const int bin_count = cam.bins * cam.bins;
   std::vector<BinRange> ranges(triangles.size());
   std::vector<std::uint8_t> projectable(triangles.size(), 1);
+  const double inf = std::numeric_limits<double>::infinity();
+  cam.rect.assign(triangles.size(), {-inf, inf, -inf, inf});
   cam.bin_start.assign(bin_count + 1, 0);
+  // Conservative mode never tests flat or culled triangles: leave them out.
+  auto skipped = [&](std::size_t t) {
+    return conservative && (cam.triangles[t].flat || cam.triangles[t].back);
+  };
   for (std::size_t t = 0; t < triangles.size(); ++t) {
+    if (skipped(t)) continue;
     double xlo = std::numeric_limits<double>::infinity(), xhi = -xlo, ylo = xlo, yhi = -xlo;
     for (const Vec3& p : triangles[t]) {
       const Vec3 q = p - c;
@@ -111,6 +198,9 @@ CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera
       continue;
     }
     ranges[t] = bin_range(cam, xlo, xhi, ylo, yhi);
+    const double px = 2 * kMargin * (1.0 + std::max(std::abs(xlo), std::abs(xhi)));
+    const double py = 2 * kMargin * (1.0 + std::max(std::abs(ylo), std::abs(yhi)));
+    cam.rect[t] = {xlo - px, xhi + px, ylo - py, yhi + py};
     for (int by = ranges[t].y0; by <= ranges[t].y1; ++by) {
       for (int bx = ranges[t].x0; bx <= ranges[t].x1; ++bx) ++cam.bin_start[by * cam.bins + bx + 1];
     }
@@ -119,7 +209,7 @@ CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera
   cam.bin_items.resize(cam.bin_start[bin_count]);
   std::vector<int> fill(cam.bin_start.begin(), cam.bin_start.end() - 1);
   for (std::size_t t = 0; t < triangles.size(); ++t) {
-    if (!projectable[t]) continue;
+    if (skipped(t) || !projectable[t]) continue;
     for (int by = ranges[t].y0; by <= ranges[t].y1; ++by) {
       for (int bx = ranges[t].x0; bx <= ranges[t].x1; ++bx) {
         cam.bin_items[fill[by * cam.bins + bx]++] = static_cast<int>(t);
@@ -127,32 +217,6 @@ CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera
     }
   }
 
-  cam.inside_object.assign(objects.size(), 0);
-  for (std::size_t o = 0; o < objects.size(); ++o) {
-    const detail::ObjectInfo& info = objects[o];
-    const double d = (info.center - c).norm();
-    const bool near = d <= info.radius * (1.0 + 1e-12) + 1e-12;
-    cam.inside_object[o] = near && core::inside_mesh(*info.mesh, c);
-  }
-  cam.triangles.resize(triangles.size());
-  for (std::size_t t = 0; t < triangles.size(); ++t) {
-    const auto& tri = triangles[t];
-    TriangleCone& tc = cam.triangles[t];
-    const Vec3 a = tri[0] - c, b = tri[1] - c, e = tri[2] - c;
-    const double det = a.dot(b.cross(e));
-    tc.near_distance = std::sqrt(core::point_triangle_sq_distance(c, tri[0], tri[1], tri[2]));
-    const double scale = a.norm() * b.norm() * e.norm();
-    tc.flat = !(std::abs(det) > 1e-12 * scale);
-    if (tc.flat) continue;
-    const double sign = det > 0 ? 1.0 : -1.0;
-    tc.edge[0] = a;
-    tc.edge[1] = b;
-    tc.edge[2] = e;
-    tc.normal[0] = (sign * a.cross(b)).normalized();
-    tc.normal[1] = (sign * b.cross(e)).normalized();
-    tc.normal[2] = (sign * e.cross(a)).normalized();
-    for (int i = 0; i < 3; ++i) tc.abs_normal[i] = tc.normal[i].cwiseAbs();
-  }
   return cam;
 }
 
@@ -273,17 +337,24 @@ void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d
   const Vec3 wc = (w / d) * d;  // the previous labeller's dir · dist
   const double far = (w.cwiseAbs() + half_step).norm();
   BinRange bins{0, cam.bins - 1, 0, cam.bins - 1};
+  const double inf = std::numeric_limits<double>::infinity();
+  double vx0 = -inf, vx1 = inf, vy0 = -inf, vy1 = inf;  // the box's projection lies inside
   const double rx = cam.abs_ex.dot(half_step), ry = cam.abs_ey.dot(half_step),
                rz = cam.abs_axis.dot(half_step);
   const double z_lo = z - rz, z_hi = z + rz;
   if (z_lo > 0.0) {
     // The box's projection lies in [min, max] of (x ± rx) / (z ± rz), each axis.
     const double x0 = x - rx, x1 = x + rx, y0 = y - ry, y1 = y + ry;
-    bins = bin_range(cam, x0 / (x0 >= 0 ? z_hi : z_lo), x1 / (x1 >= 0 ? z_lo : z_hi),
-                     y0 / (y0 >= 0 ? z_hi : z_lo), y1 / (y1 >= 0 ? z_lo : z_hi));
+    vx0 = x0 / (x0 >= 0 ? z_hi : z_lo);
+    vx1 = x1 / (x1 >= 0 ? z_lo : z_hi);
+    vy0 = y0 / (y0 >= 0 ? z_hi : z_lo);
+    vy1 = y1 / (y1 >= 0 ? z_lo : z_hi);
+    bins = bin_range(cam, vx0, vx1, vy0, vy1);
   }
   ++scratch.visit;
   auto test = [&](int t) {
+    const auto& r = cam.rect[t];
+    if (r[0] > vx1 || r[1] < vx0 || r[2] > vy1 || r[3] < vy0) return;
     if (scratch.stamp[t] == scratch.visit) return;
     scratch.stamp[t] = scratch.visit;
     const int o = triangle_object[t];
@@ -293,7 +364,7 @@ void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d
     m &= (free_only || !occupying) ? ~(out.occupied | out.blocked) : ~out.occupied;
     if (!m) return;
     const TriangleCone& tc = cam.triangles[t];
-    if (tc.flat) return;
+    if (tc.flat || tc.back) return;
     if (!occupying && tc.near_distance >= far) return;
     if (cone_misses_box(tc, wc)) return;
     (occupying ? out.occupied : out.blocked) |= m;
@@ -322,22 +393,12 @@ bool VoxelEvaluator::Impl::cone_misses_box(const TriangleCone& tc, const Vec3& w
   const double tol = kMargin * w.norm();
   if (s[0] > tol && s[1] > tol && s[2] > tol) return false;
   // Axis L: the cone projects to [0, ∞) or (−∞, 0] (relative to the camera) when its edges
-  // all project to one side, else to the whole line; the box to L·w ± Σ|L_i|·h_i.
-  auto separates = [&](const Vec3& axis) {
-    const double pa = axis.dot(tc.edge[0]), pb = axis.dot(tc.edge[1]), pc = axis.dot(tc.edge[2]);
-    const double radius = axis.cwiseAbs().dot(half_step);
-    const double mid = axis.dot(w);
-    if (pa >= 0.0 && pb >= 0.0 && pc >= 0.0) return mid + radius < 0.0;
-    if (pa <= 0.0 && pb <= 0.0 && pc <= 0.0) return mid - radius > 0.0;
-    return false;
-  };
-  for (int i = 0; i < 3; ++i) {
-    if (separates(Vec3::Unit(i))) return true;
-  }
-  for (const Vec3& e : tc.edge) {
-    for (int i = 0; i < 3; ++i) {
-      if (separates(e.cross(Vec3::Unit(i)))) return true;
-    }
+  // all project to one side, else to the whole line (such axes were dropped); the box to
+  // L·w ± Σ|L_i|·h_i.
+  for (int a = 0; a < tc.axis_count; ++a) {
+    const TriangleCone::Axis& axis = tc.axes[a];
+    const double mid = axis.axis.dot(w);
+    if (axis.side > 0 ? mid + axis.radius < 0.0 : mid - axis.radius > 0.0) return true;
   }
   return false;
 }

@@ -22,6 +22,7 @@ int VoxelEvaluator::Impl::add_object(const core::SceneObject& object, core::Obje
   for (const Vec3& v : object.mesh.vertices) {
     info.radius = std::max(info.radius, (v - info.center).norm());
   }
+  info.outward = core::signed_volume(object.mesh) > 0.0;
   info.first_triangle = static_cast<int>(triangles.size());
   info.triangle_count = static_cast<int>(object.mesh.triangles.size());
   for (const auto& t : object.mesh.triangles) {
