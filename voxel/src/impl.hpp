@@ -187,6 +187,7 @@ struct VoxelEvaluator::Impl {
   ModelDistance model_distance(const std::vector<std::uint8_t>& model, int time_step) const;
 
  private:
+  void row_interval(const detail::CameraSetup& cam, int j, int k, int& lo, int& hi) const;
   bool in_fov(const detail::CameraSetup& cam, int i, int j, int k, const core::Vec3& w,
               double d) const;
   void judge(const detail::CameraSetup& cam, const core::Vec3& w, double d,

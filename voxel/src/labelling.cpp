@@ -113,8 +113,7 @@ CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera
     // The previous labeller's `separates` on the same numbers, its voxel-independent part
     // (the edges' projections) done once per camera.
     auto add_axis = [&](const Vec3& axis) {
-      const double pa = axis.dot(tc.edge[0]), pb = axis.dot(tc.edge[1]),
-                   pc = axis.dot(tc.edge[2]);
+      const double pa = axis.dot(tc.edge[0]), pb = axis.dot(tc.edge[1]), pc = axis.dot(tc.edge[2]);
       const double radius = axis.cwiseAbs().dot(half_step);
       if (pa >= 0.0 && pb >= 0.0 && pc >= 0.0) {
         tc.axes[tc.axis_count++] = {axis, radius, 1.0};
@@ -403,6 +402,70 @@ bool VoxelEvaluator::Impl::cone_misses_box(const TriangleCone& tc, const Vec3& w
   return false;
 }
 
+/// The voxels i of row (j, k) whose centre can be in the camera's FOV lie in [lo, hi]: the
+/// line of centres against the FOV's cone (the pyramid is inscribed), widened by 1e-6 rad and
+/// one voxel on each side; the whole row when the quadratic is near degenerate. Only a filter:
+/// in_fov decides.
+void VoxelEvaluator::Impl::row_interval(const CameraSetup& cam, int j, int k, int& lo,
+                                        int& hi) const {
+  const int nx = grid.n[0];
+  lo = 0;
+  hi = nx - 1;
+  const double dy = box_center[1][j] - cam.c.y(), dz = box_center[2][k] - cam.c.z();
+  const double a1 = cam.axis.x(), b0 = cam.axis.y() * dy + cam.axis.z() * dz;
+  const double alpha = std::acos(std::clamp(cam.cos_half, -1.0, 1.0)) + 1e-6;
+  if (alpha >= 0.5 * core::kPi) return;
+  const double kk = std::cos(alpha) * std::cos(alpha);
+  // With u = x − c_x: (a1 u + b0)² − kk (u² + dy² + dz²) ≥ 0 and a1 u + b0 ≥ 0.
+  const double A = a1 * a1 - kk, B = 2.0 * a1 * b0, C = b0 * b0 - kk * (dy * dy + dz * dz);
+  double u_lo = -std::numeric_limits<double>::infinity(), u_hi = -u_lo;
+  const double disc = B * B - 4.0 * A * C;
+  if (std::abs(A) < 1e-6) return;
+  if (A < 0) {
+    if (disc < 0) {
+      lo = nx;  // the line misses the cone
+      hi = -1;
+      return;
+    }
+    const double sq = std::sqrt(disc);
+    u_lo = (-B + sq) / (2.0 * A);
+    u_hi = (-B - sq) / (2.0 * A);
+    if (a1 * 0.5 * (u_lo + u_hi) + b0 < 0) {  // the other nappe
+      lo = nx;
+      hi = -1;
+      return;
+    }
+  } else {
+    // Outside the roots, on the side where the axial coordinate grows.
+    if (disc >= 0) {
+      const double sq = std::sqrt(disc);
+      const double r1 = (-B - sq) / (2.0 * A), r2 = (-B + sq) / (2.0 * A);
+      if (a1 > 0) {
+        u_lo = r1;
+      } else {
+        u_hi = r2;
+      }
+    } else if (a1 > 0) {
+      u_lo = -b0 / a1;
+    } else if (a1 < 0) {
+      u_hi = -b0 / a1;
+    }
+  }
+  if (cam.range && a1 != 0.0) {
+    const double u_range = (*cam.range - b0) / a1;
+    if (a1 > 0) {
+      u_hi = std::min(u_hi, u_range);
+    } else {
+      u_lo = std::max(u_lo, u_range);
+    }
+  }
+  const double x0 = grid.area.min.x(), step = grid.step.x();
+  auto index = [&](double u) { return (u + cam.c.x() - x0) / step - 0.5; };
+  const double f_lo = index(u_lo) - 1.0, f_hi = index(u_hi) + 1.0;
+  if (f_lo > lo) lo = f_lo >= nx ? nx : static_cast<int>(std::floor(f_lo));
+  if (f_hi < hi) hi = f_hi < 0 ? -1 : static_cast<int>(std::ceil(f_hi));
+}
+
 void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, int k_begin,
                                       int k_end,
                                       std::vector<std::vector<std::uint8_t>>& models) const {
@@ -426,8 +489,12 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
         if (!blind) seeing[c] |= StateMask(1) << s;
       }
     }
+    std::vector<int> row_lo(cameras.size()), row_hi(cameras.size());
     for (int k = k_begin; k < k_end; ++k) {
       for (int j = 0; j < ny; ++j) {
+        for (std::size_t c = 0; c < cameras.size(); ++c) {
+          row_interval(cameras[c], j, k, row_lo[c], row_hi[c]);
+        }
         int v = nx * (j + ny * k);
         for (int i = 0; i < nx; ++i, ++v) {
           StateMask pending = all;  // not removed, not yet seen free
@@ -438,7 +505,7 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
             const Vec3 center(box_center[0][i], box_center[1][j], box_center[2][k]);
             for (std::size_t c = 0; c < cameras.size() && pending; ++c) {
               const StateMask interest = pending & seeing[c];
-              if (!interest) continue;
+              if (!interest || i < row_lo[c] || i > row_hi[c]) continue;
               const CameraSetup& cam = cameras[c];
               const Vec3 w = center - cam.c;
               const double d = w.norm();

@@ -8,6 +8,7 @@
 #include "camplace/core/distance.hpp"
 #include "camplace/core/err.hpp"
 #include "impl.hpp"
+#include "solid_distance.hpp"
 
 namespace camplace::voxel {
 
@@ -97,15 +98,16 @@ double VoxelEvaluator::Impl::lower_bound() const {
   for (const detail::StateInfo& state : states) {
     const core::Event& event = scene.time_steps[state.time_step].events[state.event];
     const auto& critical = critical_sq_by_step[state.time_step];
+    std::vector<detail::IndexedSolid> targets;
+    for (const core::SceneObject& target : event.targets) {
+      targets.push_back(detail::index_solid(target.mesh));
+    }
     double best = std::numeric_limits<double>::infinity();
     for (int v = 0; v < grid.count(); ++v) {
       if (critical[v] >= best) continue;
-      const Box3 box = grid.voxel_box(v);
-      for (const core::SceneObject& target : event.targets) {
-        if (core::box_solid_sq_distance(target.mesh, box) == 0.0) {
-          best = critical[v];
-          break;
-        }
+      // Touching (core::box_solid_sq_distance == 0): the culled distance is exact at 0.
+      if (detail::box_solids_sq_distance(targets, grid.voxel_box(v), 0.0) == 0.0) {
+        best = critical[v];
       }
     }
     terms.push_back({state.weight, state.d_true, std::sqrt(best)});
@@ -151,16 +153,32 @@ std::vector<std::uint8_t> VoxelEvaluator::Impl::obstacle_interiors(
 }
 
 /// Squared distance from the critical objects C_h to each voxel's box (conservative) or centre
-/// (center mode), SPEC §5.
+/// (center mode), SPEC §5: min over the objects of core::box_solid_sq_distance or
+/// core::point_solid_sq_distance, the same doubles, with culling (solid_distance.hpp) below the
+/// upper bound given by the objects' vertices.
 std::vector<double> VoxelEvaluator::Impl::critical_distances(const core::TimeStep& step) const {
+  std::vector<detail::IndexedSolid> solids;
+  for (const core::SceneObject& c : step.critical) solids.push_back(detail::index_solid(c.mesh));
   std::vector<double> out(grid.count(), std::numeric_limits<double>::infinity());
-  for (int v = 0; v < grid.count(); ++v) {
-    for (const core::SceneObject& c : step.critical) {
-      const double d = conservative ? core::box_solid_sq_distance(c.mesh, grid.voxel_box(v))
-                                    : core::point_solid_sq_distance(c.mesh, grid.voxel_center(v));
-      out[v] = std::min(out[v], d);
+  if (solids.empty()) return out;
+  const int nx = grid.n[0], ny = grid.n[1], nz = grid.n[2];
+  detail::parallel_for(nz, options.threads, [&](int k) {
+    for (int j = 0; j < ny; ++j) {
+      for (int i = 0; i < nx; ++i) {
+        const int v = i + nx * (j + ny * k);
+        if (conservative) {
+          const Box3 box{Vec3(box_min[0][i], box_min[1][j], box_min[2][k]),
+                         Vec3(box_max[0][i], box_max[1][j], box_max[2][k])};
+          out[v] =
+              detail::box_solids_sq_distance(solids, box, detail::vertex_upper_bound(solids, box));
+        } else {
+          const Vec3 p(box_center[0][i], box_center[1][j], box_center[2][k]);
+          out[v] =
+              detail::point_solids_sq_distance(solids, p, detail::vertex_upper_bound(solids, p));
+        }
+      }
     }
-  }
+  });
   return out;
 }
 
