@@ -5,8 +5,14 @@
 // labeller proved free into a non-free one, never the reverse.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
 #include <random>
 
+#include "camplace/core/distance.hpp"
+#include "camplace/core/err.hpp"
+#include "camplace/core/error.hpp"
+#include "camplace/core/sensor_model.hpp"
 #include "camplace/voxel/components.hpp"
 #include "legacy_labeller.hpp"
 #include "reference.hpp"
@@ -39,7 +45,7 @@ void compare_all(const core::Scene& scene, const core::CameraConfig& config, Lab
         if (a[v] == b[v]) continue;
         ++tally.differing;
         if (mode == LabelMode::conservative) {
-          // Toward non-free only; occupied and undetectable keep their order of precedence.
+          // Toward non-free only.
           ASSERT_EQ(a[v], Label::free) << what << " state " << st << " voxel " << v;
           continue;
         }
@@ -99,6 +105,84 @@ TEST(LegacyEquivalence, PaperSceneCornersAndRandomConfigurations) {
       compare_all(scene, config, mode, {16, 12, 12}, "paper_basic", t);
       EXPECT_EQ(t.differing, 0) << core::name_of(mode);
     }
+  }
+}
+
+// d(C, M) and the conservative lower bound of Err by the formulas of the previous evaluator
+// (core::box_solid_sq_distance / point_solid_sq_distance on every voxel): the same doubles.
+TEST(LegacyEquivalence, DistancesAndLowerBoundEqualTheCoreFormulas) {
+  std::mt19937 rng(17);
+  for (int s = 0; s < 6; ++s) {
+    const core::Scene scene = random_scene(rng, {12, 9, 9});
+    const core::CameraConfig config = random_config(rng, scene);
+    const auto all_states = core::states(scene);
+    for (LabelMode mode : {LabelMode::center, LabelMode::conservative}) {
+      const voxel::VoxelEvaluator evaluator(scene, {mode, {0, 0, 0}});
+      const voxel::Grid& grid = evaluator.grid();
+      const bool conservative = mode == LabelMode::conservative;
+      const auto result = evaluator.evaluate(config);
+      std::vector<core::ErrTerm> terms;
+      for (std::size_t st = 0; st < all_states.size(); ++st) {
+        const core::TimeStep& step = scene.time_steps[all_states[st].time_step];
+        std::vector<double> critical(grid.count(), std::numeric_limits<double>::infinity());
+        for (int v = 0; v < grid.count(); ++v) {
+          for (const core::SceneObject& c : step.critical) {
+            critical[v] = std::min(
+                critical[v], conservative
+                                 ? core::box_solid_sq_distance(c.mesh, grid.voxel_box(v))
+                                 : core::point_solid_sq_distance(c.mesh, grid.voxel_center(v)));
+          }
+        }
+        const auto model = evaluator.model(config, static_cast<int>(st));
+        double best = std::numeric_limits<double>::infinity();
+        for (int v = 0; v < grid.count(); ++v) {
+          if (model[v]) best = std::min(best, critical[v]);
+        }
+        const double expected =
+            std::isinf(best) ? core::empty_model_distance(scene.area) : std::sqrt(best);
+        EXPECT_EQ(result.states[st].d_model, expected) << "scene " << s << " state " << st;
+        // The lower bound: the nearest voxel touching a target.
+        double touching = std::numeric_limits<double>::infinity();
+        for (int v = 0; v < grid.count(); ++v) {
+          for (const core::SceneObject& t : step.events[all_states[st].event].targets) {
+            if (core::box_solid_sq_distance(t.mesh, grid.voxel_box(v)) == 0.0) {
+              touching = std::min(touching, critical[v]);
+            }
+          }
+        }
+        terms.push_back({result.states[st].weight, result.states[st].d_true, std::sqrt(touching)});
+      }
+      EXPECT_EQ(evaluator.err_lower_bound(), conservative ? core::error_functional(terms) : 0.0)
+          << "scene " << s;
+    }
+  }
+}
+
+TEST(LegacyEquivalence, ThreadsDoNotChangeTheResult) {
+  std::mt19937 rng(23);
+  for (int s = 0; s < 4; ++s) {
+    const core::Scene scene = random_scene(rng, {12, 9, 9});
+    const core::CameraConfig config = random_config(rng, scene);
+    for (LabelMode mode : {LabelMode::center, LabelMode::conservative}) {
+      voxel::VoxelOptions options{mode, {14, 10, 9}};
+      const auto one = voxel::VoxelEvaluator(scene, options).evaluate(config);
+      options.threads = 3;
+      const voxel::VoxelEvaluator threaded(scene, options);
+      const auto three = threaded.evaluate(config);
+      EXPECT_EQ(one.err, three.err);
+      ASSERT_EQ(one.states.size(), three.states.size());
+      for (std::size_t st = 0; st < one.states.size(); ++st) {
+        EXPECT_EQ(one.states[st].d_model, three.states[st].d_model);
+        EXPECT_EQ(one.states[st].model_volume, three.states[st].model_volume);
+        EXPECT_EQ(one.states[st].components, three.states[st].components);
+      }
+    }
+  }
+  const core::Scene scene = random_scene(rng, {12, 9, 9});
+  for (int bad : {0, -1, voxel::kMaxThreads + 1}) {
+    voxel::VoxelOptions options;
+    options.threads = bad;
+    EXPECT_THROW(voxel::VoxelEvaluator(scene, options), core::InputError) << bad;
   }
 }
 

@@ -75,6 +75,7 @@ struct TriangleCone {
     core::Vec3 axis;
     double radius;
     double side;
+    double norm;  ///< |axis|
   };
   std::array<Axis, 12> axes;
   int axis_count = 0;
@@ -83,6 +84,7 @@ struct TriangleCone {
   /// Camera clearly behind the triangle's plane, outside its (outward, closed) object and
   /// clear of its surface: conservative mode skips the triangle (see labelling.cpp).
   bool back = false;
+  bool touch = false;  ///< its object's back faces are culled for this camera
 };
 
 /// Everything about one camera that one evaluation needs and that does not depend on the
@@ -193,7 +195,8 @@ struct VoxelEvaluator::Impl {
   void judge(const detail::CameraSetup& cam, const core::Vec3& w, double d,
              detail::StateMask interest, const detail::StateMask* object_states,
              detail::Scratch& scratch, detail::Verdict& out, bool free_only) const;
-  bool cone_misses_box(const detail::TriangleCone& tc, const core::Vec3& w) const;
+  enum class Cone { meet, miss, near_miss };
+  Cone cone_test(const detail::TriangleCone& tc, const core::Vec3& w) const;
 };
 
 }  // namespace camplace::voxel

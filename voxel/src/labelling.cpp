@@ -41,6 +41,8 @@ using detail::Verdict;
 namespace {
 
 constexpr double kMargin = 1e-9;
+/// Relative gap below which a triangle's cone and a box are a touching configuration.
+constexpr double kTouch = 1e-12;
 
 /// The bin of image coordinate x (clamped: clamping keeps overlapping intervals overlapping).
 int bin_of(const CameraSetup& cam, double x) {
@@ -116,9 +118,9 @@ CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera
       const double pa = axis.dot(tc.edge[0]), pb = axis.dot(tc.edge[1]), pc = axis.dot(tc.edge[2]);
       const double radius = axis.cwiseAbs().dot(half_step);
       if (pa >= 0.0 && pb >= 0.0 && pc >= 0.0) {
-        tc.axes[tc.axis_count++] = {axis, radius, 1.0};
+        tc.axes[tc.axis_count++] = {axis, radius, 1.0, axis.norm()};
       } else if (pa <= 0.0 && pb <= 0.0 && pc <= 0.0) {
-        tc.axes[tc.axis_count++] = {axis, radius, -1.0};
+        tc.axes[tc.axis_count++] = {axis, radius, -1.0, axis.norm()};
       }
     };
     for (int i = 0; i < 3; ++i) add_axis(Vec3::Unit(i));
@@ -144,7 +146,11 @@ CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera
   // clear of its surface (nearest triangle farther than 1e-9 of its scale: not on a face, edge
   // or vertex), and no triangle is near edge-on (|det| > 1e-9·|a||b||e| for all, so none is
   // skipped as flat and none is misjudged front/back by rounding; a camera in a face's plane
-  // keeps the old behaviour). tests/voxel/labelling_test.cpp covers these cases.
+  // keeps the old behaviour). At exact touching (a voxel corner on a ray through a vertex or
+  // an edge) rounding could call the front face apart while a back face touches; a front face
+  // of a culled object that misses only within rounding (Cone::near_miss) makes judge() test
+  // the object's back faces as well, so the verdict is the unculled one.
+  // tests/voxel/culling_test.cpp covers these cases.
   for (std::size_t o = 0; o < objects.size(); ++o) {
     const detail::ObjectInfo& info = objects[o];
     const int end = info.first_triangle + info.triangle_count;
@@ -157,7 +163,10 @@ CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera
     const double scale = (info.center - c).norm() + info.radius;
     const bool cull =
         info.outward && !cam.inside_object[o] && clearance > 1e-9 * scale && clear_tilts;
-    for (int t = info.first_triangle; t < end; ++t) cam.triangles[t].back = cull && tilt[t] > 0;
+    for (int t = info.first_triangle; t < end; ++t) {
+      cam.triangles[t].back = cull && tilt[t] > 0;
+      cam.triangles[t].touch = cull;
+    }
   }
   // Bins over the FOV's section at unit depth (the cone's; the pyramid is inscribed).
   cam.image_half = std::tan(scene.cameras.half_angle);
@@ -365,7 +374,22 @@ void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d
     const TriangleCone& tc = cam.triangles[t];
     if (tc.flat || tc.back) return;
     if (!occupying && tc.near_distance >= far) return;
-    if (cone_misses_box(tc, wc)) return;
+    const Cone cone = cone_test(tc, wc);
+    if (cone == Cone::near_miss && tc.touch) {
+      // A culled object touching the voxel within rounding: its back faces decide as they
+      // did without culling (the front face through the touching point may have been
+      // rounded apart). Back faces are in no bin, so each is tested here once.
+      const detail::ObjectInfo& info = objects[o];
+      for (int b = info.first_triangle; b < info.first_triangle + info.triangle_count; ++b) {
+        const TriangleCone& back = cam.triangles[b];
+        if (!back.back || (!occupying && back.near_distance >= far)) continue;
+        if (cone_test(back, wc) == Cone::meet) {
+          (occupying ? out.occupied : out.blocked) |= m;
+          return;
+        }
+      }
+    }
+    if (cone != Cone::meet) return;
     (occupying ? out.occupied : out.blocked) |= m;
   };
   for (int by = bins.y0; by <= bins.y1; ++by) {
@@ -377,29 +401,38 @@ void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d
   for (int t : cam.everywhere) test(t);
 }
 
-/// True when the triangle's infinite cone and the voxel box (centre at w from the camera) are
-/// disjoint, by the separating-axis theorem for two convex polyhedra: the cone's 3 planes,
-/// the box's 3 face normals and the 9 cross products of cone edges and box edges. Exact up to
-/// rounding; touching counts as meeting.
-bool VoxelEvaluator::Impl::cone_misses_box(const TriangleCone& tc, const Vec3& w) const {
+/// Whether the triangle's infinite cone and the voxel box (centre at w from the camera) meet,
+/// by the separating-axis theorem for two convex polyhedra: the cone's 3 planes, the box's 3
+/// face normals and the 9 cross products of cone edges and box edges. Exact up to rounding;
+/// touching counts as meeting (Cone::meet). Cone::near_miss: separated, but by less than
+/// 1e-12 of the scale (|w| + Σh) on every separating axis — a touching configuration where
+/// rounding decided; back-face culling then tests the object's back faces too (see judge()).
+VoxelEvaluator::Impl::Cone VoxelEvaluator::Impl::cone_test(const TriangleCone& tc,
+                                                           const Vec3& w) const {
+  const double scale = kTouch * (w.norm() + half_step.sum());
+  bool near_miss = false;
   // Cone planes first: cheapest and most often decisive.
   double s[3];
   for (int i = 0; i < 3; ++i) {
     s[i] = tc.normal[i].dot(w);
-    if (s[i] + tc.abs_normal[i].dot(half_step) < 0.0) return true;
+    const double gap = s[i] + tc.abs_normal[i].dot(half_step);
+    if (gap < -scale) return Cone::miss;
+    near_miss = near_miss || gap < 0.0;
   }
   // The box centre clearly inside the cone: they meet (no axis can separate them).
-  const double tol = kMargin * w.norm();
-  if (s[0] > tol && s[1] > tol && s[2] > tol) return false;
+  const double inside = kMargin * w.norm();
+  if (s[0] > inside && s[1] > inside && s[2] > inside) return Cone::meet;
   // Axis L: the cone projects to [0, ∞) or (−∞, 0] (relative to the camera) when its edges
   // all project to one side, else to the whole line (such axes were dropped); the box to
   // L·w ± Σ|L_i|·h_i.
   for (int a = 0; a < tc.axis_count; ++a) {
     const TriangleCone::Axis& axis = tc.axes[a];
     const double mid = axis.axis.dot(w);
-    if (axis.side > 0 ? mid + axis.radius < 0.0 : mid - axis.radius > 0.0) return true;
+    const double gap = axis.side > 0 ? -(mid + axis.radius) : mid - axis.radius;  // > 0: apart
+    if (gap > scale * axis.norm) return Cone::miss;
+    near_miss = near_miss || gap > 0.0;
   }
-  return false;
+  return near_miss ? Cone::near_miss : Cone::meet;
 }
 
 /// The voxels i of row (j, k) whose centre can be in the camera's FOV lie in [lo, hi]: the
