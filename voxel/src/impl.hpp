@@ -102,6 +102,7 @@ struct CameraSetup {
   std::vector<core::Vec3> normals;  ///< pyramid side normals (core::Fov's)
   std::optional<double> range;
   double cos_half = 1.0, sin_half = 0.0;
+  double row_cos_sq = 0.0;      ///< cos² of the half angle widened by 1e-6 (row_interval); 0: none
   int bins = 1;                 ///< bins per image axis
   double image_half = 1.0;      ///< the bins cover [−image_half, image_half]² of (X/Z, Y/Z)
   double bin_scale = 1.0;       ///< bins per unit of image coordinate
@@ -189,7 +190,8 @@ struct VoxelEvaluator::Impl {
   ModelDistance model_distance(const std::vector<std::uint8_t>& model, int time_step) const;
 
  private:
-  void row_interval(const detail::CameraSetup& cam, int j, int k, int& lo, int& hi) const;
+  void row_interval(const detail::CameraSetup& cam, int j, int k, int& lo, int& hi, int& in_lo,
+                    int& in_hi) const;
   bool in_fov(const detail::CameraSetup& cam, int i, int j, int k, const core::Vec3& w,
               double d) const;
   void judge(const detail::CameraSetup& cam, const core::Vec3& w, double d,

@@ -84,6 +84,8 @@ CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera
   cam.range = scene.cameras.range;
   cam.cos_half = std::cos(scene.cameras.half_angle);  // as core::Fov computes it
   cam.sin_half = std::sin(scene.cameras.half_angle);
+  const double widened = scene.cameras.half_angle + 1e-6;
+  cam.row_cos_sq = widened < 0.5 * core::kPi ? std::cos(widened) * std::cos(widened) : 0.0;
 
   cam.inside_object.assign(objects.size(), 0);
   for (std::size_t o = 0; o < objects.size(); ++o) {
@@ -294,12 +296,23 @@ void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d
     // The ray from the camera through the centre: every hit in (0, d] blocks the view, and
     // the first hit along the whole ray occupies the voxel when its object is occupying.
     BinRange bins{0, cam.bins - 1, 0, cam.bins - 1};
-    if (z > 0.0) bins = bin_range(cam, x / z, x / z, y / z, y / z);
+    double px = 0.0, py = 0.0;  // the centre's projection
+    bool projected = z > 0.0;
+    if (projected) {
+      px = x / z;
+      py = y / z;
+      const int bx = bin_of(cam, px), by = bin_of(cam, py);
+      bins = {bx, bx, by, by};
+    }
     const Vec3 u = w / d;
     scratch.hits.clear();
     auto test = [&](int t) {
       const StateMask m = object_states[triangle_object[t]] & interest;
       if (!m) return;
+      if (projected) {
+        const auto& r = cam.rect[t];  // padded: a ray through the triangle projects inside
+        if (px < r[0] || px > r[1] || py < r[2] || py > r[3]) return;
+      }
       const auto& tri = triangles[t];
       const double hit = core::ray_triangle_hit(cam.c, u, tri[0], tri[1], tri[2]);
       if (!(hit > 0.0)) return;
@@ -435,68 +448,115 @@ VoxelEvaluator::Impl::Cone VoxelEvaluator::Impl::cone_test(const TriangleCone& t
   return near_miss ? Cone::near_miss : Cone::meet;
 }
 
-/// The voxels i of row (j, k) whose centre can be in the camera's FOV lie in [lo, hi]: the
-/// line of centres against the FOV's cone (the pyramid is inscribed), widened by 1e-6 rad and
-/// one voxel on each side; the whole row when the quadratic is near degenerate. Only a filter:
-/// in_fov decides.
-void VoxelEvaluator::Impl::row_interval(const CameraSetup& cam, int j, int k, int& lo,
-                                        int& hi) const {
-  const int nx = grid.n[0];
-  lo = 0;
-  hi = nx - 1;
-  const double dy = box_center[1][j] - cam.c.y(), dz = box_center[2][k] - cam.c.z();
-  const double a1 = cam.axis.x(), b0 = cam.axis.y() * dy + cam.axis.z() * dz;
-  const double alpha = std::acos(std::clamp(cam.cos_half, -1.0, 1.0)) + 1e-6;
-  if (alpha >= 0.5 * core::kPi) return;
-  const double kk = std::cos(alpha) * std::cos(alpha);
-  // With u = x − c_x: (a1 u + b0)² − kk (u² + dy² + dz²) ≥ 0 and a1 u + b0 ≥ 0.
+namespace {
+
+/// The u (= x − c_x) where the centre (c_x + u, c_y + dy, c_z + dz) lies in the cone of axis
+/// `axis` and cos² of half angle `kk` about the camera c: [u_lo, u_hi], empty when u_lo > u_hi.
+/// False when the quadratic is too flat to trust (the caller then takes the whole row).
+bool cone_row(const Vec3& axis, double kk, double dy, double dz, double& u_lo, double& u_hi) {
+  const double a1 = axis.x(), b0 = axis.y() * dy + axis.z() * dz;
+  // (a1 u + b0)² − kk (u² + dy² + dz²) ≥ 0 and a1 u + b0 ≥ 0.
   const double A = a1 * a1 - kk, B = 2.0 * a1 * b0, C = b0 * b0 - kk * (dy * dy + dz * dz);
-  double u_lo = -std::numeric_limits<double>::infinity(), u_hi = -u_lo;
+  u_lo = -std::numeric_limits<double>::infinity();
+  u_hi = -u_lo;
+  if (std::abs(A) < 1e-6) return false;
   const double disc = B * B - 4.0 * A * C;
-  if (std::abs(A) < 1e-6) return;
   if (A < 0) {
-    if (disc < 0) {
-      lo = nx;  // the line misses the cone
-      hi = -1;
-      return;
+    if (disc < 0) {  // the line misses the cone
+      u_lo = 1.0;
+      u_hi = -1.0;
+      return true;
     }
     const double sq = std::sqrt(disc);
     u_lo = (-B + sq) / (2.0 * A);
     u_hi = (-B - sq) / (2.0 * A);
     if (a1 * 0.5 * (u_lo + u_hi) + b0 < 0) {  // the other nappe
+      u_lo = 1.0;
+      u_hi = -1.0;
+    }
+    return true;
+  }
+  // Outside the roots, on the side where the axial coordinate grows.
+  if (disc >= 0) {
+    const double sq = std::sqrt(disc);  // roots (−B ∓ sq) / 2A, A > 0: smaller first
+    if (a1 > 0) {
+      u_lo = (-B + sq) / (2.0 * A);
+    } else {
+      u_hi = (-B - sq) / (2.0 * A);
+    }
+  } else if (a1 > 0) {
+    u_lo = -b0 / a1;
+  } else if (a1 < 0) {
+    u_hi = -b0 / a1;
+  }
+  return true;
+}
+
+/// Intersects [u_lo, u_hi] with {u : n_x u + rest ≥ bound}.
+void half_line(double n_x, double rest, double bound, double& u_lo, double& u_hi) {
+  if (n_x > 0) {
+    u_lo = std::max(u_lo, (bound - rest) / n_x);
+  } else if (n_x < 0) {
+    u_hi = std::min(u_hi, (bound - rest) / n_x);
+  } else if (rest < bound) {
+    u_lo = 1.0;
+    u_hi = -1.0;
+  }
+}
+
+}  // namespace
+
+/// For row (j, k) and one camera: the voxels i whose centre can be in the FOV lie in [lo, hi]
+/// (the cone, widened by 1e-6 rad, and the far plane, plus one voxel on each side; the whole
+/// row when the quadratic is near degenerate), and those in [in_lo, in_hi] are surely in it
+/// (in_fov would say true: the centre, or in conservative mode the voxel's bounding ball,
+/// inside by 1e-6 rad and 1e-9 m, less one voxel on each side). Elsewhere in_fov decides.
+void VoxelEvaluator::Impl::row_interval(const CameraSetup& cam, int j, int k, int& lo, int& hi,
+                                        int& in_lo, int& in_hi) const {
+  const int nx = grid.n[0];
+  lo = 0;
+  hi = nx - 1;
+  in_lo = nx;
+  in_hi = -1;
+  const double dy = box_center[1][j] - cam.c.y(), dz = box_center[2][k] - cam.c.z();
+  const double x0 = grid.area.min.x(), step = grid.step.x();
+  auto index = [&](double u) { return (u + cam.c.x() - x0) / step - 0.5; };
+  const double a1 = cam.axis.x(), b0 = cam.axis.y() * dy + cam.axis.z() * dz;
+  // Outer: may be in the FOV.
+  double u_lo, u_hi;
+  if (cam.row_cos_sq > 0.0 && cone_row(cam.axis, cam.row_cos_sq, dy, dz, u_lo, u_hi)) {
+    if (cam.range) half_line(-a1, -b0, -*cam.range, u_lo, u_hi);
+    if (u_lo > u_hi) {
       lo = nx;
       hi = -1;
       return;
     }
+    const double f_lo = index(u_lo) - 1.0, f_hi = index(u_hi) + 1.0;
+    if (f_lo > lo) lo = f_lo >= nx ? nx : static_cast<int>(std::floor(f_lo));
+    if (f_hi < hi) hi = f_hi < 0 ? -1 : static_cast<int>(std::ceil(f_hi));
+  }
+  // Inner: surely in the FOV. Every centre of the row is at least `line` from the camera.
+  const double line = std::sqrt(dy * dy + dz * dz);
+  const double r = conservative ? voxel_radius : 0.0;
+  if (!(line > r * (1.0 + 1e-6) + 1e-9)) return;
+  const double pad = 1e-9 + 1e-9 * r;
+  u_lo = -std::numeric_limits<double>::infinity();
+  u_hi = -u_lo;
+  if (cam.pyramid) {
+    for (const Vec3& n : cam.normals) {
+      half_line(n.x(), n.y() * dy + n.z() * dz, r * (1.0 + 1e-6) + pad, u_lo, u_hi);
+    }
   } else {
-    // Outside the roots, on the side where the axial coordinate grows.
-    if (disc >= 0) {
-      const double sq = std::sqrt(disc);
-      const double r1 = (-B - sq) / (2.0 * A), r2 = (-B + sq) / (2.0 * A);
-      if (a1 > 0) {
-        u_lo = r1;
-      } else {
-        u_hi = r2;
-      }
-    } else if (a1 > 0) {
-      u_lo = -b0 / a1;
-    } else if (a1 < 0) {
-      u_hi = -b0 / a1;
-    }
+    const double inner = scene.cameras.half_angle - std::asin(std::min(1.0, r / line)) - 1e-6;
+    if (inner <= 0.0) return;
+    if (!cone_row(cam.axis, std::cos(inner) * std::cos(inner), dy, dz, u_lo, u_hi)) return;
   }
-  if (cam.range && a1 != 0.0) {
-    const double u_range = (*cam.range - b0) / a1;
-    if (a1 > 0) {
-      u_hi = std::min(u_hi, u_range);
-    } else {
-      u_lo = std::max(u_lo, u_range);
-    }
-  }
-  const double x0 = grid.area.min.x(), step = grid.step.x();
-  auto index = [&](double u) { return (u + cam.c.x() - x0) / step - 0.5; };
-  const double f_lo = index(u_lo) - 1.0, f_hi = index(u_hi) + 1.0;
-  if (f_lo > lo) lo = f_lo >= nx ? nx : static_cast<int>(std::floor(f_lo));
-  if (f_hi < hi) hi = f_hi < 0 ? -1 : static_cast<int>(std::ceil(f_hi));
+  if (cam.range)
+    half_line(-a1, -b0, -(*cam.range - r - pad - 1e-9 * std::abs(*cam.range)), u_lo, u_hi);
+  if (!(u_lo <= u_hi)) return;
+  const double f_lo = index(u_lo) + 1.0, f_hi = index(u_hi) - 1.0;
+  in_lo = f_lo <= 0 ? 0 : f_lo >= nx ? nx : static_cast<int>(std::ceil(f_lo));
+  in_hi = f_hi >= nx - 1 ? nx - 1 : f_hi < 0 ? -1 : static_cast<int>(std::floor(f_hi));
 }
 
 void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, int k_begin,
@@ -523,10 +583,13 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
       }
     }
     std::vector<int> row_lo(cameras.size()), row_hi(cameras.size());
+    std::vector<int> in_lo(cameras.size()), in_hi(cameras.size());
+    std::uint8_t* out[detail::kChunk];
+    for (int s = 0; s < count; ++s) out[s] = models[first + s].data();
     for (int k = k_begin; k < k_end; ++k) {
       for (int j = 0; j < ny; ++j) {
         for (std::size_t c = 0; c < cameras.size(); ++c) {
-          row_interval(cameras[c], j, k, row_lo[c], row_hi[c]);
+          row_interval(cameras[c], j, k, row_lo[c], row_hi[c], in_lo[c], in_hi[c]);
         }
         int v = nx * (j + ny * k);
         for (int i = 0; i < nx; ++i, ++v) {
@@ -542,13 +605,13 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
               const CameraSetup& cam = cameras[c];
               const Vec3 w = center - cam.c;
               const double d = w.norm();
-              if (!in_fov(cam, i, j, k, w, d)) continue;
+              if ((i < in_lo[c] || i > in_hi[c]) && !in_fov(cam, i, j, k, w, d)) continue;
               Verdict verdict;
               judge(cam, w, d, interest, object_states, scratch, verdict, true);
               pending &= ~(interest & ~(verdict.occupied | verdict.blocked));
             }
           }
-          for (int s = 0; s < count; ++s) models[first + s][v] = (pending >> s) & 1;
+          for (int s = 0; s < count; ++s) out[s][v] = (pending >> s) & 1;
         }
       }
     }
