@@ -87,6 +87,12 @@ struct TriangleCone {
   bool touch = false;  ///< its object's back faces are culled for this camera
 };
 
+/// A triangle's projection as three lines a x + b y + c ≥ 0 (inside, padded).
+struct EdgeLines {
+  std::array<std::array<double, 3>, 3> line{};
+  bool valid = false;
+};
+
 /// Everything about one camera that one evaluation needs and that does not depend on the
 /// voxel: the FOV test, the triangles sorted into bins of the image plane (a triangle is a
 /// candidate for a voxel only when their projections' bounding rectangles share a bin), the
@@ -112,6 +118,7 @@ struct CameraSetup {
   /// Per triangle: its projection's bounding rectangle (x0, x1, y0, y1), padded; infinite for
   /// the triangles in `everywhere`.
   std::vector<std::array<double, 4>> rect;
+  std::vector<EdgeLines> lines;  ///< per triangle, when projectable and not degenerate
   std::vector<TriangleCone> triangles;
   std::vector<std::uint8_t> inside_object;  ///< camera inside object o (blind in its states)
 };

@@ -104,7 +104,7 @@ CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera
     tc.near_distance = std::sqrt(core::point_triangle_sq_distance(c, tri[0], tri[1], tri[2]));
     const double scale = a.norm() * b.norm() * e.norm();
     tc.flat = !(std::abs(det) > 1e-12 * scale);
-    if (tc.flat) continue;
+    if (tc.flat || !conservative) continue;  // center mode needs no cones
     tilt[t] = det / scale;
     const double sign = det > 0 ? 1.0 : -1.0;
     tc.edge[0] = a;
@@ -182,6 +182,7 @@ CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera
   std::vector<std::uint8_t> projectable(triangles.size(), 1);
   const double inf = std::numeric_limits<double>::infinity();
   cam.rect.assign(triangles.size(), {-inf, inf, -inf, inf});
+  cam.lines.assign(triangles.size(), {});
   cam.bin_start.assign(bin_count + 1, 0);
   // Conservative mode never tests flat or culled triangles: leave them out.
   auto skipped = [&](std::size_t t) {
@@ -190,14 +191,17 @@ CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     if (skipped(t)) continue;
     double xlo = std::numeric_limits<double>::infinity(), xhi = -xlo, ylo = xlo, yhi = -xlo;
-    for (const Vec3& p : triangles[t]) {
-      const Vec3 q = p - c;
+    double px[3], py[3];
+    for (int v = 0; v < 3; ++v) {
+      const Vec3 q = triangles[t][v] - c;
       const double z = q.dot(cam.axis);
       if (!(z > kMargin * q.norm())) {
         projectable[t] = 0;
         break;
       }
       const double x = q.dot(cam.ex) / z, y = q.dot(cam.ey) / z;
+      px[v] = x;
+      py[v] = y;
       xlo = std::min(xlo, x);
       xhi = std::max(xhi, x);
       ylo = std::min(ylo, y);
@@ -208,9 +212,29 @@ CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera
       continue;
     }
     ranges[t] = bin_range(cam, xlo, xhi, ylo, yhi);
-    const double px = 2 * kMargin * (1.0 + std::max(std::abs(xlo), std::abs(xhi)));
-    const double py = 2 * kMargin * (1.0 + std::max(std::abs(ylo), std::abs(yhi)));
-    cam.rect[t] = {xlo - px, xhi + px, ylo - py, yhi + py};
+    const double pad_x = 2 * kMargin * (1.0 + std::max(std::abs(xlo), std::abs(xhi)));
+    const double pad_y = 2 * kMargin * (1.0 + std::max(std::abs(ylo), std::abs(yhi)));
+    cam.rect[t] = {xlo - pad_x, xhi + pad_x, ylo - pad_y, yhi + pad_y};
+    // The projected triangle's edge lines, inside ≥ 0, unit normals, padded like the
+    // rectangle; none for a (nearly) degenerate projection.
+    const double area = (px[1] - px[0]) * (py[2] - py[0]) - (py[1] - py[0]) * (px[2] - px[0]);
+    const double size = std::max(xhi - xlo, yhi - ylo);
+    cam.lines[t].valid = std::abs(area) > 1e-9 * size * size;
+    if (cam.lines[t].valid) {
+      const double pad = std::max(pad_x, pad_y);
+      for (int e = 0; e < 3; ++e) {
+        const int f = (e + 1) % 3;
+        double a = -(py[f] - py[e]), b = px[f] - px[e];
+        if (area < 0) {
+          a = -a;
+          b = -b;
+        }
+        const double norm = std::hypot(a, b);
+        a /= norm;
+        b /= norm;
+        cam.lines[t].line[e] = {a, b, -(a * px[e] + b * py[e]) + pad};
+      }
+    }
     for (int by = ranges[t].y0; by <= ranges[t].y1; ++by) {
       for (int bx = ranges[t].x0; bx <= ranges[t].x1; ++bx) ++cam.bin_start[by * cam.bins + bx + 1];
     }
@@ -312,6 +336,12 @@ void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d
       if (projected) {
         const auto& r = cam.rect[t];  // padded: a ray through the triangle projects inside
         if (px < r[0] || px > r[1] || py < r[2] || py > r[3]) return;
+        const detail::EdgeLines& lines = cam.lines[t];
+        if (lines.valid) {
+          for (const auto& l : lines.line) {
+            if (l[0] * px + l[1] * py + l[2] < 0.0) return;
+          }
+        }
       }
       const auto& tri = triangles[t];
       const double hit = core::ray_triangle_hit(cam.c, u, tri[0], tri[1], tri[2]);
@@ -374,10 +404,11 @@ void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d
   }
   ++scratch.visit;
   auto test = [&](int t) {
-    const auto& r = cam.rect[t];
-    if (r[0] > vx1 || r[1] < vx0 || r[2] > vy1 || r[3] < vy0) return;
     if (scratch.stamp[t] == scratch.visit) return;
     scratch.stamp[t] = scratch.visit;
+    // (The edge lines of the projection would repeat the cone-plane test of cone_test.)
+    const auto& r = cam.rect[t];
+    if (r[0] > vx1 || r[1] < vx0 || r[2] > vy1 || r[3] < vy0) return;
     const int o = triangle_object[t];
     const bool occupying = objects[o].occupying;
     StateMask m = object_states[o] & interest;
@@ -547,9 +578,12 @@ void VoxelEvaluator::Impl::row_interval(const CameraSetup& cam, int j, int k, in
       half_line(n.x(), n.y() * dy + n.z() * dz, r * (1.0 + 1e-6) + pad, u_lo, u_hi);
     }
   } else {
-    const double inner = scene.cameras.half_angle - std::asin(std::min(1.0, r / line)) - 1e-6;
-    if (inner <= 0.0) return;
-    if (!cone_row(cam.axis, std::cos(inner) * std::cos(inner), dy, dz, u_lo, u_hi)) return;
+    // cos(α − β) with sin β = r / line (the largest angular radius of a voxel on the row),
+    // raised by 1e-6 (at least 1e-6 rad narrower); none when β ≥ α.
+    const double sin_b = r / line, cos_b = std::sqrt(1.0 - sin_b * sin_b);
+    if (sin_b >= cam.sin_half) return;
+    const double cos_inner = std::min(1.0, cam.cos_half * cos_b + cam.sin_half * sin_b + 1e-6);
+    if (!cone_row(cam.axis, cos_inner * cos_inner, dy, dz, u_lo, u_hi)) return;
   }
   if (cam.range)
     half_line(-a1, -b0, -(*cam.range - r - pad - 1e-9 * std::abs(*cam.range)), u_lo, u_hi);
