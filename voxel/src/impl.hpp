@@ -104,6 +104,7 @@ struct CameraSetup {
   core::Vec3 axis = core::Vec3::UnitX(), ex = core::Vec3::UnitY(), ey = core::Vec3::UnitZ();
   core::Vec3 abs_ex = core::Vec3::Zero(), abs_ey = core::Vec3::Zero(),
              abs_axis = core::Vec3::Zero();
+  double box_x = 0.0, box_y = 0.0, box_z = 0.0;  ///< a voxel box's half extents in this frame
   bool pyramid = false;
   std::vector<core::Vec3> normals;  ///< pyramid side normals (core::Fov's)
   std::optional<double> range;

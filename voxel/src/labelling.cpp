@@ -79,6 +79,9 @@ CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera
   cam.abs_ex = cam.ex.cwiseAbs();
   cam.abs_ey = cam.ey.cwiseAbs();
   cam.abs_axis = cam.axis.cwiseAbs();
+  cam.box_x = cam.abs_ex.dot(half_step);
+  cam.box_y = cam.abs_ey.dot(half_step);
+  cam.box_z = cam.abs_axis.dot(half_step);
   cam.pyramid = scene.cameras.fov == core::FovShape::pyramid;
   cam.normals = fov.pyramid_normals();
   cam.range = scene.cameras.range;
@@ -385,39 +388,45 @@ void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d
   // Conservative: free for every point p of the box B when (SPEC §5) no object triangle meets
   // a segment [c, p] (its cone misses B, or it lies wholly beyond B), and no triangle of an
   // occupying object lies on any ray through B (its cone misses B).
-  const Vec3 wc = (w / d) * d;  // the previous labeller's dir · dist
-  const double far = (w.cwiseAbs() + half_step).norm();
   BinRange bins{0, cam.bins - 1, 0, cam.bins - 1};
   const double inf = std::numeric_limits<double>::infinity();
   double vx0 = -inf, vx1 = inf, vy0 = -inf, vy1 = inf;  // the box's projection lies inside
-  const double rx = cam.abs_ex.dot(half_step), ry = cam.abs_ey.dot(half_step),
-               rz = cam.abs_axis.dot(half_step);
-  const double z_lo = z - rz, z_hi = z + rz;
+  const double z_lo = z - cam.box_z, z_hi = z + cam.box_z;
   if (z_lo > 0.0) {
-    // The box's projection lies in [min, max] of (x ± rx) / (z ± rz), each axis.
-    const double x0 = x - rx, x1 = x + rx, y0 = y - ry, y1 = y + ry;
+    // The box's projection lies in [min, max] of (x ± rx) / (z ± rz), each axis (the
+    // triangles' rectangles are padded, these need not be).
+    const double x0 = x - cam.box_x, x1 = x + cam.box_x, y0 = y - cam.box_y, y1 = y + cam.box_y;
     vx0 = x0 / (x0 >= 0 ? z_hi : z_lo);
     vx1 = x1 / (x1 >= 0 ? z_lo : z_hi);
     vy0 = y0 / (y0 >= 0 ? z_hi : z_lo);
     vy1 = y1 / (y1 >= 0 ? z_lo : z_hi);
-    bins = bin_range(cam, vx0, vx1, vy0, vy1);
+    bins = {bin_of(cam, vx0), bin_of(cam, vx1), bin_of(cam, vy0), bin_of(cam, vy1)};
   }
+  // Needed only once a triangle gets to the cone test.
+  Vec3 wc;  // the previous labeller's dir · dist
+  double far = 0.0;
+  bool exact_ready = false;
   ++scratch.visit;
-  auto test = [&](int t) {
-    if (scratch.stamp[t] == scratch.visit) return;
+  auto test = [&](int t) -> bool {  // true when `out` changed
+    if (scratch.stamp[t] == scratch.visit) return false;
     scratch.stamp[t] = scratch.visit;
     // (The edge lines of the projection would repeat the cone-plane test of cone_test.)
     const auto& r = cam.rect[t];
-    if (r[0] > vx1 || r[1] < vx0 || r[2] > vy1 || r[3] < vy0) return;
+    if (r[0] > vx1 || r[1] < vx0 || r[2] > vy1 || r[3] < vy0) return false;
     const int o = triangle_object[t];
     const bool occupying = objects[o].occupying;
     StateMask m = object_states[o] & interest;
     // States already decided need no more tests (occupied wins over undetectable).
     m &= (free_only || !occupying) ? ~(out.occupied | out.blocked) : ~out.occupied;
-    if (!m) return;
+    if (!m) return false;
     const TriangleCone& tc = cam.triangles[t];
-    if (tc.flat || tc.back) return;
-    if (!occupying && tc.near_distance >= far) return;
+    if (tc.flat || tc.back) return false;
+    if (!exact_ready) {
+      wc = (w / d) * d;
+      far = (w.cwiseAbs() + half_step).norm();
+      exact_ready = true;
+    }
+    if (!occupying && tc.near_distance >= far) return false;
     const Cone cone = cone_test(tc, wc);
     if (cone == Cone::near_miss && tc.touch) {
       // A culled object touching the voxel within rounding: its back faces decide as they
@@ -429,20 +438,27 @@ void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d
         if (!back.back || (!occupying && back.near_distance >= far)) continue;
         if (cone_test(back, wc) == Cone::meet) {
           (occupying ? out.occupied : out.blocked) |= m;
-          return;
+          return true;
         }
       }
     }
-    if (cone != Cone::meet) return;
+    if (cone != Cone::meet) return false;
     (occupying ? out.occupied : out.blocked) |= m;
+    return true;
   };
+  // With free_only, done as soon as every state of interest is decided.
+  auto done = [&] { return free_only && !(interest & ~(out.occupied | out.blocked)); };
   for (int by = bins.y0; by <= bins.y1; ++by) {
     for (int bx = bins.x0; bx <= bins.x1; ++bx) {
       const int b = by * cam.bins + bx;
-      for (int n = cam.bin_start[b]; n < cam.bin_start[b + 1]; ++n) test(cam.bin_items[n]);
+      for (int n = cam.bin_start[b]; n < cam.bin_start[b + 1]; ++n) {
+        if (test(cam.bin_items[n]) && done()) return;
+      }
     }
   }
-  for (int t : cam.everywhere) test(t);
+  for (int t : cam.everywhere) {
+    if (test(t) && done()) return;
+  }
 }
 
 /// Whether the triangle's infinite cone and the voxel box (centre at w from the camera) meet,
