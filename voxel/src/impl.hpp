@@ -8,6 +8,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <thread>
 #include <vector>
@@ -17,6 +18,7 @@
 #include "camplace/core/scene.hpp"
 #include "camplace/core/sensor_model.hpp"
 #include "camplace/voxel/evaluator.hpp"
+#include "solid_distance.hpp"
 
 namespace camplace::voxel {
 
@@ -169,15 +171,25 @@ struct VoxelEvaluator::Impl {
   std::vector<std::vector<detail::StateMask>> chunk_object_states;
   std::vector<std::vector<detail::StateMask>> chunk_step_states;
   std::vector<std::vector<std::uint8_t>> removed_by_step;  ///< obstacle interiors per step
-  std::vector<std::vector<double>> critical_sq_by_step;    ///< d(C_h, voxel)² per step
-  double err_lower_bound = 0.0;                            ///< conservative mode only
+  /// Per step and voxel: a lower bound of d(C_h, voxel)² (the centre's distance less the
+  /// voxel's radius; in center mode the value itself), and in conservative mode the value,
+  /// computed on first use by critical_sq (NaN until then; evaluate() is const and runs on
+  /// several threads: racing threads store the same double).
+  std::vector<std::vector<double>> critical_lb_by_step;
+  std::vector<std::unique_ptr<std::atomic<double>[]>> critical_by_step;
+  std::vector<std::vector<detail::IndexedSolid>> critical_solids_by_step;
+  double err_lower_bound = 0.0;  ///< conservative mode only
 
   // Set-up (setup.cpp): everything that does not depend on the cameras.
   void build();
   int add_object(const core::SceneObject& object, core::ObjectRole role);
   double lower_bound() const;
   std::vector<std::uint8_t> obstacle_interiors(const core::TimeStep& step) const;
-  std::vector<double> critical_distances(const core::TimeStep& step) const;
+  /// The lower bounds of critical_lb_by_step for one step.
+  std::vector<double> critical_distances(const std::vector<detail::IndexedSolid>& solids) const;
+  /// d(C_h, voxel v)² as core::box_solid_sq_distance (conservative) or
+  /// core::point_solid_sq_distance (center) gives it, min over C_h.
+  double critical_sq(int time_step, int v) const;
 
   // Labelling (labelling.cpp): SPEC §3 per camera, voxel and state.
   detail::CameraSetup camera_setup(const core::CameraSetting& camera) const;
