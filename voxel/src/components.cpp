@@ -34,35 +34,39 @@ ComponentCount filter_components(std::vector<std::uint8_t>& model, const Grid& g
   // Model bytes: 1 = in M and not yet reached, 2 = reached (a component found so far).
   std::uint8_t* m = model.data();
   for (int v = 0; v < count; ++v) m[v] = m[v] != 0;
-  std::vector<int> stack, members;
+  struct Cell {
+    int v, i, j, k;
+  };
+  std::vector<Cell> stack;
+  std::vector<int> members;
   ComponentCount result;
   for (int start = next_nonzero(m, 0, count); start < count;
        start = next_nonzero(m, start + 1, count)) {
     if (m[start] != 1) continue;
     members.clear();
-    stack.assign(1, start);
+    const int k0 = start / nxy, j0 = (start - k0 * nxy) / nx;
+    stack.assign(1, {start, start - k0 * nxy - j0 * nx, j0, k0});
     m[start] = 2;
     int kmin = nz, kmax = -1;
     while (!stack.empty()) {
-      const int v = stack.back();
+      const Cell c = stack.back();
       stack.pop_back();
-      members.push_back(v);
-      const int k = v / nxy, rest = v - k * nxy, j = rest / nx, i = rest - j * nx;
-      kmin = std::min(kmin, k);
-      kmax = std::max(kmax, k);
-      auto visit = [&](int w) {
+      members.push_back(c.v);
+      kmin = std::min(kmin, c.k);
+      kmax = std::max(kmax, c.k);
+      auto visit = [&](int w, int i, int j, int k) {
         if (m[w] == 1) {
           m[w] = 2;
-          stack.push_back(w);
+          stack.push_back({w, i, j, k});
         }
       };
       // Face neighbours only: voxels meeting at an edge or a corner do not connect (SPEC §4).
-      if (i > 0) visit(v - 1);
-      if (i + 1 < nx) visit(v + 1);
-      if (j > 0) visit(v - nx);
-      if (j + 1 < ny) visit(v + nx);
-      if (k > 0) visit(v - nxy);
-      if (k + 1 < nz) visit(v + nxy);
+      if (c.i > 0) visit(c.v - 1, c.i - 1, c.j, c.k);
+      if (c.i + 1 < nx) visit(c.v + 1, c.i + 1, c.j, c.k);
+      if (c.j > 0) visit(c.v - nx, c.i, c.j - 1, c.k);
+      if (c.j + 1 < ny) visit(c.v + nx, c.i, c.j + 1, c.k);
+      if (c.k > 0) visit(c.v - nxy, c.i, c.j, c.k - 1);
+      if (c.k + 1 < nz) visit(c.v + nxy, c.i, c.j, c.k + 1);
     }
     const double volume = static_cast<double>(members.size()) * voxel_volume;
     const double height = (kmax - kmin + 1) * grid.step.z();
