@@ -311,10 +311,10 @@ bool VoxelEvaluator::Impl::in_fov(const CameraSetup& cam, int i, int j, int k, c
   return true;
 }
 
-/// κ of SPEC §3 for the voxel with centre at w from the camera (d = |w|), in the FOV of the camera,
-/// for the states in `interest`: adds to `out` the states where it is occupied and those where it
-/// is otherwise not free. With `free_only` the split between the two is not kept (the model needs
-/// no more).
+/// κ of SPEC §3 for the voxel with centre at w from the camera (d = |w|, or < 0 when not yet
+/// known), in the FOV of the camera, for the states in `interest`: adds to `out` the states where
+/// it is occupied and those where it is otherwise not free. With `free_only` the split between the
+/// two is not kept (the model needs no more).
 void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d,
                                  StateMask interest, const StateMask* object_states,
                                  Scratch& scratch, Verdict& out, bool free_only) const {
@@ -331,6 +331,7 @@ void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d
       const int bx = bin_of(cam, px), by = bin_of(cam, py);
       bins = {bx, bx, by, by};
     }
+    if (d < 0.0) d = w.norm();
     const Vec3 u = w / d;
     scratch.hits.clear();
     auto test = [&](int t) {
@@ -422,6 +423,7 @@ void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d
     const TriangleCone& tc = cam.triangles[t];
     if (tc.flat || tc.back) return false;
     if (!exact_ready) {
+      if (d < 0.0) d = w.norm();
       wc = (w / d) * d;
       far = (w.cwiseAbs() + half_step).norm();
       exact_ready = true;
@@ -654,8 +656,11 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
               if (!interest || i < row_lo[c] || i > row_hi[c]) continue;
               const CameraSetup& cam = cameras[c];
               const Vec3 w = center - cam.c;
-              const double d = w.norm();
-              if ((i < in_lo[c] || i > in_hi[c]) && !in_fov(cam, i, j, k, w, d)) continue;
+              double d = -1.0;  // |w|, computed when needed
+              if (i < in_lo[c] || i > in_hi[c]) {
+                d = w.norm();
+                if (!in_fov(cam, i, j, k, w, d)) continue;
+              }
               Verdict verdict;
               judge(cam, w, d, interest, object_states, scratch, verdict, true);
               pending &= ~(interest & ~(verdict.occupied | verdict.blocked));
