@@ -13,21 +13,23 @@ VoxelEvaluator::Impl::ModelDistance VoxelEvaluator::Impl::model_distance(
   // The nearest model voxel by the lower bounds first; then only voxels whose bound does not
   // exclude them (detail::beyond: their value cannot be below the best so far).
   const auto& lb = critical_lb_by_step[time_step];
-  int count = 0, first = -1;
+  thread_local std::vector<int> members;
+  members.clear();
+  int first = -1;
   for (int v = 0; v < grid.count(); ++v) {
     if (!model[v]) continue;
-    ++count;
+    members.push_back(v);
     if (first < 0 || lb[v] < lb[first]) first = v;
   }
   ModelDistance out;
-  out.volume = count * voxel_volume;
-  if (count == 0) {
+  out.volume = static_cast<double>(members.size()) * voxel_volume;
+  if (members.empty()) {
     out.d_model = core::empty_model_distance(scene.area);
     return out;
   }
   double best = critical_sq(time_step, first);
-  for (int v = 0; v < grid.count(); ++v) {
-    if (!model[v] || v == first || detail::beyond(lb[v], best)) continue;
+  for (int v : members) {
+    if (v == first || detail::beyond(lb[v], best)) continue;
     best = std::min(best, critical_sq(time_step, v));
   }
   out.d_model = std::sqrt(best);
