@@ -484,6 +484,19 @@ VoxelEvaluator::Impl::Cone VoxelEvaluator::Impl::cone_test(const TriangleCone& t
   // The box centre clearly inside the cone: they meet (no axis can separate them).
   const double inside = kMargin * w.norm();
   if (s[0] > inside && s[1] > inside && s[2] > inside) return Cone::meet;
+  // Else the box corner deepest across the planes the centre is outside of: clearly inside
+  // the cone, they meet too.
+  Vec3 toward = Vec3::Zero();
+  for (int i = 0; i < 3; ++i) {
+    if (!(s[i] > inside)) toward += tc.normal[i];
+  }
+  const Vec3 corner = w + Vec3(toward.x() >= 0 ? half_step.x() : -half_step.x(),
+                               toward.y() >= 0 ? half_step.y() : -half_step.y(),
+                               toward.z() >= 0 ? half_step.z() : -half_step.z());
+  if (tc.normal[0].dot(corner) > inside && tc.normal[1].dot(corner) > inside &&
+      tc.normal[2].dot(corner) > inside) {
+    return Cone::meet;
+  }
   // Axis L: the cone projects to [0, ∞) or (−∞, 0] (relative to the camera) when its edges
   // all project to one side, else to the whole line (such axes were dropped); the box to
   // L·w ± Σ|L_i|·h_i.
