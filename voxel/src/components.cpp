@@ -1,27 +1,33 @@
-// 6-connected components of a voxel model and the plausibility filter (SPEC §4–5).
+// 6-connected components of a voxel model and the plausibility filter (SPEC §4–5), on runs:
+// maximal segments of model voxels along x. Two runs connect when they lie in face-adjacent
+// rows (j ± 1 or k ± 1) and share an x index; union–find over runs gives the components.
 #include "camplace/voxel/components.hpp"
 
 #include <algorithm>
 #include <cstring>
+#include <numeric>
 
 namespace camplace::voxel {
 
 namespace {
 
-/// Index of the first nonzero byte of data[from, n), or n; eight bytes at a time.
-int next_nonzero(const std::uint8_t* data, int from, int n) {
-  while (from < n && (from & 7)) {
-    if (data[from]) return from;
-    ++from;
+struct Run {
+  int row;     ///< j + ny·k
+  int i0, i1;  ///< x range, inclusive
+};
+
+int find(std::vector<int>& parent, int a) {
+  while (parent[a] != a) {
+    parent[a] = parent[parent[a]];
+    a = parent[a];
   }
-  while (from + 8 <= n) {
-    std::uint64_t word;
-    std::memcpy(&word, data + from, 8);
-    if (word) break;
-    from += 8;
-  }
-  while (from < n && !data[from]) ++from;
-  return from;
+  return a;
+}
+
+void unite(std::vector<int>& parent, int a, int b) {
+  a = find(parent, a);
+  b = find(parent, b);
+  if (a != b) parent[std::max(a, b)] = std::min(a, b);
 }
 
 }  // namespace
@@ -29,55 +35,76 @@ int next_nonzero(const std::uint8_t* data, int from, int n) {
 ComponentCount filter_components(std::vector<std::uint8_t>& model, const Grid& grid,
                                  const core::Plausibility& plausibility) {
   const int nx = grid.n[0], ny = grid.n[1], nz = grid.n[2];
-  const int nxy = nx * ny, count = grid.count();
-  const double voxel_volume = grid.voxel_volume();
-  // Model bytes: 1 = in M and not yet reached, 2 = reached (a component found so far).
+  const int rows = ny * nz;
   std::uint8_t* m = model.data();
-  for (int v = 0; v < count; ++v) m[v] = m[v] != 0;
-  struct Cell {
-    int v, i, j, k;
-  };
-  std::vector<Cell> stack;
-  std::vector<int> members;
-  ComponentCount result;
-  for (int start = next_nonzero(m, 0, count); start < count;
-       start = next_nonzero(m, start + 1, count)) {
-    if (m[start] != 1) continue;
-    members.clear();
-    const int k0 = start / nxy, j0 = (start - k0 * nxy) / nx;
-    stack.assign(1, {start, start - k0 * nxy - j0 * nx, j0, k0});
-    m[start] = 2;
-    int kmin = nz, kmax = -1;
-    while (!stack.empty()) {
-      const Cell c = stack.back();
-      stack.pop_back();
-      members.push_back(c.v);
-      kmin = std::min(kmin, c.k);
-      kmax = std::max(kmax, c.k);
-      auto visit = [&](int w, int i, int j, int k) {
-        if (m[w] == 1) {
-          m[w] = 2;
-          stack.push_back({w, i, j, k});
-        }
-      };
-      // Face neighbours only: voxels meeting at an edge or a corner do not connect (SPEC §4).
-      if (c.i > 0) visit(c.v - 1, c.i - 1, c.j, c.k);
-      if (c.i + 1 < nx) visit(c.v + 1, c.i + 1, c.j, c.k);
-      if (c.j > 0) visit(c.v - nx, c.i, c.j - 1, c.k);
-      if (c.j + 1 < ny) visit(c.v + nx, c.i, c.j + 1, c.k);
-      if (c.k > 0) visit(c.v - nxy, c.i, c.j, c.k - 1);
-      if (c.k + 1 < nz) visit(c.v + nxy, c.i, c.j, c.k + 1);
-    }
-    const double volume = static_cast<double>(members.size()) * voxel_volume;
-    const double height = (kmax - kmin + 1) * grid.step.z();
-    if (plausibility.keeps(volume, height)) {
-      ++result.kept;
-    } else {
-      for (int v : members) m[v] = 0;
-      ++result.removed;
+  std::vector<Run> runs;
+  std::vector<int> row_start(rows + 1, 0);
+  for (int r = 0; r < rows; ++r) {
+    row_start[r] = static_cast<int>(runs.size());
+    const std::uint8_t* row = m + static_cast<std::size_t>(r) * nx;
+    for (int i = 0; i < nx;) {
+      if (!row[i]) {
+        ++i;
+        continue;
+      }
+      const int i0 = i;
+      while (i < nx && row[i]) ++i;
+      runs.push_back({r, i0, i - 1});
     }
   }
-  for (int v = 0; v < count; ++v) m[v] = m[v] != 0;
+  row_start[rows] = static_cast<int>(runs.size());
+  std::vector<int> parent(runs.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  // Face neighbours only: voxels meeting at an edge or a corner do not connect (SPEC §4); so
+  // runs connect only through a shared x index in the row before (j − 1) or below (k − 1).
+  auto connect = [&](int r, int other) {
+    int a = row_start[r], b = row_start[other];
+    const int a_end = row_start[r + 1], b_end = row_start[other + 1];
+    while (a < a_end && b < b_end) {
+      if (runs[a].i1 >= runs[b].i0 && runs[b].i1 >= runs[a].i0) unite(parent, a, b);
+      if (runs[a].i1 < runs[b].i1) {
+        ++a;
+      } else {
+        ++b;
+      }
+    }
+  };
+  for (int r = 0; r < rows; ++r) {
+    const int j = r % ny;
+    if (j > 0) connect(r, r - 1);
+    if (r >= ny) connect(r, r - ny);
+  }
+  // Volume (voxel count) and z-extent per component.
+  struct Extent {
+    long voxels = 0;
+    int kmin = 0, kmax = -1;
+  };
+  std::vector<Extent> extent(runs.size());
+  for (std::size_t n = 0; n < runs.size(); ++n) {
+    Extent& e = extent[find(parent, static_cast<int>(n))];
+    const int k = runs[n].row / ny;
+    if (e.kmax < 0) {
+      e.kmin = e.kmax = k;
+    } else {
+      e.kmin = std::min(e.kmin, k);
+      e.kmax = std::max(e.kmax, k);
+    }
+    e.voxels += runs[n].i1 - runs[n].i0 + 1;
+  }
+  ComponentCount result;
+  std::vector<std::uint8_t> keep(runs.size(), 0);
+  for (std::size_t n = 0; n < runs.size(); ++n) {
+    if (find(parent, static_cast<int>(n)) != static_cast<int>(n)) continue;
+    const double volume = static_cast<double>(extent[n].voxels) * grid.voxel_volume();
+    const double height = (extent[n].kmax - extent[n].kmin + 1) * grid.step.z();
+    keep[n] = plausibility.keeps(volume, height);
+    ++(keep[n] ? result.kept : result.removed);
+  }
+  for (std::size_t n = 0; n < runs.size(); ++n) {
+    const Run& run = runs[n];
+    std::memset(m + static_cast<std::size_t>(run.row) * nx + run.i0,
+                keep[find(parent, static_cast<int>(n))], run.i1 - run.i0 + 1);
+  }
   return result;
 }
 
