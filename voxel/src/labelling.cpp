@@ -52,6 +52,13 @@ int bin_of(const CameraSetup& cam, double x) {
   return static_cast<int>(f);
 }
 
+int wide_of(const CameraSetup& cam, double x) {
+  const double f = (x + cam.image_half) * cam.wide_scale;
+  if (!(f > 0.0)) return 0;
+  if (f >= cam.wide_bins) return cam.wide_bins - 1;
+  return static_cast<int>(f);
+}
+
 struct BinRange {
   int x0 = 0, x1 = 0, y0 = 0, y1 = 0;
 };
@@ -253,7 +260,40 @@ CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera
       }
     }
   }
-
+  // Conservative mode: bins twice as fine with every rectangle widened by half a (coarse) bin,
+  // so that a voxel whose projection is at most that wide finds every triangle it can meet in
+  // the bin of its rectangle's centre, each once (no repeats to skip).
+  cam.wide_bins = 2 * cam.bins;
+  cam.wide_scale = cam.wide_bins / (2.0 * cam.image_half);
+  cam.widen = 0.5 / cam.bin_scale;
+  const int wide_count = cam.wide_bins * cam.wide_bins;
+  cam.wide_start.assign(wide_count + 1, 0);
+  cam.wide_items.clear();
+  if (conservative) {
+    std::vector<BinRange> wide(triangles.size());
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+      if (skipped(t) || !projectable[t]) continue;
+      const auto& r = cam.rect[t];
+      wide[t] = {wide_of(cam, r[0] - cam.widen), wide_of(cam, r[1] + cam.widen),
+                 wide_of(cam, r[2] - cam.widen), wide_of(cam, r[3] + cam.widen)};
+      for (int by = wide[t].y0; by <= wide[t].y1; ++by) {
+        for (int bx = wide[t].x0; bx <= wide[t].x1; ++bx) {
+          ++cam.wide_start[by * cam.wide_bins + bx + 1];
+        }
+      }
+    }
+    for (int b = 0; b < wide_count; ++b) cam.wide_start[b + 1] += cam.wide_start[b];
+    cam.wide_items.resize(cam.wide_start[wide_count]);
+    std::vector<int> next(cam.wide_start.begin(), cam.wide_start.end() - 1);
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+      if (skipped(t) || !projectable[t]) continue;
+      for (int by = wide[t].y0; by <= wide[t].y1; ++by) {
+        for (int bx = wide[t].x0; bx <= wide[t].x1; ++bx) {
+          cam.wide_items[next[by * cam.wide_bins + bx]++] = static_cast<int>(t);
+        }
+      }
+    }
+  }
   return cam;
 }
 
@@ -450,6 +490,18 @@ void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d
   };
   // With free_only, done as soon as every state of interest is decided.
   auto done = [&] { return free_only && !(interest & ~(out.occupied | out.blocked)); };
+  if (z_lo > 0.0 && vx1 - vx0 <= 2.0 * cam.widen && vy1 - vy0 <= 2.0 * cam.widen) {
+    // A triangle whose rectangle overlaps the voxel's has its widened rectangle around the
+    // voxel rectangle's centre: one wide bin holds every candidate, once.
+    const int b = wide_of(cam, 0.5 * (vy0 + vy1)) * cam.wide_bins + wide_of(cam, 0.5 * (vx0 + vx1));
+    for (int n = cam.wide_start[b]; n < cam.wide_start[b + 1]; ++n) {
+      if (test(cam.wide_items[n]) && done()) return;
+    }
+    for (int t : cam.everywhere) {
+      if (test(t) && done()) return;
+    }
+    return;
+  }
   for (int by = bins.y0; by <= bins.y1; ++by) {
     for (int bx = bins.x0; bx <= bins.x1; ++bx) {
       const int b = by * cam.bins + bx;
