@@ -9,16 +9,24 @@
 // FOV test on the centre or on the 8 corners, computed from the same numbers. What changed is
 // which of them run:
 //  - a triangle is tested against a voxel only when their projections onto the camera's image
-//    plane (bounding rectangles, padded by 1e-9) share a bin; a triangle that is not wholly in
-//    front of the camera is tested everywhere. If a segment or ray from the camera through
-//    the voxel (centre) meets the triangle, the meeting point projects into both rectangles,
-//    so no triangle that could change a label is skipped;
+//    plane overlap: bounding rectangles (the triangle's padded by 2e-9 relative) sharing a bin,
+//    then the rectangles themselves, and in center mode the centre inside the projected
+//    triangle's padded edge lines. A triangle that is not wholly in front of the camera is
+//    tested everywhere. If a segment or ray from the camera through the voxel (centre) meets
+//    the triangle, the meeting point projects into both, so no triangle that could change a
+//    label is skipped. Small voxels (conservative) look up one bin of a finer set whose
+//    rectangles are widened by more than their projection's half size;
+//  - conservative mode culls back faces of closed, outward objects (the proof, and what
+//    happens at touching configurations, is in camera_setup);
 //  - each triangle is tested once per voxel and camera for all states (bit masks), not once
-//    per state, and a voxel is done as soon as some camera sees it free in every state;
+//    per state, a voxel is done as soon as some camera sees it free in every state, and a
+//    camera is done with a voxel once every state of interest is decided;
+//  - per row of voxels, the range where the centre can be in a camera's FOV and the range
+//    where it surely is (row_interval) skip the FOV test outside and inside;
 //  - the FOV test and the cone test first try cheap decisions with a relative margin of 1e-9
-//    (centre clearly outside, bounding ball clearly inside; voxel centre clearly inside the
-//    triangle's cone) and fall back to the exact test in the margin, so they decide as the
-//    exact test does except where rounding decides (a tie);
+//    (centre clearly outside, bounding ball clearly inside; voxel centre or the deepest box
+//    corner clearly inside the triangle's cone) and fall back to the exact test in the
+//    margin, so they decide as the exact test does except where rounding decides (a tie);
 //  - no per-voxel arrays: voxel centres and boxes come from per-axis tables, camera → centre
 //    vectors are computed on the fly.
 #include <algorithm>
