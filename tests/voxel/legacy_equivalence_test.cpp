@@ -158,6 +158,25 @@ TEST(LegacyEquivalence, DistancesAndLowerBoundEqualTheCoreFormulas) {
   }
 }
 
+TEST(LegacyEquivalence, MoreThan64StatesAreHandledInChunks) {
+  // States are processed 64 at a time (bit masks): 2 steps × 35 events, the events' targets
+  // cycling through the random scene's.
+  std::mt19937 rng(31);
+  core::Scene scene = random_scene(rng, {10, 8, 8});
+  for (core::TimeStep& step : scene.time_steps) {
+    const std::vector<core::Event> events = step.events;
+    step.events.clear();
+    for (int l = 0; l < 35; ++l) step.events.push_back(events[l % events.size()]);
+  }
+  ASSERT_EQ(core::states(scene).size(), 70u);
+  const core::CameraConfig config = random_config(rng, scene);
+  for (LabelMode mode : {LabelMode::center, LabelMode::conservative}) {
+    Tally t;
+    compare_all(scene, config, mode, {10, 8, 8}, "70 states", t);
+    EXPECT_EQ(t.differing, 0) << core::name_of(mode);
+  }
+}
+
 TEST(LegacyEquivalence, ThreadsDoNotChangeTheResult) {
   std::mt19937 rng(23);
   for (int s = 0; s < 4; ++s) {
