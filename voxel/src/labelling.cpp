@@ -455,10 +455,13 @@ void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d
   Vec3 wc;  // the previous labeller's dir · dist
   double far = 0.0;
   bool exact_ready = false;
-  ++scratch.visit;
-  auto test = [&](int t) -> bool {  // true when `out` changed
-    if (scratch.stamp[t] == scratch.visit) return false;
-    scratch.stamp[t] = scratch.visit;
+  ++scratch.visit;  // the bins' lists repeat triangles; `everywhere` holds others
+  // True when `out` changed. `once`: t cannot come up again for this voxel (no stamp needed).
+  auto test = [&](int t, bool once) -> bool {
+    if (!once) {
+      if (scratch.stamp[t] == scratch.visit) return false;
+      scratch.stamp[t] = scratch.visit;
+    }
     // (The edge lines of the projection would repeat the cone-plane test of cone_test.)
     const auto& r = cam.rect[t];
     if (r[0] > vx1 || r[1] < vx0 || r[2] > vy1 || r[3] < vy0) return false;
@@ -503,10 +506,10 @@ void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d
     // voxel rectangle's centre: one wide bin holds every candidate, once.
     const int b = wide_of(cam, 0.5 * (vy0 + vy1)) * cam.wide_bins + wide_of(cam, 0.5 * (vx0 + vx1));
     for (int n = cam.wide_start[b]; n < cam.wide_start[b + 1]; ++n) {
-      if (test(cam.wide_items[n]) && done()) return;
+      if (test(cam.wide_items[n], true) && done()) return;
     }
     for (int t : cam.everywhere) {
-      if (test(t) && done()) return;
+      if (test(t, true) && done()) return;
     }
     return;
   }
@@ -514,12 +517,12 @@ void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d
     for (int bx = bins.x0; bx <= bins.x1; ++bx) {
       const int b = by * cam.bins + bx;
       for (int n = cam.bin_start[b]; n < cam.bin_start[b + 1]; ++n) {
-        if (test(cam.bin_items[n]) && done()) return;
+        if (test(cam.bin_items[n], false) && done()) return;
       }
     }
   }
   for (int t : cam.everywhere) {
-    if (test(t) && done()) return;
+    if (test(t, true) && done()) return;
   }
 }
 
