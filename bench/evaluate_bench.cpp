@@ -170,11 +170,18 @@ BENCHMARK_CAPTURE(BM_LegacyLabelling, center, LabelMode::center)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ReferenceLabelling)->DenseRange(0, 1)->Unit(benchmark::kMillisecond);
 
-// Remembers each run's CPU time per iteration so main can print the ratios.
+// Remembers each run's CPU time per iteration (the median of repetitions) so main can print
+// the ratios.
 class RatioReporter : public benchmark::ConsoleReporter {
  public:
   void ReportRuns(const std::vector<Run>& runs) override {
-    for (const Run& r : runs) times_[r.benchmark_name()] = r.GetAdjustedCPUTime();
+    for (const Run& r : runs) {
+      // With --benchmark_repetitions, the median stands for the run.
+      if (r.run_type == Run::RT_Aggregate && r.aggregate_name != "median") continue;
+      const std::string name =
+          r.run_type == Run::RT_Aggregate ? r.run_name.str() : r.benchmark_name();
+      times_[name] = r.GetAdjustedCPUTime();
+    }
     ConsoleReporter::ReportRuns(runs);
   }
   std::map<std::string, double> times_;
