@@ -1,9 +1,11 @@
 // `camplace evaluate`: Err of one camera configuration, per state, in the voxel and/or the
 // exact pipeline.
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <thread>
 
 #include "camplace/core/camera.hpp"
 #include "camplace/core/err.hpp"
@@ -26,7 +28,7 @@ struct EvaluateArgs {
   std::string voxels_out;
   bool voxels_out_given = false, export_given = false;
   bool json = false, exact_fractions = false;
-  int threads = 0;  // exact pipeline; 0 = one per core
+  int threads = 0;  // 0 = one per core (both pipelines)
 };
 
 /// The per-state fields both pipelines report (voxel::StateResult, core::StateResult).
@@ -159,6 +161,9 @@ void run_evaluate(const EvaluateArgs& args) {
   options.mode = parse_enum<core::LabelMode>(args.mode);
   if (!args.resolution.empty())
     options.resolution = core::parse_resolution(args.resolution, "--resolution");
+  const unsigned cores = std::thread::hardware_concurrency();
+  options.threads = args.threads > 0 ? args.threads
+                                     : static_cast<int>(std::clamp(cores, 1u, 256u));
   const core::Pipeline pipeline = parse_enum<core::Pipeline>(args.pipeline);
   const bool want_voxel = pipeline != core::Pipeline::exact;
   const bool want_exact = pipeline != core::Pipeline::voxel;
@@ -239,8 +244,8 @@ void register_evaluate_command(CLI::App& app) {
   cmd->add_flag("--exact-fractions", args->exact_fractions,
                 "exact pipeline: add squared distances as exact fractions \"p/q\"");
   cmd->add_option("--threads", args->threads,
-                  "exact pipeline: states evaluated in parallel (default: one thread per core)")
-      ->check(CLI::Range(1, 256));
+                  "states evaluated in parallel, both pipelines (default: one thread per core)")
+      ->check(in_range(1, voxel::kMaxThreads));
   CLI::Option* export_mesh = cmd->add_option(
       "--export-mesh", args->export_dir,
       "exact pipeline: write each state's model and each camera's pyramid (OFF) to DIR");

@@ -1,16 +1,31 @@
-// One full voxel evaluation of data/paper_basic.json (conservative and center) at 16×12×12 and
-// 36×27×27, and the brute-force reference labeller (tests/support/reference.cpp) on the same
-// configurations in the same run; prints the speed-up over the reference at the end.
-//   build/release/bench/evaluate_bench
+// The voxel pipeline on data/paper_basic.json with the corners configuration
+// (data/paper_basic_corners.json), issue 11's measurements:
+//  - BM_Evaluate/<mode>/<r>/<threads>: one full evaluation (labelling, components, distances);
+//  - BM_EvaluateRandom/<mode>/<r>: the same over the corners and seven random configurations
+//    (seed 1), closer to what an optimizer asks;
+//  - BM_Construct/<mode>/<r>: building the evaluator (obstacle interiors, critical distances,
+//    conservative lower bound);
+//  - BM_LegacyLabelling/<mode>/<r>: the labelling stage of the labeller issue 11 replaced
+//    (tests/support/legacy_labeller.cpp), same configuration;
+//  - BM_ReferenceLabelling/<r>: the brute-force reference (tests/support/reference.cpp: every
+//    voxel centre, camera and state, ray against every triangle), center-mode model only;
+// with r = 0..3 for 16×12×12, 36×27×27, 64×48×48 and 128×96×96. At the end it prints the
+// speed-ups of a full evaluation over the legacy labelling and over the brute-force reference
+// (CPU time). Without --benchmark_filter it runs the short default set (r ≤ 1, single thread,
+// and the construction at r ≤ 2); `--benchmark_filter=.` runs everything.
+//   build/release/bench/evaluate_bench [--benchmark_filter=REGEX]
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
+#include <cstring>
 #include <map>
 #include <random>
+#include <string>
 
 #include "camplace/core/camera.hpp"
 #include "camplace/core/scene.hpp"
 #include "camplace/voxel/evaluator.hpp"
+#include "legacy_labeller.hpp"
 #include "reference.hpp"
 #include "scene_builder.hpp"
 
@@ -19,16 +34,21 @@ namespace {
 using namespace camplace;
 
 const core::Scene& paper_scene() {
-  static const core::Scene scene = core::load_scene(std::string(CAMPLACE_SOURCE_DIR) + "/data/paper_basic.json");
+  static const core::Scene scene =
+      core::load_scene(std::string(CAMPLACE_SOURCE_DIR) + "/data/paper_basic.json");
   return scene;
+}
+
+const core::CameraConfig& corners() {
+  static const core::CameraConfig config = core::load_camera_config(
+      std::string(CAMPLACE_SOURCE_DIR) + "/data/paper_basic_corners.json", paper_scene());
+  return config;
 }
 
 // Eight configurations: the corners heuristic and seven random ones (seed 1).
 const std::vector<core::CameraConfig>& configs() {
   static const std::vector<core::CameraConfig> list = [] {
-    std::vector<core::CameraConfig> out;
-    out.push_back(core::load_camera_config(std::string(CAMPLACE_SOURCE_DIR) + "/data/paper_basic_corners.json",
-                                           paper_scene()));
+    std::vector<core::CameraConfig> out{corners()};
     std::mt19937 rng(1);
     for (int i = 0; i < 7; ++i) out.push_back(testing::random_config(rng, paper_scene()));
     return out;
@@ -36,10 +56,42 @@ const std::vector<core::CameraConfig>& configs() {
   return list;
 }
 
-std::array<int, 3> resolution(int i) { return {16 + 4 * i, 12 + 3 * i, 12 + 3 * i}; }
+constexpr std::array<std::array<int, 3>, 4> kResolutions{
+    {{16, 12, 12}, {36, 27, 27}, {64, 48, 48}, {128, 96, 96}}};
+const char* const kResolutionNames[] = {"16x12x12", "36x27x27", "64x48x48", "128x96x96"};
+
+voxel::VoxelOptions options(voxel::LabelMode mode, std::int64_t r, std::int64_t threads = 1) {
+  voxel::VoxelOptions o;
+  o.mode = mode;
+  o.resolution = kResolutions.at(static_cast<std::size_t>(r));
+  o.threads = static_cast<int>(threads);
+  return o;
+}
+
+void report_timing(benchmark::State& state, const voxel::Timing& sum, int voxels) {
+  const double n = static_cast<double>(state.iterations());
+  state.counters["labelling_ms"] = sum.labelling_ms / n;
+  state.counters["clustering_ms"] = sum.clustering_ms / n;
+  state.counters["distance_ms"] = sum.distance_ms / n;
+  state.counters["voxels"] = voxels;
+}
 
 void BM_Evaluate(benchmark::State& state, voxel::LabelMode mode) {
-  const voxel::VoxelEvaluator evaluator(paper_scene(), {mode, resolution(static_cast<int>(state.range(0)))});
+  const voxel::VoxelEvaluator evaluator(paper_scene(),
+                                        options(mode, state.range(0), state.range(1)));
+  voxel::Timing sum;
+  for (auto _ : state) {
+    const auto e = evaluator.evaluate(corners());
+    benchmark::DoNotOptimize(e.err);
+    sum.labelling_ms += e.timing.labelling_ms;
+    sum.clustering_ms += e.timing.clustering_ms;
+    sum.distance_ms += e.timing.distance_ms;
+  }
+  report_timing(state, sum, evaluator.grid().count());
+}
+
+void BM_EvaluateRandom(benchmark::State& state, voxel::LabelMode mode) {
+  const voxel::VoxelEvaluator evaluator(paper_scene(), options(mode, state.range(0)));
   std::size_t k = 0;
   voxel::Timing sum;
   for (auto _ : state) {
@@ -47,28 +99,41 @@ void BM_Evaluate(benchmark::State& state, voxel::LabelMode mode) {
     benchmark::DoNotOptimize(e.err);
     sum.labelling_ms += e.timing.labelling_ms;
     sum.clustering_ms += e.timing.clustering_ms;
+    sum.distance_ms += e.timing.distance_ms;
   }
-  state.counters["labelling_ms"] = sum.labelling_ms / state.iterations();
-  state.counters["clustering_ms"] = sum.clustering_ms / state.iterations();
-  state.counters["voxels"] = evaluator.grid().count();
+  report_timing(state, sum, evaluator.grid().count());
+}
+
+void BM_Construct(benchmark::State& state, voxel::LabelMode mode) {
+  for (auto _ : state) {
+    const voxel::VoxelEvaluator evaluator(paper_scene(), options(mode, state.range(0)));
+    benchmark::DoNotOptimize(evaluator.err_lower_bound());
+  }
+}
+
+void BM_LegacyLabelling(benchmark::State& state, voxel::LabelMode mode) {
+  const testing::LegacyLabeller legacy(paper_scene(), options(mode, state.range(0)));
+  for (auto _ : state) {
+    const auto models = legacy.raw_models(corners());
+    benchmark::DoNotOptimize(models.data());
+  }
 }
 
 // The brute-force reference: every voxel centre, camera and state, ray against every triangle;
 // then the model as in center mode (free for some camera → out). Labelling only.
 void BM_ReferenceLabelling(benchmark::State& state) {
   const core::Scene& scene = paper_scene();
-  const voxel::VoxelEvaluator evaluator(scene, {voxel::LabelMode::center, resolution(static_cast<int>(state.range(0)))});
+  const voxel::VoxelEvaluator evaluator(scene, options(voxel::LabelMode::center, state.range(0)));
   const auto all_states = core::states(scene);
-  std::size_t k = 0;
   for (auto _ : state) {
-    const auto& config = configs()[k++ % configs().size()];
     int in_model = 0;
     for (const auto& st : all_states) {
       for (int v = 0; v < evaluator.grid().count(); ++v) {
         bool free = false;
-        for (const auto& camera : config) {
+        for (const auto& camera : corners()) {
           free = testing::reference_label(scene, st.time_step, st.event, camera,
-                                          evaluator.grid().voxel_center(v)).label == voxel::Label::free;
+                                          evaluator.grid().voxel_center(v))
+                     .label == voxel::Label::free;
           if (free) break;
         }
         in_model += !free;
@@ -78,35 +143,84 @@ void BM_ReferenceLabelling(benchmark::State& state) {
   }
 }
 
-BENCHMARK_CAPTURE(BM_Evaluate, conservative, voxel::LabelMode::conservative)->Arg(0)->Arg(5)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Evaluate, center, voxel::LabelMode::center)->Arg(0)->Arg(5)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_ReferenceLabelling)->Arg(0)->Arg(5)->Unit(benchmark::kMillisecond);
+using voxel::LabelMode;
+BENCHMARK_CAPTURE(BM_Evaluate, conservative, LabelMode::conservative)
+    ->ArgsProduct({{0, 1, 2, 3}, {1, 2}})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Evaluate, center, LabelMode::center)
+    ->ArgsProduct({{0, 1, 2, 3}, {1, 2}})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EvaluateRandom, conservative, LabelMode::conservative)
+    ->DenseRange(0, 3)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EvaluateRandom, center, LabelMode::center)
+    ->DenseRange(0, 3)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Construct, conservative, LabelMode::conservative)
+    ->DenseRange(0, 3)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Construct, center, LabelMode::center)
+    ->DenseRange(0, 3)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_LegacyLabelling, conservative, LabelMode::conservative)
+    ->DenseRange(0, 3)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_LegacyLabelling, center, LabelMode::center)
+    ->DenseRange(0, 3)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ReferenceLabelling)->DenseRange(0, 1)->Unit(benchmark::kMillisecond);
 
-// Remembers each run's real time per iteration so main can print the ratios.
+// Remembers each run's CPU time per iteration (the median of repetitions) so main can print
+// the ratios.
 class RatioReporter : public benchmark::ConsoleReporter {
  public:
   void ReportRuns(const std::vector<Run>& runs) override {
-    for (const Run& r : runs) times_[r.benchmark_name()] = r.GetAdjustedRealTime();
+    for (const Run& r : runs) {
+      // With --benchmark_repetitions, the median stands for the run.
+      if (r.run_type == Run::RT_Aggregate && r.aggregate_name != "median") continue;
+      const std::string name =
+          r.run_type == Run::RT_Aggregate ? r.run_name.str() : r.benchmark_name();
+      times_[name] = r.GetAdjustedCPUTime();
+    }
     ConsoleReporter::ReportRuns(runs);
   }
   std::map<std::string, double> times_;
 };
 
+// The default set: everything at r ≤ 1 single-threaded, the construction up to r = 2.
+constexpr const char* kDefaultFilter =
+    "^(BM_Evaluate/[a-z]+/[01]/1|BM_(LegacyLabelling|EvaluateRandom)/[a-z]+/[01]|"
+    "BM_ReferenceLabelling/[01]|BM_Construct/[a-z]+/[012])$";
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  benchmark::Initialize(&argc, argv);
+  std::vector<char*> args(argv, argv + argc);
+  bool filtered = false;
+  for (int i = 1; i < argc; ++i) filtered = filtered || std::strstr(argv[i], "--benchmark_filter");
+  std::string filter = std::string("--benchmark_filter=") + kDefaultFilter;
+  if (!filtered) args.push_back(filter.data());
+  int count = static_cast<int>(args.size());
+  benchmark::Initialize(&count, args.data());
   RatioReporter reporter;
   benchmark::RunSpecifiedBenchmarks(&reporter);
-  for (const char* arg : {"0", "5"}) {
-    const std::string ref = std::string("BM_ReferenceLabelling/") + arg;
-    if (!reporter.times_.count(ref)) continue;
+  auto& t = reporter.times_;
+  for (int r = 0; r < 4; ++r) {
     for (const char* mode : {"conservative", "center"}) {
-      const std::string name = std::string("BM_Evaluate/") + mode + "/" + arg;
-      if (!reporter.times_.count(name)) continue;
-      std::printf("resolution %s, %s: full evaluation is %.1fx faster than the reference labelling\n",
-                  arg[0] == '0' ? "16x12x12" : "36x27x27", mode,
-                  reporter.times_[ref] / reporter.times_[name]);
+      const std::string fast = "BM_Evaluate/" + std::string(mode) + "/" + std::to_string(r) + "/1";
+      if (!t.count(fast)) continue;
+      const std::string legacy =
+          "BM_LegacyLabelling/" + std::string(mode) + "/" + std::to_string(r);
+      const std::string ref = "BM_ReferenceLabelling/" + std::to_string(r);
+      std::printf("%s, %s: a full evaluation (%.3f ms CPU)", kResolutionNames[r], mode, t[fast]);
+      if (t.count(legacy)) {
+        std::printf(" is %.1fx faster than the legacy labelling alone", t[legacy] / t[fast]);
+      }
+      if (t.count(ref)) {
+        std::printf("%s %.1fx faster than the brute-force reference labelling",
+                    t.count(legacy) ? " and" : " is", t[ref] / t[fast]);
+      }
+      std::printf("\n");
     }
   }
   benchmark::Shutdown();

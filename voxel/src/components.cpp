@@ -1,54 +1,109 @@
-// 6-connected components of a voxel model and the plausibility filter (SPEC §4–5).
+// 6-connected components of a voxel model and the plausibility filter (SPEC §4–5), on runs:
+// maximal segments of model voxels along x. Two runs connect when they lie in face-adjacent
+// rows (j ± 1 or k ± 1) and share an x index; union–find over runs gives the components.
 #include "camplace/voxel/components.hpp"
 
 #include <algorithm>
+#include <cstring>
+#include <numeric>
 
 namespace camplace::voxel {
+
+namespace {
+
+struct Run {
+  int row;     ///< j + ny·k
+  int i0, i1;  ///< x range, inclusive
+};
+
+int find(std::vector<int>& parent, int a) {
+  while (parent[a] != a) {
+    parent[a] = parent[parent[a]];
+    a = parent[a];
+  }
+  return a;
+}
+
+void unite(std::vector<int>& parent, int a, int b) {
+  a = find(parent, a);
+  b = find(parent, b);
+  if (a != b) parent[std::max(a, b)] = std::min(a, b);
+}
+
+}  // namespace
 
 ComponentCount filter_components(std::vector<std::uint8_t>& model, const Grid& grid,
                                  const core::Plausibility& plausibility) {
   const int nx = grid.n[0], ny = grid.n[1], nz = grid.n[2];
-  const double voxel_volume = grid.voxel_volume();
-  std::vector<int> component(model.size(), -1);
-  std::vector<int> stack, members;
-  ComponentCount result;
-  int next = 0;
-  for (int start = 0; start < grid.count(); ++start) {
-    if (!model[start] || component[start] >= 0) continue;
-    members.clear();
-    stack.assign(1, start);
-    component[start] = next;
-    int kmin = nz, kmax = -1;
-    while (!stack.empty()) {
-      const int v = stack.back();
-      stack.pop_back();
-      members.push_back(v);
-      const int i = v % nx, j = (v / nx) % ny, k = v / (nx * ny);
-      kmin = std::min(kmin, k);
-      kmax = std::max(kmax, k);
-      auto visit = [&](int w) {
-        if (model[w] && component[w] < 0) {
-          component[w] = next;
-          stack.push_back(w);
-        }
-      };
-      // Face neighbours only: voxels meeting at an edge or a corner do not connect (SPEC §4).
-      if (i > 0) visit(v - 1);
-      if (i + 1 < nx) visit(v + 1);
-      if (j > 0) visit(v - nx);
-      if (j + 1 < ny) visit(v + nx);
-      if (k > 0) visit(v - nx * ny);
-      if (k + 1 < nz) visit(v + nx * ny);
+  const int rows = ny * nz;
+  std::uint8_t* m = model.data();
+  std::vector<Run> runs;
+  std::vector<int> row_start(rows + 1, 0);
+  for (int r = 0; r < rows; ++r) {
+    row_start[r] = static_cast<int>(runs.size());
+    const std::uint8_t* row = m + static_cast<std::size_t>(r) * nx;
+    for (int i = 0; i < nx;) {
+      if (!row[i]) {
+        ++i;
+        continue;
+      }
+      const int i0 = i;
+      while (i < nx && row[i]) ++i;
+      runs.push_back({r, i0, i - 1});
     }
-    ++next;
-    const double volume = static_cast<double>(members.size()) * voxel_volume;
-    const double height = (kmax - kmin + 1) * grid.step.z();
-    if (plausibility.keeps(volume, height)) {
-      ++result.kept;
+  }
+  row_start[rows] = static_cast<int>(runs.size());
+  std::vector<int> parent(runs.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  // Face neighbours only: voxels meeting at an edge or a corner do not connect (SPEC §4); so
+  // runs connect only through a shared x index in the row before (j − 1) or below (k − 1).
+  auto connect = [&](int r, int other) {
+    int a = row_start[r], b = row_start[other];
+    const int a_end = row_start[r + 1], b_end = row_start[other + 1];
+    while (a < a_end && b < b_end) {
+      if (runs[a].i1 >= runs[b].i0 && runs[b].i1 >= runs[a].i0) unite(parent, a, b);
+      if (runs[a].i1 < runs[b].i1) {
+        ++a;
+      } else {
+        ++b;
+      }
+    }
+  };
+  for (int r = 0; r < rows; ++r) {
+    const int j = r % ny;
+    if (j > 0) connect(r, r - 1);
+    if (r >= ny) connect(r, r - ny);
+  }
+  // Volume (voxel count) and z-extent per component.
+  struct Extent {
+    long voxels = 0;
+    int kmin = 0, kmax = -1;
+  };
+  std::vector<Extent> extent(runs.size());
+  for (std::size_t n = 0; n < runs.size(); ++n) {
+    Extent& e = extent[find(parent, static_cast<int>(n))];
+    const int k = runs[n].row / ny;
+    if (e.kmax < 0) {
+      e.kmin = e.kmax = k;
     } else {
-      for (int v : members) model[v] = 0;
-      ++result.removed;
+      e.kmin = std::min(e.kmin, k);
+      e.kmax = std::max(e.kmax, k);
     }
+    e.voxels += runs[n].i1 - runs[n].i0 + 1;
+  }
+  ComponentCount result;
+  std::vector<std::uint8_t> keep(runs.size(), 0);
+  for (std::size_t n = 0; n < runs.size(); ++n) {
+    if (find(parent, static_cast<int>(n)) != static_cast<int>(n)) continue;
+    const double volume = static_cast<double>(extent[n].voxels) * grid.voxel_volume();
+    const double height = (extent[n].kmax - extent[n].kmin + 1) * grid.step.z();
+    keep[n] = plausibility.keeps(volume, height);
+    ++(keep[n] ? result.kept : result.removed);
+  }
+  for (std::size_t n = 0; n < runs.size(); ++n) {
+    const Run& run = runs[n];
+    std::memset(m + static_cast<std::size_t>(run.row) * nx + run.i0,
+                keep[find(parent, static_cast<int>(n))], run.i1 - run.i0 + 1);
   }
   return result;
 }

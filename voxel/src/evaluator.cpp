@@ -2,6 +2,8 @@
 // labelling.cpp, components.cpp and distance.cpp around the private Impl (impl.hpp).
 #include "camplace/voxel/evaluator.hpp"
 
+#include <string>
+
 #include "camplace/core/err.hpp"
 #include "camplace/core/error.hpp"
 #include "camplace/voxel/components.hpp"
@@ -21,6 +23,11 @@ VoxelEvaluator::VoxelEvaluator(const core::Scene& scene, const VoxelOptions& opt
   if (n[0] == 0 && n[1] == 0 && n[2] == 0) n = scene.voxels;
   const std::string problem = core::resolution_problem(n);
   if (!problem.empty()) throw core::InputError(scene.file, "resolution", problem);
+  if (options.threads < 1 || options.threads > kMaxThreads) {
+    throw core::InputError(
+        scene.file, "threads",
+        "must be 1.." + std::to_string(kMaxThreads) + ", got " + std::to_string(options.threads));
+  }
   m.options.resolution = n;
   m.conservative = options.mode == LabelMode::conservative;
   m.grid = make_grid(scene.area, n);
@@ -37,31 +44,36 @@ VoxelEvaluator& VoxelEvaluator::operator=(VoxelEvaluator&&) noexcept = default;
 Evaluation VoxelEvaluator::evaluate(const core::CameraConfig& config) const {
   const Impl& m = *impl_;
   const auto start = Clock::now();
+  const int state_count = static_cast<int>(m.states.size());
   Evaluation result;
   auto t0 = Clock::now();
-  const std::vector<detail::CameraView> views = m.views(config);
-  result.timing.labelling_ms += ms_since(t0);
-  for (const detail::StateInfo& state : m.states) {
-    t0 = Clock::now();
-    std::vector<std::uint8_t> model = m.raw_model(views, state);
-    result.timing.labelling_ms += ms_since(t0);
-    t0 = Clock::now();
-    const ComponentCount filtered = filter_components(model, m.grid, m.scene.plausibility);
-    result.timing.clustering_ms += ms_since(t0);
-    t0 = Clock::now();
-    const Impl::ModelDistance distance = m.model_distance(model, state.time_step);
+  std::vector<std::vector<std::uint8_t>> models = m.all_raw_models(config);
+  result.timing.labelling_ms = ms_since(t0);
+  std::vector<ComponentCount> filtered(state_count);
+  t0 = Clock::now();
+  detail::parallel_for(state_count, m.options.threads, [&](int s) {
+    filtered[s] = filter_components(models[s], m.grid, m.scene.plausibility);
+  });
+  result.timing.clustering_ms = ms_since(t0);
+  t0 = Clock::now();
+  std::vector<Impl::ModelDistance> distances(state_count);
+  detail::parallel_for(state_count, m.options.threads, [&](int s) {
+    distances[s] = m.model_distance(models[s], m.states[s].time_step);
+  });
+  for (int s = 0; s < state_count; ++s) {
+    const detail::StateInfo& state = m.states[s];
     StateResult out;
     out.time_step = state.time_step;
     out.event = state.event;
     out.weight = state.weight;
     out.d_true = state.d_true;
-    out.d_model = distance.d_model;
-    out.model_volume = distance.volume;
-    out.components = filtered.kept;
-    out.components_removed = filtered.removed;
+    out.d_model = distances[s].d_model;
+    out.model_volume = distances[s].volume;
+    out.components = filtered[s].kept;
+    out.components_removed = filtered[s].removed;
     result.states.push_back(out);
-    result.timing.distance_ms += ms_since(t0);
   }
+  result.timing.distance_ms = ms_since(t0);
   result.err = core::error_of(result.states);
   result.timing.total_ms = ms_since(start);
   return result;
@@ -71,18 +83,14 @@ double VoxelEvaluator::err(const core::CameraConfig& config) const { return eval
 
 std::vector<Label> VoxelEvaluator::labels(const core::CameraSetting& camera, int state) const {
   const Impl& m = *impl_;
-  const detail::CameraView view = m.view(camera);
-  const detail::StateInfo& info = m.states.at(state);
-  std::vector<Label> out(m.grid.count(), Label::undetectable);
-  if (m.blind(view, info)) return out;
-  for (int v = 0; v < m.grid.count(); ++v) out[v] = m.label(view, info, v, false);
-  return out;
+  m.states.at(state);  // throws std::out_of_range on a bad index
+  return m.labels(m.camera_setup(camera), state);
 }
 
-std::vector<std::uint8_t> VoxelEvaluator::model(const core::CameraConfig& config,
-                                                int state) const {
+std::vector<std::uint8_t> VoxelEvaluator::model(const core::CameraConfig& config, int state) const {
   const Impl& m = *impl_;
-  std::vector<std::uint8_t> out = m.raw_model(m.views(config), m.states.at(state));
+  m.states.at(state);
+  std::vector<std::uint8_t> out = std::move(m.all_raw_models(config)[state]);
   filter_components(out, m.grid, m.scene.plausibility);
   return out;
 }

@@ -1,6 +1,35 @@
-// Labelling (SPEC §3, §5): per camera the voxels in its FOV and the cones over every object
-// triangle; per voxel and state the label κ, center mode (the voxel's centre) or conservative
-// mode (free only when every point of the voxel is free); the unfiltered model.
+// Labelling (SPEC §3, §5): per camera the FOV test and the triangles sorted into bins of the
+// image plane; per voxel and camera the label κ for all states at once, center mode (the
+// voxel's centre) or conservative mode (free only when every point of the voxel is free); the
+// unfiltered models.
+//
+// Issue 11 made this fast without changing an answer. The exact tests are the ones of the
+// previous labeller (tests/support/legacy_labeller.cpp keeps it): Möller–Trumbore on the ray
+// to the voxel centre, the separating-axis test of a triangle's cone against the voxel box, the
+// FOV test on the centre or on the 8 corners, computed from the same numbers. What changed is
+// which of them run:
+//  - a triangle is tested against a voxel only when their projections onto the camera's image
+//    plane overlap: bounding rectangles (the triangle's padded by 2e-9 relative) sharing a bin,
+//    then the rectangles themselves, and in center mode the centre inside the projected
+//    triangle's padded edge lines. A triangle that is not wholly in front of the camera is
+//    tested everywhere. If a segment or ray from the camera through the voxel (centre) meets
+//    the triangle, the meeting point projects into both, so no triangle that could change a
+//    label is skipped. Small voxels (conservative) look up one bin of a finer set whose
+//    rectangles are widened by more than their projection's half size;
+//  - conservative mode culls back faces of closed, outward objects (the proof, and what
+//    happens at touching configurations, is in camera_setup);
+//  - each triangle is tested once per voxel and camera for all states (bit masks), not once
+//    per state, a voxel is done as soon as some camera sees it free in every state, and a
+//    camera is done with a voxel once every state of interest is decided;
+//  - per row of voxels, the range where the centre can be in a camera's FOV and the range
+//    where it surely is (row_interval) skip the FOV test outside and inside;
+//  - the FOV test and the cone test first try cheap decisions with a relative margin of 1e-9
+//    (centre clearly outside, bounding ball clearly inside; voxel centre or the deepest box
+//    corner clearly inside the triangle's cone) and fall back to the exact test in the
+//    margin, so they decide as the exact test does except where rounding decides (a tie);
+//  - no per-voxel arrays: voxel centres and boxes come from per-axis tables, camera → centre
+//    vectors are computed on the fly.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -9,67 +38,92 @@
 
 namespace camplace::voxel {
 
-using core::Box3;
 using core::Vec3;
-using detail::CameraView;
-using detail::ObjectCone;
-using detail::ObjectInfo;
+using detail::CameraSetup;
+using detail::Scratch;
 using detail::StateInfo;
+using detail::StateMask;
 using detail::TriangleCone;
+using detail::Verdict;
 
-CameraView VoxelEvaluator::Impl::view(const core::CameraSetting& camera) const {
-  CameraView view;
-  view.setting = camera;
-  const core::Fov fov(camera, scene.cameras);
+namespace {
+
+constexpr double kMargin = 1e-9;
+/// Relative gap below which a triangle's cone and a box are a touching configuration.
+constexpr double kTouch = 1e-12;
+
+/// The bin of image coordinate x (clamped: clamping keeps overlapping intervals overlapping).
+int bin_of(const CameraSetup& cam, double x) {
+  const double f = (x + cam.image_half) * cam.bin_scale;
+  if (!(f > 0.0)) return 0;
+  if (f >= cam.bins) return cam.bins - 1;
+  return static_cast<int>(f);
+}
+
+int wide_of(const CameraSetup& cam, double x) {
+  const double f = (x + cam.image_half) * cam.wide_scale;
+  if (!(f > 0.0)) return 0;
+  if (f >= cam.wide_bins) return cam.wide_bins - 1;
+  return static_cast<int>(f);
+}
+
+struct BinRange {
+  int x0 = 0, x1 = 0, y0 = 0, y1 = 0;
+};
+
+/// Bins overlapping [lo, hi] on each axis, padded by the margin.
+BinRange bin_range(const CameraSetup& cam, double xlo, double xhi, double ylo, double yhi) {
+  const double px = kMargin * (1.0 + std::max(std::abs(xlo), std::abs(xhi)));
+  const double py = kMargin * (1.0 + std::max(std::abs(ylo), std::abs(yhi)));
+  return {bin_of(cam, xlo - px), bin_of(cam, xhi + px), bin_of(cam, ylo - py),
+          bin_of(cam, yhi + py)};
+}
+
+}  // namespace
+
+CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera) const {
+  CameraSetup cam;
+  cam.setting = camera;
+  cam.fov.emplace(camera, scene.cameras);
+  const core::Fov& fov = *cam.fov;
   const Vec3& c = camera.position;
-  const int n = grid.count();
-  view.in_fov.assign(n, 0);
-  view.dir.resize(n);
-  view.dist.resize(n);
-  view.cos_b.assign(n, 1.0);
-  view.sin_b.assign(n, 0.0);
-  view.far.resize(n);
-  for (int v = 0; v < n; ++v) {
-    const Vec3 center = grid.voxel_center(v);
-    const Vec3 w = center - c;
-    const double d = w.norm();
-    view.dist[v] = d;
-    view.dir[v] = d > 0 ? Vec3(w / d) : Vec3(Vec3::UnitX());
-    if (!conservative) {
-      view.in_fov[v] = d > 0 && fov.contains(center);
-      view.far[v] = d;
-      continue;
-    }
-    view.far[v] = (w.cwiseAbs() + half_step).norm();
-    if (d <= voxel_radius) continue;  // camera in or at the voxel: never provably free
-    view.sin_b[v] = voxel_radius / d;
-    view.cos_b[v] = std::sqrt(1.0 - view.sin_b[v] * view.sin_b[v]);
-    view.in_fov[v] = box_in_fov(fov, grid.voxel_box(v));
-  }
-  view.objects.resize(objects.size());
-  view.triangles.resize(triangles.size());
+  cam.c = c;
+  cam.axis = fov.axis();
+  cam.ey = core::up_vector(camera);
+  cam.ex = cam.axis.cross(cam.ey).normalized();
+  cam.abs_ex = cam.ex.cwiseAbs();
+  cam.abs_ey = cam.ey.cwiseAbs();
+  cam.abs_axis = cam.axis.cwiseAbs();
+  cam.box_x = cam.abs_ex.dot(half_step);
+  cam.box_y = cam.abs_ey.dot(half_step);
+  cam.box_z = cam.abs_axis.dot(half_step);
+  cam.pyramid = scene.cameras.fov == core::FovShape::pyramid;
+  cam.normals = fov.pyramid_normals();
+  cam.range = scene.cameras.range;
+  cam.cos_half = std::cos(scene.cameras.half_angle);  // as core::Fov computes it
+  cam.sin_half = std::sin(scene.cameras.half_angle);
+  const double widened = scene.cameras.half_angle + 1e-6;
+  cam.row_cos_sq = widened < 0.5 * core::kPi ? std::cos(widened) * std::cos(widened) : 0.0;
+
+  cam.inside_object.assign(objects.size(), 0);
   for (std::size_t o = 0; o < objects.size(); ++o) {
-    const ObjectInfo& info = objects[o];
-    ObjectCone& cone = view.objects[o];
-    const Vec3 w = info.center - c;
-    const double d = w.norm();
-    cone.no_cull = d <= info.radius * (1.0 + 1e-12) + 1e-12;
-    if (!cone.no_cull) {
-      cone.axis = w / d;
-      cone.sin_b = info.radius / d;
-      cone.cos_b = std::sqrt(1.0 - cone.sin_b * cone.sin_b);
-    }
-    cone.contains_camera = cone.no_cull && core::inside_mesh(*info.mesh, c);
+    const detail::ObjectInfo& info = objects[o];
+    const double d = (info.center - c).norm();
+    const bool near = d <= info.radius * (1.0 + 1e-12) + 1e-12;
+    cam.inside_object[o] = near && core::inside_mesh(*info.mesh, c);
   }
+  cam.triangles.resize(triangles.size());
+  std::vector<double> tilt(triangles.size(), 0.0);  // det / scale: 0 when the camera is in-plane
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     const auto& tri = triangles[t];
-    TriangleCone& tc = view.triangles[t];
+    TriangleCone& tc = cam.triangles[t];
     const Vec3 a = tri[0] - c, b = tri[1] - c, e = tri[2] - c;
     const double det = a.dot(b.cross(e));
     tc.near_distance = std::sqrt(core::point_triangle_sq_distance(c, tri[0], tri[1], tri[2]));
     const double scale = a.norm() * b.norm() * e.norm();
     tc.flat = !(std::abs(det) > 1e-12 * scale);
-    if (tc.flat) continue;
+    if (tc.flat || !conservative) continue;  // center mode needs no cones
+    tilt[t] = det / scale;
     const double sign = det > 0 ? 1.0 : -1.0;
     tc.edge[0] = a;
     tc.edge[1] = b;
@@ -77,151 +131,669 @@ CameraView VoxelEvaluator::Impl::view(const core::CameraSetting& camera) const {
     tc.normal[0] = (sign * a.cross(b)).normalized();
     tc.normal[1] = (sign * b.cross(e)).normalized();
     tc.normal[2] = (sign * e.cross(a)).normalized();
+    for (int i = 0; i < 3; ++i) tc.abs_normal[i] = tc.normal[i].cwiseAbs();
+    // The previous labeller's `separates` on the same numbers, its voxel-independent part
+    // (the edges' projections) done once per camera.
+    auto add_axis = [&](const Vec3& axis) {
+      const double pa = axis.dot(tc.edge[0]), pb = axis.dot(tc.edge[1]), pc = axis.dot(tc.edge[2]);
+      const double radius = axis.cwiseAbs().dot(half_step);
+      if (pa >= 0.0 && pb >= 0.0 && pc >= 0.0) {
+        tc.axes[tc.axis_count++] = {axis, radius, 1.0, axis.norm()};
+      } else if (pa <= 0.0 && pb <= 0.0 && pc <= 0.0) {
+        tc.axes[tc.axis_count++] = {axis, radius, -1.0, axis.norm()};
+      }
+    };
+    for (int i = 0; i < 3; ++i) add_axis(Vec3::Unit(i));
+    for (const Vec3& edge : tc.edge) {
+      for (int i = 0; i < 3; ++i) add_axis(edge.cross(Vec3::Unit(i)));
+    }
   }
-  return view;
+  // Back-face culling (conservative mode). det = (a − c)·((b − c) × (e − c)) = −n·(c − a) with
+  // n = (b − a) × (e − a) the outward normal, so det > 0 means the camera is behind the
+  // triangle's plane. Claim: if the camera c lies outside the closed solid X of an outward
+  // oriented, closed mesh, every ray or segment from c that meets X meets, at its first point
+  // q of X, a triangle T ∋ q with c strictly in front of T's plane. Proof: let d = c − q;
+  // q + εd is outside X (q is the first point). Take z inside X near q, chosen so that the
+  // segment [q + εd, z] crosses the surface only through triangle interiors and transversally
+  // (all but a null set of z do). Its first crossing, at y on triangle T, goes from outside to
+  // inside, so n_T·(q + εd − y) > 0; for ε and |z − q| small only triangles containing q come
+  // near q, so q ∈ T and n_T·(q − y) = 0, hence ε n_T·d > 0. So the triangle through which the
+  // ray first meets X faces the camera, and testing only the other triangles (front-facing or
+  // in-plane) gives the same verdict per object: its cone contains the ray (occupying) and
+  // near(T) ≤ |q − c| ≤ |p − c| (occluding), as for any triangle the ray meets.
+  // Rounding and degenerate cases keep every triangle of the object: an object is culled only
+  // when the mesh is oriented outward (signed volume > 0), the camera is not inside it and is
+  // clear of its surface (nearest triangle farther than 1e-9 of its scale: not on a face, edge
+  // or vertex), and no triangle is near edge-on (|det| > 1e-9·|a||b||e| for all, so none is
+  // skipped as flat and none is misjudged front/back by rounding; a camera in a face's plane
+  // keeps the old behaviour). At exact touching (a voxel corner on a ray through a vertex or
+  // an edge) rounding could call the front face apart while a back face touches; a front face
+  // of a culled object that misses only within rounding (Cone::near_miss) makes judge() test
+  // the object's back faces as well, so the verdict is the unculled one.
+  // tests/voxel/culling_test.cpp covers these cases.
+  for (std::size_t o = 0; o < objects.size(); ++o) {
+    const detail::ObjectInfo& info = objects[o];
+    const int end = info.first_triangle + info.triangle_count;
+    double clearance = std::numeric_limits<double>::infinity();
+    bool clear_tilts = true;
+    for (int t = info.first_triangle; t < end; ++t) {
+      clearance = std::min(clearance, cam.triangles[t].near_distance);
+      clear_tilts = clear_tilts && std::abs(tilt[t]) > 1e-9;
+    }
+    const double scale = (info.center - c).norm() + info.radius;
+    const bool cull =
+        info.outward && !cam.inside_object[o] && clearance > 1e-9 * scale && clear_tilts;
+    for (int t = info.first_triangle; t < end; ++t) {
+      cam.triangles[t].back = cull && tilt[t] > 0;
+      cam.triangles[t].touch = cull;
+    }
+  }
+  // Bins over the FOV's section at unit depth (the cone's; the pyramid is inscribed).
+  cam.image_half = std::tan(scene.cameras.half_angle);
+  // Center mode looks up one bin per voxel: fine bins. Conservative mode looks up the bins under
+  // the box's projection and then each triangle's rectangle: coarse bins (fewer repeats).
+  const int n_max = *std::max_element(grid.n.begin(), grid.n.end());
+  cam.bins = conservative ? std::clamp(n_max / 3, 8, 32) : std::clamp(n_max, 16, 64);
+  cam.bin_scale = cam.bins / (2.0 * cam.image_half);
+  const int bin_count = cam.bins * cam.bins;
+  std::vector<BinRange> ranges(triangles.size());
+  std::vector<std::uint8_t> projectable(triangles.size(), 1);
+  const double inf = std::numeric_limits<double>::infinity();
+  cam.rect.assign(triangles.size(), {-inf, inf, -inf, inf});
+  cam.lines.assign(triangles.size(), {});
+  cam.bin_start.assign(bin_count + 1, 0);
+  // Conservative mode never tests flat or culled triangles: leave them out.
+  auto skipped = [&](std::size_t t) {
+    return conservative && (cam.triangles[t].flat || cam.triangles[t].back);
+  };
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    if (skipped(t)) continue;
+    double xlo = std::numeric_limits<double>::infinity(), xhi = -xlo, ylo = xlo, yhi = -xlo;
+    double px[3], py[3];
+    for (int v = 0; v < 3; ++v) {
+      const Vec3 q = triangles[t][v] - c;
+      const double z = q.dot(cam.axis);
+      if (!(z > kMargin * q.norm())) {
+        projectable[t] = 0;
+        break;
+      }
+      const double x = q.dot(cam.ex) / z, y = q.dot(cam.ey) / z;
+      px[v] = x;
+      py[v] = y;
+      xlo = std::min(xlo, x);
+      xhi = std::max(xhi, x);
+      ylo = std::min(ylo, y);
+      yhi = std::max(yhi, y);
+    }
+    if (!projectable[t]) {
+      cam.everywhere.push_back(static_cast<int>(t));
+      continue;
+    }
+    ranges[t] = bin_range(cam, xlo, xhi, ylo, yhi);
+    const double pad_x = 2 * kMargin * (1.0 + std::max(std::abs(xlo), std::abs(xhi)));
+    const double pad_y = 2 * kMargin * (1.0 + std::max(std::abs(ylo), std::abs(yhi)));
+    cam.rect[t] = {xlo - pad_x, xhi + pad_x, ylo - pad_y, yhi + pad_y};
+    // The projected triangle's edge lines, inside ≥ 0, unit normals, padded like the
+    // rectangle; none for a (nearly) degenerate projection.
+    const double area = (px[1] - px[0]) * (py[2] - py[0]) - (py[1] - py[0]) * (px[2] - px[0]);
+    const double size = std::max(xhi - xlo, yhi - ylo);
+    cam.lines[t].valid = std::abs(area) > 1e-9 * size * size;
+    if (cam.lines[t].valid) {
+      const double pad = std::max(pad_x, pad_y);
+      for (int e = 0; e < 3; ++e) {
+        const int f = (e + 1) % 3;
+        double a = -(py[f] - py[e]), b = px[f] - px[e];
+        if (area < 0) {
+          a = -a;
+          b = -b;
+        }
+        const double norm = std::hypot(a, b);
+        a /= norm;
+        b /= norm;
+        cam.lines[t].line[e] = {a, b, -(a * px[e] + b * py[e]) + pad};
+      }
+    }
+    for (int by = ranges[t].y0; by <= ranges[t].y1; ++by) {
+      for (int bx = ranges[t].x0; bx <= ranges[t].x1; ++bx) ++cam.bin_start[by * cam.bins + bx + 1];
+    }
+  }
+  for (int b = 0; b < bin_count; ++b) cam.bin_start[b + 1] += cam.bin_start[b];
+  cam.bin_items.resize(cam.bin_start[bin_count]);
+  std::vector<int> fill(cam.bin_start.begin(), cam.bin_start.end() - 1);
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    if (skipped(t) || !projectable[t]) continue;
+    for (int by = ranges[t].y0; by <= ranges[t].y1; ++by) {
+      for (int bx = ranges[t].x0; bx <= ranges[t].x1; ++bx) {
+        cam.bin_items[fill[by * cam.bins + bx]++] = static_cast<int>(t);
+      }
+    }
+  }
+  // Conservative mode: bins twice as fine with every rectangle widened by half a (coarse) bin,
+  // so that a voxel whose projection is at most that wide finds every triangle it can meet in
+  // the bin of its rectangle's centre, each once (no repeats to skip).
+  cam.wide_bins = 2 * cam.bins;
+  cam.wide_scale = cam.wide_bins / (2.0 * cam.image_half);
+  cam.widen = 0.5 / cam.bin_scale;
+  const int wide_count = cam.wide_bins * cam.wide_bins;
+  cam.wide_start.assign(wide_count + 1, 0);
+  cam.wide_items.clear();
+  if (conservative) {
+    std::vector<BinRange> wide(triangles.size());
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+      if (skipped(t) || !projectable[t]) continue;
+      const auto& r = cam.rect[t];
+      wide[t] = {wide_of(cam, r[0] - cam.widen), wide_of(cam, r[1] + cam.widen),
+                 wide_of(cam, r[2] - cam.widen), wide_of(cam, r[3] + cam.widen)};
+      for (int by = wide[t].y0; by <= wide[t].y1; ++by) {
+        for (int bx = wide[t].x0; bx <= wide[t].x1; ++bx) {
+          ++cam.wide_start[by * cam.wide_bins + bx + 1];
+        }
+      }
+    }
+    for (int b = 0; b < wide_count; ++b) cam.wide_start[b + 1] += cam.wide_start[b];
+    cam.wide_items.resize(cam.wide_start[wide_count]);
+    std::vector<int> next(cam.wide_start.begin(), cam.wide_start.end() - 1);
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+      if (skipped(t) || !projectable[t]) continue;
+      for (int by = wide[t].y0; by <= wide[t].y1; ++by) {
+        for (int bx = wide[t].x0; bx <= wide[t].x1; ++bx) {
+          cam.wide_items[next[by * cam.wide_bins + bx]++] = static_cast<int>(t);
+        }
+      }
+    }
+  }
+  return cam;
 }
 
-bool VoxelEvaluator::Impl::box_in_fov(const core::Fov& fov, const Box3& box) const {
-  // The FOV (cone with α < 90°, or pyramid, with optional far plane) is convex, so the box
-  // is inside when its 8 corners are.
-  for (int i = 0; i < 8; ++i) {
-    const Vec3 corner((i & 1) ? box.max.x() : box.min.x(), (i & 2) ? box.max.y() : box.min.y(),
-                      (i & 4) ? box.max.z() : box.min.z());
+/// The FOV test of the previous labeller: centre mode `d > 0 && fov.contains(centre)`,
+/// conservative mode all 8 corners in the FOV (it is convex) and the camera not in or at the
+/// voxel. w = centre − camera, d = |w|.
+bool VoxelEvaluator::Impl::in_fov(const CameraSetup& cam, int i, int j, int k, const Vec3& w,
+                                  double d) const {
+  if (!conservative) {
+    // core::Fov::contains on the same numbers (v = p − apex = w, |v| = d).
+    if (!(d > 0)) return false;
+    const double axial = w.dot(cam.axis);
+    if (cam.range && axial > *cam.range) return false;
+    if (!cam.pyramid) return axial >= d * cam.cos_half;
+    for (const Vec3& n : cam.normals) {
+      if (n.dot(w) < 0.0) return false;
+    }
+    return true;
+  }
+  if (d <= voxel_radius) return false;  // camera in or at the voxel: never provably free
+  const double r = voxel_radius;
+  const double tol = kMargin * (d + r);
+  const double axial = w.dot(cam.axis);
+  // Decided without the corners when the centre is clearly outside (then so is a corner: the
+  // FOV's inside-ness is concave) or the bounding ball clearly inside.
+  bool ball_inside = true;
+  if (cam.range) {
+    if (axial > *cam.range + tol) return false;
+    ball_inside = axial + r < *cam.range - tol;
+  }
+  if (!cam.pyramid) {
+    if (axial < d * cam.cos_half - tol) return false;
+    if (ball_inside) {
+      // Angle θ of the centre off the axis plus the ball's angular radius β within α.
+      const double cos_t = axial / d, sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
+      const double sin_b = r / d, cos_b = std::sqrt(1.0 - sin_b * sin_b);
+      if (cos_t * cos_b - sin_t * sin_b > cam.cos_half + kMargin) return true;
+    }
+  } else {
+    bool clear = ball_inside;
+    for (const Vec3& n : cam.normals) {
+      const double s = n.dot(w);
+      if (s < -tol) return false;
+      clear = clear && s > r + tol;
+    }
+    if (clear) return true;
+  }
+  const core::Fov& fov = *cam.fov;
+  for (int q = 0; q < 8; ++q) {
+    const Vec3 corner((q & 1) ? box_max[0][i] : box_min[0][i],
+                      (q & 2) ? box_max[1][j] : box_min[1][j],
+                      (q & 4) ? box_max[2][k] : box_min[2][k]);
     if (!fov.contains(corner)) return false;
   }
   return true;
 }
 
-/// True when the camera stands inside an object of the state: it sees nothing (SPEC §3.3).
-bool VoxelEvaluator::Impl::blind(const CameraView& view, const StateInfo& state) const {
-  for (int o : state.objects) {
-    if (view.objects[o].contains_camera) return true;
-  }
-  return false;
-}
-
-/// κ of SPEC §3 for voxel v seen by one (not blind) camera in one state. Conservative mode
-/// answers `free` only when every point of the voxel is free. With `free_only` the answer
-/// is exact only as free / not free (the model needs no more), which allows early exits.
-Label VoxelEvaluator::Impl::label(const CameraView& view, const StateInfo& state, int v,
-                                  bool free_only) const {
-  if (!view.in_fov[v]) return Label::undetectable;
-  return conservative ? label_conservative(view, state, v, free_only)
-                      : label_center(view, state, v, free_only);
-}
-
-bool VoxelEvaluator::Impl::may_meet(const CameraView& view, int o, int v) const {
-  // Bounding cones disjoint ⇔ angle(axes) > β_v + β_o ⇔ cos(angle) < cos(β_v + β_o).
-  const ObjectCone& cone = view.objects[o];
-  if (cone.no_cull) return true;
-  const double cos_sum = view.cos_b[v] * cone.cos_b - view.sin_b[v] * cone.sin_b;
-  return view.dir[v].dot(cone.axis) >= cos_sum - 1e-12;
-}
-
-Label VoxelEvaluator::Impl::label_center(const CameraView& view, const StateInfo& state, int v,
-                                         bool free_only) const {
-  const Vec3& c = view.setting.position;
-  const Vec3& u = view.dir[v];
-  double first = std::numeric_limits<double>::infinity();
-  bool first_occupying = false;
-  for (int o : state.objects) {
-    if (!may_meet(view, o, v)) continue;
-    const ObjectInfo& info = objects[o];
-    for (int t = info.first_triangle; t < info.first_triangle + info.triangle_count; ++t) {
+/// κ of SPEC §3 for the voxel with centre at w from the camera (d = |w|, or < 0 when not yet
+/// known), in the FOV of the camera, for the states in `interest`: adds to `out` the states where
+/// it is occupied and those where it is otherwise not free. With `free_only` the split between the
+/// two is not kept (the model needs no more).
+void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d,
+                                 StateMask interest, const StateMask* object_states,
+                                 Scratch& scratch, Verdict& out, bool free_only) const {
+  const double x = w.dot(cam.ex), y = w.dot(cam.ey), z = w.dot(cam.axis);
+  if (!conservative) {
+    // The ray from the camera through the centre: every hit in (0, d] blocks the view, and
+    // the first hit along the whole ray occupies the voxel when its object is occupying.
+    BinRange bins{0, cam.bins - 1, 0, cam.bins - 1};
+    double px = 0.0, py = 0.0;  // the centre's projection
+    bool projected = z > 0.0;
+    if (projected) {
+      px = x / z;
+      py = y / z;
+      const int bx = bin_of(cam, px), by = bin_of(cam, py);
+      bins = {bx, bx, by, by};
+    }
+    if (d < 0.0) d = w.norm();
+    const Vec3 u = w / d;
+    scratch.hits.clear();
+    auto test = [&](int t) {
+      const StateMask m = object_states[triangle_object[t]] & interest;
+      if (!m) return;
+      if (projected) {
+        const auto& r = cam.rect[t];  // padded: a ray through the triangle projects inside
+        if (px < r[0] || px > r[1] || py < r[2] || py > r[3]) return;
+        const detail::EdgeLines& lines = cam.lines[t];
+        if (lines.valid) {
+          for (const auto& l : lines.line) {
+            if (l[0] * px + l[1] * py + l[2] < 0.0) return;
+          }
+        }
+      }
       const auto& tri = triangles[t];
-      const double hit = core::ray_triangle_hit(c, u, tri[0], tri[1], tri[2]);
-      if (free_only && hit > 0.0 && hit <= view.dist[v]) return Label::undetectable;
-      if (hit > 0.0 && hit < first) {
-        first = hit;
-        first_occupying = info.occupying;
+      const double hit = core::ray_triangle_hit(cam.c, u, tri[0], tri[1], tri[2]);
+      if (!(hit > 0.0)) return;
+      scratch.hits.push_back({hit, t});
+      if (hit <= d) out.blocked |= m;
+    };
+    const bool single = bins.x0 == bins.x1 && bins.y0 == bins.y1;
+    if (!single) ++scratch.visit;
+    for (int by = bins.y0; by <= bins.y1; ++by) {
+      for (int bx = bins.x0; bx <= bins.x1; ++bx) {
+        const int b = by * cam.bins + bx;
+        for (int n = cam.bin_start[b]; n < cam.bin_start[b + 1]; ++n) {
+          const int t = cam.bin_items[n];
+          if (!single) {
+            if (scratch.stamp[t] == scratch.visit) continue;
+            scratch.stamp[t] = scratch.visit;
+          }
+          test(t);
+        }
+      }
+    }
+    for (int t : cam.everywhere) test(t);
+    if (scratch.hits.empty()) return;
+    if (free_only && !(interest & ~out.blocked)) return;
+    // First hit per state: by distance, ties to the lower triangle index (the previous
+    // labeller's order: objects of a state ascending, their triangles in order).
+    std::sort(scratch.hits.begin(), scratch.hits.end(), [](const auto& a, const auto& b) {
+      return a.t < b.t || (a.t == b.t && a.triangle < b.triangle);
+    });
+    StateMask claimed = 0;
+    for (const Scratch::Hit& h : scratch.hits) {
+      const int o = triangle_object[h.triangle];
+      const StateMask m = object_states[o] & interest & ~claimed;
+      if (objects[o].occupying) out.occupied |= m;
+      claimed |= m;
+      if (claimed == interest) break;
+    }
+    return;
+  }
+  // Conservative: free for every point p of the box B when (SPEC §5) no object triangle meets
+  // a segment [c, p] (its cone misses B, or it lies wholly beyond B), and no triangle of an
+  // occupying object lies on any ray through B (its cone misses B).
+  BinRange bins{0, cam.bins - 1, 0, cam.bins - 1};
+  const double inf = std::numeric_limits<double>::infinity();
+  double vx0 = -inf, vx1 = inf, vy0 = -inf, vy1 = inf;  // the box's projection lies inside
+  const double z_lo = z - cam.box_z, z_hi = z + cam.box_z;
+  if (z_lo > 0.0) {
+    // The box's projection lies in [min, max] of (x ± rx) / (z ± rz), each axis (the
+    // triangles' rectangles are padded, these need not be).
+    const double x0 = x - cam.box_x, x1 = x + cam.box_x, y0 = y - cam.box_y, y1 = y + cam.box_y;
+    vx0 = x0 / (x0 >= 0 ? z_hi : z_lo);
+    vx1 = x1 / (x1 >= 0 ? z_lo : z_hi);
+    vy0 = y0 / (y0 >= 0 ? z_hi : z_lo);
+    vy1 = y1 / (y1 >= 0 ? z_lo : z_hi);
+    bins = {bin_of(cam, vx0), bin_of(cam, vx1), bin_of(cam, vy0), bin_of(cam, vy1)};
+  }
+  // Needed only once a triangle gets to the cone test.
+  Vec3 wc;  // the previous labeller's dir · dist
+  double far = 0.0;
+  bool exact_ready = false;
+  ++scratch.visit;  // the bins' lists repeat triangles; `everywhere` holds others
+  // True when `out` changed. `once`: t cannot come up again for this voxel (no stamp needed).
+  auto test = [&](int t, bool once) -> bool {
+    if (!once) {
+      if (scratch.stamp[t] == scratch.visit) return false;
+      scratch.stamp[t] = scratch.visit;
+    }
+    // (The edge lines of the projection would repeat the cone-plane test of cone_test.)
+    const auto& r = cam.rect[t];
+    if (r[0] > vx1 || r[1] < vx0 || r[2] > vy1 || r[3] < vy0) return false;
+    const int o = triangle_object[t];
+    const bool occupying = objects[o].occupying;
+    StateMask m = object_states[o] & interest;
+    // States already decided need no more tests (occupied wins over undetectable).
+    m &= (free_only || !occupying) ? ~(out.occupied | out.blocked) : ~out.occupied;
+    if (!m) return false;
+    const TriangleCone& tc = cam.triangles[t];
+    if (tc.flat || tc.back) return false;
+    if (!exact_ready) {
+      if (d < 0.0) d = w.norm();
+      wc = (w / d) * d;
+      far = (w.cwiseAbs() + half_step).norm();
+      exact_ready = true;
+    }
+    if (!occupying && tc.near_distance >= far) return false;
+    const Cone cone = cone_test(tc, wc);
+    if (cone == Cone::near_miss && tc.touch) {
+      // A culled object touching the voxel within rounding: its back faces decide as they
+      // did without culling (the front face through the touching point may have been
+      // rounded apart). Back faces are in no bin, so each is tested here once.
+      const detail::ObjectInfo& info = objects[o];
+      for (int b = info.first_triangle; b < info.first_triangle + info.triangle_count; ++b) {
+        const TriangleCone& back = cam.triangles[b];
+        if (!back.back || (!occupying && back.near_distance >= far)) continue;
+        if (cone_test(back, wc) == Cone::meet) {
+          (occupying ? out.occupied : out.blocked) |= m;
+          return true;
+        }
+      }
+    }
+    if (cone != Cone::meet) return false;
+    (occupying ? out.occupied : out.blocked) |= m;
+    return true;
+  };
+  // With free_only, done as soon as every state of interest is decided.
+  auto done = [&] { return free_only && !(interest & ~(out.occupied | out.blocked)); };
+  if (z_lo > 0.0 && vx1 - vx0 <= 2.0 * cam.widen && vy1 - vy0 <= 2.0 * cam.widen) {
+    // A triangle whose rectangle overlaps the voxel's has its widened rectangle around the
+    // voxel rectangle's centre: one wide bin holds every candidate, once.
+    const int b = wide_of(cam, 0.5 * (vy0 + vy1)) * cam.wide_bins + wide_of(cam, 0.5 * (vx0 + vx1));
+    for (int n = cam.wide_start[b]; n < cam.wide_start[b + 1]; ++n) {
+      if (test(cam.wide_items[n], true) && done()) return;
+    }
+    for (int t : cam.everywhere) {
+      if (test(t, true) && done()) return;
+    }
+    return;
+  }
+  for (int by = bins.y0; by <= bins.y1; ++by) {
+    for (int bx = bins.x0; bx <= bins.x1; ++bx) {
+      const int b = by * cam.bins + bx;
+      for (int n = cam.bin_start[b]; n < cam.bin_start[b + 1]; ++n) {
+        if (test(cam.bin_items[n], false) && done()) return;
       }
     }
   }
-  if (first_occupying) return Label::occupied;
-  return view.dist[v] < first ? Label::free : Label::undetectable;
-}
-
-Label VoxelEvaluator::Impl::label_conservative(const CameraView& view, const StateInfo& state,
-                                               int v, bool free_only) const {
-  // Free for every point p of the box B when (SPEC §5): no object triangle meets a segment
-  // [c, p] (its cone misses B's cone, or it lies wholly beyond B), and no triangle of an
-  // occupying object lies on any ray through B (its cone misses B's cone).
-  const Vec3 w = view.dir[v] * view.dist[v];  // camera → voxel centre
-  Label verdict = Label::free;
-  for (int o : state.objects) {
-    if (!may_meet(view, o, v)) continue;
-    const ObjectInfo& info = objects[o];
-    for (int t = info.first_triangle; t < info.first_triangle + info.triangle_count; ++t) {
-      const TriangleCone& tc = view.triangles[t];
-      if (tc.flat) continue;
-      if (!info.occupying && tc.near_distance >= view.far[v]) continue;
-      if (cone_misses_box(tc, w)) continue;
-      if (info.occupying) return Label::occupied;
-      if (free_only) return Label::undetectable;
-      verdict = Label::undetectable;
-    }
+  for (int t : cam.everywhere) {
+    if (test(t, true) && done()) return;
   }
-  return verdict;
 }
 
-/// True when the triangle's infinite cone and the voxel box (centre at w from the camera) are
-/// disjoint, by the separating-axis theorem for two convex polyhedra: the cone's 3 planes,
-/// the box's 3 face normals and the 9 cross products of cone edges and box edges. Exact up to
-/// rounding; touching counts as meeting.
-bool VoxelEvaluator::Impl::cone_misses_box(const TriangleCone& tc, const Vec3& w) const {
+/// Whether the triangle's infinite cone and the voxel box (centre at w from the camera) meet,
+/// by the separating-axis theorem for two convex polyhedra: the cone's 3 planes, the box's 3
+/// face normals and the 9 cross products of cone edges and box edges. Exact up to rounding;
+/// touching counts as meeting (Cone::meet). Cone::near_miss: separated, but by less than
+/// 1e-12 of the scale (|w| + Σh) on every separating axis — a touching configuration where
+/// rounding decided; back-face culling then tests the object's back faces too (see judge()).
+VoxelEvaluator::Impl::Cone VoxelEvaluator::Impl::cone_test(const TriangleCone& tc,
+                                                           const Vec3& w) const {
+  const double scale = kTouch * (w.norm() + half_step.sum());
+  bool near_miss = false;
   // Cone planes first: cheapest and most often decisive.
-  for (const Vec3& n : tc.normal) {
-    if (n.dot(w) + n.cwiseAbs().dot(half_step) < 0.0) return true;
+  double s[3];
+  for (int i = 0; i < 3; ++i) {
+    s[i] = tc.normal[i].dot(w);
+    const double gap = s[i] + tc.abs_normal[i].dot(half_step);
+    if (gap < -scale) return Cone::miss;
+    near_miss = near_miss || gap < 0.0;
+  }
+  // The box centre clearly inside the cone: they meet (no axis can separate them).
+  const double inside = kMargin * w.norm();
+  if (s[0] > inside && s[1] > inside && s[2] > inside) return Cone::meet;
+  // Else the box corner deepest across the planes the centre is outside of: clearly inside
+  // the cone, they meet too.
+  Vec3 toward = Vec3::Zero();
+  for (int i = 0; i < 3; ++i) {
+    if (!(s[i] > inside)) toward += tc.normal[i];
+  }
+  const Vec3 corner = w + Vec3(toward.x() >= 0 ? half_step.x() : -half_step.x(),
+                               toward.y() >= 0 ? half_step.y() : -half_step.y(),
+                               toward.z() >= 0 ? half_step.z() : -half_step.z());
+  if (tc.normal[0].dot(corner) > inside && tc.normal[1].dot(corner) > inside &&
+      tc.normal[2].dot(corner) > inside) {
+    return Cone::meet;
   }
   // Axis L: the cone projects to [0, ∞) or (−∞, 0] (relative to the camera) when its edges
-  // all project to one side, else to the whole line; the box to L·w ± Σ|L_i|·h_i.
-  auto separates = [&](const Vec3& axis) {
-    const double pa = axis.dot(tc.edge[0]), pb = axis.dot(tc.edge[1]), pc = axis.dot(tc.edge[2]);
-    const double radius = axis.cwiseAbs().dot(half_step);
-    const double mid = axis.dot(w);
-    if (pa >= 0.0 && pb >= 0.0 && pc >= 0.0) return mid + radius < 0.0;
-    if (pa <= 0.0 && pb <= 0.0 && pc <= 0.0) return mid - radius > 0.0;
-    return false;
-  };
-  for (int i = 0; i < 3; ++i) {
-    if (separates(Vec3::Unit(i))) return true;
+  // all project to one side, else to the whole line (such axes were dropped); the box to
+  // L·w ± Σ|L_i|·h_i.
+  for (int a = 0; a < tc.axis_count; ++a) {
+    const TriangleCone::Axis& axis = tc.axes[a];
+    const double mid = axis.axis.dot(w);
+    const double gap = axis.side > 0 ? -(mid + axis.radius) : mid - axis.radius;  // > 0: apart
+    if (gap > scale * axis.norm) return Cone::miss;
+    near_miss = near_miss || gap > 0.0;
   }
-  for (const Vec3& e : tc.edge) {
-    for (int i = 0; i < 3; ++i) {
-      if (separates(e.cross(Vec3::Unit(i)))) return true;
-    }
-  }
-  return false;
+  return near_miss ? Cone::near_miss : Cone::meet;
 }
 
-/// Model before filtering: 1 where no camera sees the voxel free, minus obstacle interiors.
-std::vector<std::uint8_t> VoxelEvaluator::Impl::raw_model(const std::vector<CameraView>& views,
-                                                          const StateInfo& state) const {
-  std::vector<const CameraView*> seeing;
-  for (const CameraView& view : views) {
-    if (!blind(view, state)) seeing.push_back(&view);
+namespace {
+
+/// The u (= x − c_x) where the centre (c_x + u, c_y + dy, c_z + dz) lies in the cone of axis
+/// `axis` and cos² of half angle `kk` about the camera c: [u_lo, u_hi], empty when u_lo > u_hi.
+/// False when the quadratic is too flat to trust (the caller then takes the whole row).
+bool cone_row(const Vec3& axis, double kk, double dy, double dz, double& u_lo, double& u_hi) {
+  const double a1 = axis.x(), b0 = axis.y() * dy + axis.z() * dz;
+  // (a1 u + b0)² − kk (u² + dy² + dz²) ≥ 0 and a1 u + b0 ≥ 0.
+  const double A = a1 * a1 - kk, B = 2.0 * a1 * b0, C = b0 * b0 - kk * (dy * dy + dz * dz);
+  u_lo = -std::numeric_limits<double>::infinity();
+  u_hi = -u_lo;
+  if (std::abs(A) < 1e-6) return false;
+  const double disc = B * B - 4.0 * A * C;
+  if (A < 0) {
+    if (disc < 0) {  // the line misses the cone
+      u_lo = 1.0;
+      u_hi = -1.0;
+      return true;
+    }
+    const double sq = std::sqrt(disc);
+    u_lo = (-B + sq) / (2.0 * A);
+    u_hi = (-B - sq) / (2.0 * A);
+    if (a1 * 0.5 * (u_lo + u_hi) + b0 < 0) {  // the other nappe
+      u_lo = 1.0;
+      u_hi = -1.0;
+    }
+    return true;
   }
-  const auto& removed = removed_by_step[state.time_step];
-  std::vector<std::uint8_t> model(grid.count(), 0);
-  for (int v = 0; v < grid.count(); ++v) {
-    if (removed[v]) continue;
-    bool seen_free = false;
-    for (const CameraView* view : seeing) {
-      if (label(*view, state, v, true) == Label::free) {
-        seen_free = true;
-        break;
+  // Outside the roots, on the side where the axial coordinate grows.
+  if (disc >= 0) {
+    const double sq = std::sqrt(disc);  // roots (−B ∓ sq) / 2A, A > 0: smaller first
+    if (a1 > 0) {
+      u_lo = (-B + sq) / (2.0 * A);
+    } else {
+      u_hi = (-B - sq) / (2.0 * A);
+    }
+  } else if (a1 > 0) {
+    u_lo = -b0 / a1;
+  } else if (a1 < 0) {
+    u_hi = -b0 / a1;
+  }
+  return true;
+}
+
+/// Intersects [u_lo, u_hi] with {u : n_x u + rest ≥ bound}.
+void half_line(double n_x, double rest, double bound, double& u_lo, double& u_hi) {
+  if (n_x > 0) {
+    u_lo = std::max(u_lo, (bound - rest) / n_x);
+  } else if (n_x < 0) {
+    u_hi = std::min(u_hi, (bound - rest) / n_x);
+  } else if (rest < bound) {
+    u_lo = 1.0;
+    u_hi = -1.0;
+  }
+}
+
+}  // namespace
+
+/// For row (j, k) and one camera: the voxels i whose centre can be in the FOV lie in [lo, hi]
+/// (the cone, widened by 1e-6 rad, and the far plane, plus one voxel on each side; the whole
+/// row when the quadratic is near degenerate), and those in [in_lo, in_hi] are surely in it
+/// (in_fov would say true: the centre, or in conservative mode the voxel's bounding ball,
+/// inside by 1e-6 rad and 1e-9 m, less one voxel on each side). Elsewhere in_fov decides.
+void VoxelEvaluator::Impl::row_interval(const CameraSetup& cam, int j, int k, int& lo, int& hi,
+                                        int& in_lo, int& in_hi) const {
+  const int nx = grid.n[0];
+  lo = 0;
+  hi = nx - 1;
+  in_lo = nx;
+  in_hi = -1;
+  const double dy = box_center[1][j] - cam.c.y(), dz = box_center[2][k] - cam.c.z();
+  const double x0 = grid.area.min.x(), step = grid.step.x();
+  auto index = [&](double u) { return (u + cam.c.x() - x0) / step - 0.5; };
+  const double a1 = cam.axis.x(), b0 = cam.axis.y() * dy + cam.axis.z() * dz;
+  // Outer: may be in the FOV.
+  double u_lo, u_hi;
+  if (cam.row_cos_sq > 0.0 && cone_row(cam.axis, cam.row_cos_sq, dy, dz, u_lo, u_hi)) {
+    if (cam.range) half_line(-a1, -b0, -*cam.range, u_lo, u_hi);
+    if (u_lo > u_hi) {
+      lo = nx;
+      hi = -1;
+      return;
+    }
+    const double f_lo = index(u_lo) - 1.0, f_hi = index(u_hi) + 1.0;
+    if (f_lo > lo) lo = f_lo >= nx ? nx : static_cast<int>(std::floor(f_lo));
+    if (f_hi < hi) hi = f_hi < 0 ? -1 : static_cast<int>(std::ceil(f_hi));
+  }
+  // Inner: surely in the FOV. Every centre of the row is at least `line` from the camera.
+  const double line = std::sqrt(dy * dy + dz * dz);
+  const double r = conservative ? voxel_radius : 0.0;
+  if (!(line > r * (1.0 + 1e-6) + 1e-9)) return;
+  const double pad = 1e-9 + 1e-9 * r;
+  u_lo = -std::numeric_limits<double>::infinity();
+  u_hi = -u_lo;
+  if (cam.pyramid) {
+    for (const Vec3& n : cam.normals) {
+      half_line(n.x(), n.y() * dy + n.z() * dz, r * (1.0 + 1e-6) + pad, u_lo, u_hi);
+    }
+  } else {
+    // cos(α − β) with sin β = r / line (the largest angular radius of a voxel on the row),
+    // raised by 1e-6 (at least 1e-6 rad narrower); none when β ≥ α.
+    const double sin_b = r / line, cos_b = std::sqrt(1.0 - sin_b * sin_b);
+    if (sin_b >= cam.sin_half) return;
+    const double cos_inner = std::min(1.0, cam.cos_half * cos_b + cam.sin_half * sin_b + 1e-6);
+    if (!cone_row(cam.axis, cos_inner * cos_inner, dy, dz, u_lo, u_hi)) return;
+  }
+  if (cam.range)
+    half_line(-a1, -b0, -(*cam.range - r - pad - 1e-9 * std::abs(*cam.range)), u_lo, u_hi);
+  if (!(u_lo <= u_hi)) return;
+  const double f_lo = index(u_lo) + 1.0, f_hi = index(u_hi) - 1.0;
+  in_lo = f_lo <= 0 ? 0 : f_lo >= nx ? nx : static_cast<int>(std::ceil(f_lo));
+  in_hi = f_hi >= nx - 1 ? nx - 1 : f_hi < 0 ? -1 : static_cast<int>(std::floor(f_hi));
+}
+
+void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, int k_begin,
+                                      int k_end,
+                                      std::vector<std::vector<std::uint8_t>>& models) const {
+  const int nx = grid.n[0], ny = grid.n[1];
+  const int state_count = static_cast<int>(states.size());
+  const int steps = static_cast<int>(removed_by_step.size());
+  Scratch scratch;
+  scratch.stamp.assign(triangles.size(), 0);
+  for (int chunk = 0; chunk * detail::kChunk < state_count; ++chunk) {
+    const int first = chunk * detail::kChunk;
+    const int count = std::min(detail::kChunk, state_count - first);
+    const StateMask all = count == 64 ? ~StateMask(0) : (StateMask(1) << count) - 1;
+    const StateMask* object_states = chunk_object_states[chunk].data();
+    const StateMask* step_states = chunk_step_states[chunk].data();
+    // A camera inside an object of a state sees nothing in that state (SPEC §3.3).
+    std::vector<StateMask> seeing(cameras.size(), 0);
+    for (std::size_t c = 0; c < cameras.size(); ++c) {
+      for (int s = 0; s < count; ++s) {
+        bool blind = false;
+        for (int o : states[first + s].objects) blind = blind || cameras[c].inside_object[o];
+        if (!blind) seeing[c] |= StateMask(1) << s;
       }
     }
-    model[v] = !seen_free;
+    std::vector<int> row_lo(cameras.size()), row_hi(cameras.size());
+    std::vector<int> in_lo(cameras.size()), in_hi(cameras.size());
+    std::uint8_t* out[detail::kChunk];
+    for (int s = 0; s < count; ++s) out[s] = models[first + s].data();
+    for (int k = k_begin; k < k_end; ++k) {
+      for (int j = 0; j < ny; ++j) {
+        for (std::size_t c = 0; c < cameras.size(); ++c) {
+          row_interval(cameras[c], j, k, row_lo[c], row_hi[c], in_lo[c], in_hi[c]);
+        }
+        int v = nx * (j + ny * k);
+        for (int i = 0; i < nx; ++i, ++v) {
+          StateMask pending = all;  // not removed, not yet seen free
+          for (int h = 0; h < steps; ++h) {
+            if (removed_by_step[h][v]) pending &= ~step_states[h];
+          }
+          if (pending) {
+            const Vec3 center(box_center[0][i], box_center[1][j], box_center[2][k]);
+            for (std::size_t c = 0; c < cameras.size() && pending; ++c) {
+              const StateMask interest = pending & seeing[c];
+              if (!interest || i < row_lo[c] || i > row_hi[c]) continue;
+              const CameraSetup& cam = cameras[c];
+              const Vec3 w = center - cam.c;
+              double d = -1.0;  // |w|, computed when needed
+              if (i < in_lo[c] || i > in_hi[c]) {
+                d = w.norm();
+                if (!in_fov(cam, i, j, k, w, d)) continue;
+              }
+              Verdict verdict;
+              judge(cam, w, d, interest, object_states, scratch, verdict, true);
+              pending &= ~(interest & ~(verdict.occupied | verdict.blocked));
+            }
+          }
+          for (int s = 0; s < count; ++s) out[s][v] = (pending >> s) & 1;
+        }
+      }
+    }
   }
-  return model;
 }
 
-std::vector<CameraView> VoxelEvaluator::Impl::views(const core::CameraConfig& config) const {
+std::vector<std::vector<std::uint8_t>> VoxelEvaluator::Impl::all_raw_models(
+    const core::CameraConfig& config) const {
   core::check_configuration(scene, config);
-  std::vector<CameraView> out;
-  out.reserve(config.size());
-  for (const auto& camera : config) out.push_back(view(camera));
+  std::vector<CameraSetup> cameras;
+  cameras.reserve(config.size());
+  for (const auto& camera : config) cameras.push_back(camera_setup(camera));
+  std::vector<std::vector<std::uint8_t>> models(states.size(),
+                                                std::vector<std::uint8_t>(grid.count()));
+  // Slices of a few z-layers each, shared out among the threads (results do not depend on it).
+  const int nz = grid.n[2];
+  const int slices = options.threads <= 1 ? 1 : std::min(nz, 4 * options.threads);
+  detail::parallel_for(slices, options.threads, [&](int s) {
+    raw_models(cameras, nz * s / slices, nz * (s + 1) / slices, models);
+  });
+  return models;
+}
+
+std::vector<Label> VoxelEvaluator::Impl::labels(const CameraSetup& cam, int state) const {
+  const int nx = grid.n[0], ny = grid.n[1], nz = grid.n[2];
+  std::vector<Label> out(grid.count(), Label::undetectable);
+  for (int o : states.at(state).objects) {
+    if (cam.inside_object[o]) return out;  // blind (SPEC §3.3)
+  }
+  const int chunk = state / detail::kChunk;
+  const StateMask interest = StateMask(1) << (state % detail::kChunk);
+  const StateMask* object_states = chunk_object_states[chunk].data();
+  Scratch scratch;
+  scratch.stamp.assign(triangles.size(), 0);
+  int v = 0;
+  for (int k = 0; k < nz; ++k) {
+    for (int j = 0; j < ny; ++j) {
+      for (int i = 0; i < nx; ++i, ++v) {
+        const Vec3 center(box_center[0][i], box_center[1][j], box_center[2][k]);
+        const Vec3 w = center - cam.c;
+        const double d = w.norm();
+        if (!in_fov(cam, i, j, k, w, d)) continue;
+        Verdict verdict;
+        judge(cam, w, d, interest, object_states, scratch, verdict, false);
+        out[v] = verdict.occupied  ? Label::occupied
+                 : verdict.blocked ? Label::undetectable
+                                   : Label::free;
+      }
+    }
+  }
   return out;
 }
+
 }  // namespace camplace::voxel

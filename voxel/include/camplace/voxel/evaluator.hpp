@@ -24,23 +24,31 @@ using core::Timing;
 /// κ of SPEC §3 for one camera and point (or voxel).
 enum class Label : std::uint8_t { free, occupied, undetectable };
 
+/// Largest `threads` an evaluator accepts.
+constexpr int kMaxThreads = 256;
+
 struct VoxelOptions {
   LabelMode mode = LabelMode::conservative;
   std::array<int, 3> resolution{0, 0, 0};  ///< nx, ny, nz; all 0 = the scene's `voxels`
+  /// Threads one evaluate() call uses (labelling by slices of voxels, then components and
+  /// distances by state), 1..kMaxThreads. Keep 1 when the caller runs evaluations in parallel
+  /// itself (the optimizer).
+  int threads = 1;
 };
 
 class VoxelEvaluator {
  public:
   /// Precomputes everything that does not depend on the cameras (obstacle interiors, true
   /// distances, voxel-to-critical distances). Throws core::InputError on a bad resolution
-  /// (core::resolution_problem).
+  /// (core::resolution_problem) or a `threads` outside 1..kMaxThreads.
   VoxelEvaluator(const core::Scene& scene, const VoxelOptions& options);
   ~VoxelEvaluator();
   VoxelEvaluator(VoxelEvaluator&&) noexcept;
   VoxelEvaluator& operator=(VoxelEvaluator&&) noexcept;
 
-  /// Full evaluation with per-state results and timing. Throws core::InputError when
-  /// config.size() is not the scene's camera count.
+  /// Full evaluation with per-state results and timing (wall-clock per stage). Throws
+  /// core::InputError when config.size() is not the scene's camera count. The result does not
+  /// depend on `threads`.
   Evaluation evaluate(const core::CameraConfig& config) const;
   /// Err only (the optimizer's objective), m².
   double err(const core::CameraConfig& config) const;

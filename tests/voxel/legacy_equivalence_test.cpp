@@ -1,0 +1,209 @@
+// The fast labeller of issue 11 against the labeller it replaced (tests/support/
+// legacy_labeller.cpp, a verbatim copy): every label and every model over random scenes and
+// configurations, both modes. Center mode must agree everywhere (ties at exact boundaries aside:
+// the brute-force reference flags them); conservative mode may only turn a voxel the old
+// labeller proved free into a non-free one, never the reverse.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "camplace/core/distance.hpp"
+#include "camplace/core/err.hpp"
+#include "camplace/core/error.hpp"
+#include "camplace/core/sensor_model.hpp"
+#include "camplace/voxel/components.hpp"
+#include "legacy_labeller.hpp"
+#include "reference.hpp"
+#include "scene_builder.hpp"
+
+namespace camplace::testing {
+namespace {
+
+using voxel::Label;
+using voxel::LabelMode;
+
+struct Tally {
+  long compared = 0, differing = 0;
+};
+
+// Compares labels and filtered models of one scene and configuration, adding to `tally`
+// (void: gtest's ASSERT_* return from it.)
+void compare_all(const core::Scene& scene, const core::CameraConfig& config, LabelMode mode,
+                 std::array<int, 3> resolution, const std::string& what, Tally& tally) {
+  const voxel::VoxelEvaluator fast(scene, {mode, resolution});
+  const LegacyLabeller old(scene, {mode, resolution});
+  const auto all_states = core::states(scene);
+  for (std::size_t st = 0; st < all_states.size(); ++st) {
+    for (const auto& camera : config) {
+      const auto a = old.labels(camera, static_cast<int>(st));
+      const auto b = fast.labels(camera, static_cast<int>(st));
+      EXPECT_EQ(a.size(), b.size());
+      for (std::size_t v = 0; v < a.size(); ++v) {
+        ++tally.compared;
+        if (a[v] == b[v]) continue;
+        ++tally.differing;
+        if (mode == LabelMode::conservative) {
+          // Toward non-free only.
+          ASSERT_EQ(a[v], Label::free) << what << " state " << st << " voxel " << v;
+          continue;
+        }
+        // Center mode: only at a tie of the voxel centre (the reference says where).
+        const ReferenceLabel ref =
+            reference_label(scene, all_states[st].time_step, all_states[st].event, camera,
+                            fast.grid().voxel_center(static_cast<int>(v)));
+        ASSERT_TRUE(ref.ambiguous) << what << " state " << st << " voxel " << v << " old "
+                                   << static_cast<int>(a[v]) << " new " << static_cast<int>(b[v]);
+      }
+    }
+  }
+  const auto raw = old.raw_models(config);
+  for (std::size_t st = 0; st < all_states.size(); ++st) {
+    std::vector<std::uint8_t> expected = raw[st];
+    voxel::filter_components(expected, old.grid(), scene.plausibility);
+    const auto got = fast.model(config, static_cast<int>(st));
+    ASSERT_EQ(expected.size(), got.size());
+    for (std::size_t v = 0; v < got.size(); ++v) {
+      if (expected[v] == got[v]) continue;
+      ++tally.differing;
+      if (mode == LabelMode::conservative) {
+        ASSERT_EQ(got[v], 1) << what << " state " << st << " model voxel " << v;
+      }
+    }
+  }
+}
+
+TEST(LegacyEquivalence, EveryLabelAndModelOnRandomScenesMatchesTheOldLabeller) {
+  std::mt19937 rng(11);
+  for (LabelMode mode : {LabelMode::center, LabelMode::conservative}) {
+    Tally total;
+    for (int s = 0; s < 10 && !HasFatalFailure(); ++s) {
+      const core::Scene scene = random_scene(rng, {12, 9, 9});
+      const core::CameraConfig config = random_config(rng, scene);
+      const std::array<int, 3> resolution{10 + s % 3 * 3, 8 + s % 2 * 3, 7 + s % 4};
+      compare_all(scene, config, mode, resolution,
+                  std::string(core::name_of(mode)) + " scene " + std::to_string(s), total);
+    }
+    EXPECT_GT(total.compared, 100000);
+    // The fast labeller runs the same exact tests on fewer candidates: differences would come
+    // only from rounding at exact boundaries, so they must be (nearly) absent.
+    EXPECT_LE(total.differing * 10000, total.compared) << core::name_of(mode);
+  }
+}
+
+TEST(LegacyEquivalence, PaperSceneCornersAndRandomConfigurations) {
+  const core::Scene scene =
+      core::load_scene(std::string(CAMPLACE_SOURCE_DIR) + "/data/paper_basic.json");
+  std::vector<core::CameraConfig> configs{core::load_camera_config(
+      std::string(CAMPLACE_SOURCE_DIR) + "/data/paper_basic_corners.json", scene)};
+  std::mt19937 rng(5);
+  configs.push_back(random_config(rng, scene));
+  for (LabelMode mode : {LabelMode::center, LabelMode::conservative}) {
+    for (const auto& config : configs) {
+      Tally t;
+      compare_all(scene, config, mode, {16, 12, 12}, "paper_basic", t);
+      EXPECT_EQ(t.differing, 0) << core::name_of(mode);
+    }
+  }
+}
+
+// d(C, M) and the conservative lower bound of Err by the formulas of the previous evaluator
+// (core::box_solid_sq_distance / point_solid_sq_distance on every voxel): the same doubles.
+TEST(LegacyEquivalence, DistancesAndLowerBoundEqualTheCoreFormulas) {
+  std::mt19937 rng(17);
+  for (int s = 0; s < 6; ++s) {
+    const core::Scene scene = random_scene(rng, {12, 9, 9});
+    const core::CameraConfig config = random_config(rng, scene);
+    const auto all_states = core::states(scene);
+    for (LabelMode mode : {LabelMode::center, LabelMode::conservative}) {
+      const voxel::VoxelEvaluator evaluator(scene, {mode, {0, 0, 0}});
+      const voxel::Grid& grid = evaluator.grid();
+      const bool conservative = mode == LabelMode::conservative;
+      const auto result = evaluator.evaluate(config);
+      std::vector<core::ErrTerm> terms;
+      for (std::size_t st = 0; st < all_states.size(); ++st) {
+        const core::TimeStep& step = scene.time_steps[all_states[st].time_step];
+        std::vector<double> critical(grid.count(), std::numeric_limits<double>::infinity());
+        for (int v = 0; v < grid.count(); ++v) {
+          for (const core::SceneObject& c : step.critical) {
+            critical[v] = std::min(
+                critical[v], conservative
+                                 ? core::box_solid_sq_distance(c.mesh, grid.voxel_box(v))
+                                 : core::point_solid_sq_distance(c.mesh, grid.voxel_center(v)));
+          }
+        }
+        const auto model = evaluator.model(config, static_cast<int>(st));
+        double best = std::numeric_limits<double>::infinity();
+        for (int v = 0; v < grid.count(); ++v) {
+          if (model[v]) best = std::min(best, critical[v]);
+        }
+        const double expected =
+            std::isinf(best) ? core::empty_model_distance(scene.area) : std::sqrt(best);
+        EXPECT_EQ(result.states[st].d_model, expected) << "scene " << s << " state " << st;
+        // The lower bound: the nearest voxel touching a target.
+        double touching = std::numeric_limits<double>::infinity();
+        for (int v = 0; v < grid.count(); ++v) {
+          for (const core::SceneObject& t : step.events[all_states[st].event].targets) {
+            if (core::box_solid_sq_distance(t.mesh, grid.voxel_box(v)) == 0.0) {
+              touching = std::min(touching, critical[v]);
+            }
+          }
+        }
+        terms.push_back({result.states[st].weight, result.states[st].d_true, std::sqrt(touching)});
+      }
+      EXPECT_EQ(evaluator.err_lower_bound(), conservative ? core::error_functional(terms) : 0.0)
+          << "scene " << s;
+    }
+  }
+}
+
+TEST(LegacyEquivalence, MoreThan64StatesAreHandledInChunks) {
+  // States are processed 64 at a time (bit masks): 2 steps × 35 events, the events' targets
+  // cycling through the random scene's.
+  std::mt19937 rng(31);
+  core::Scene scene = random_scene(rng, {10, 8, 8});
+  for (core::TimeStep& step : scene.time_steps) {
+    const std::vector<core::Event> events = step.events;
+    step.events.clear();
+    for (int l = 0; l < 35; ++l) step.events.push_back(events[l % events.size()]);
+  }
+  ASSERT_EQ(core::states(scene).size(), 70u);
+  const core::CameraConfig config = random_config(rng, scene);
+  for (LabelMode mode : {LabelMode::center, LabelMode::conservative}) {
+    Tally t;
+    compare_all(scene, config, mode, {10, 8, 8}, "70 states", t);
+    EXPECT_EQ(t.differing, 0) << core::name_of(mode);
+  }
+}
+
+TEST(LegacyEquivalence, ThreadsDoNotChangeTheResult) {
+  std::mt19937 rng(23);
+  for (int s = 0; s < 4; ++s) {
+    const core::Scene scene = random_scene(rng, {12, 9, 9});
+    const core::CameraConfig config = random_config(rng, scene);
+    for (LabelMode mode : {LabelMode::center, LabelMode::conservative}) {
+      voxel::VoxelOptions options{mode, {14, 10, 9}};
+      const auto one = voxel::VoxelEvaluator(scene, options).evaluate(config);
+      options.threads = 3;
+      const voxel::VoxelEvaluator threaded(scene, options);
+      const auto three = threaded.evaluate(config);
+      EXPECT_EQ(one.err, three.err);
+      ASSERT_EQ(one.states.size(), three.states.size());
+      for (std::size_t st = 0; st < one.states.size(); ++st) {
+        EXPECT_EQ(one.states[st].d_model, three.states[st].d_model);
+        EXPECT_EQ(one.states[st].model_volume, three.states[st].model_volume);
+        EXPECT_EQ(one.states[st].components, three.states[st].components);
+      }
+    }
+  }
+  const core::Scene scene = random_scene(rng, {12, 9, 9});
+  for (int bad : {0, -1, voxel::kMaxThreads + 1}) {
+    voxel::VoxelOptions options;
+    options.threads = bad;
+    EXPECT_THROW(voxel::VoxelEvaluator(scene, options), core::InputError) << bad;
+  }
+}
+
+}  // namespace
+}  // namespace camplace::testing

@@ -1,0 +1,266 @@
+// Box/point to solid distances with bounding-box culling (see solid_distance.hpp).
+#include "solid_distance.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace camplace::voxel::detail {
+
+using core::Box3;
+using core::Vec3;
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+Box3 bounds_of(std::initializer_list<Vec3> points) {
+  Box3 box{Vec3::Constant(kInf), Vec3::Constant(-kInf)};
+  for (const Vec3& p : points) {
+    box.min = box.min.cwiseMin(p);
+    box.max = box.max.cwiseMax(p);
+  }
+  return box;
+}
+
+// core/src/geometry.cpp's box_corners and edge table (same order, same numbers).
+std::array<Vec3, 8> box_corners(const Box3& box) {
+  std::array<Vec3, 8> corners;
+  for (int i = 0; i < 8; ++i) {
+    corners[i] = Vec3((i & 1) ? box.max.x() : box.min.x(), (i & 2) ? box.max.y() : box.min.y(),
+                      (i & 4) ? box.max.z() : box.min.z());
+  }
+  return corners;
+}
+constexpr int kEdges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
+                               {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+
+double point_segment_sq(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 ab = b - a;
+  const double len = ab.squaredNorm();
+  const double t = len > 0.0 ? std::clamp((p - a).dot(ab) / len, 0.0, 1.0) : 0.0;
+  return (a + t * ab - p).squaredNorm();
+}
+
+/// Squared distance from segment [a, b] to the box, approximately (the minimum of the convex,
+/// piecewise quadratic g(t) = Σ_i gap_i(a + t(b − a))², found where its derivative, linear
+/// between the breakpoints, changes sign). Used as a lower bound with a margin: g at the
+/// computed t is at least the minimum, and the minimum lies within rounding of it.
+double segment_box_sq(const Vec3& a, const Vec3& b, const Box3& box) {
+  const Vec3 d = b - a;
+  auto slope = [&](double t) {  // g'(t) / 2
+    double sum = 0.0;
+    for (int i = 0; i < 3; ++i) {
+      const double x = a[i] + t * d[i];
+      if (x < box.min[i]) sum += d[i] * (x - box.min[i]);
+      if (x > box.max[i]) sum += d[i] * (x - box.max[i]);
+    }
+    return sum;
+  };
+  auto value = [&](double t) {
+    double sum = 0.0;
+    for (int i = 0; i < 3; ++i) {
+      const double x = a[i] + t * d[i];
+      const double gap = std::max({0.0, box.min[i] - x, x - box.max[i]});
+      sum += gap * gap;
+    }
+    return sum;
+  };
+  double points[8];
+  int count = 0;
+  points[count++] = 0.0;
+  points[count++] = 1.0;
+  for (int i = 0; i < 3; ++i) {
+    if (d[i] == 0.0) continue;
+    for (double bound : {box.min[i], box.max[i]}) {
+      const double t = (bound - a[i]) / d[i];
+      if (t > 0.0 && t < 1.0) points[count++] = t;
+    }
+  }
+  std::sort(points, points + count);
+  double prev_t = points[0], prev_s = slope(prev_t);
+  if (prev_s >= 0.0) return value(prev_t);
+  for (int n = 1; n < count; ++n) {
+    const double t = points[n], s = slope(t);
+    if (s >= 0.0) {
+      // g' is linear on [prev_t, t]: its zero.
+      const double root = s > prev_s ? prev_t + (t - prev_t) * (-prev_s / (s - prev_s)) : t;
+      return value(std::clamp(root, prev_t, t));
+    }
+    prev_t = t;
+    prev_s = s;
+  }
+  return value(1.0);
+}
+
+/// Lowers `best` to core::triangle_box_sq_distance(a, b, c, box) when that is below `best`
+/// (or below `cutoff`, whichever is smaller; otherwise `best` may stay): the same terms
+/// (overlap → 0; vertex–box, corner–triangle, edge–edge), each skipped when a lower bound of it
+/// is beyond min(best, cutoff). The likely smallest terms go first so that the bound tightens.
+void triangle_box(const IndexedSolid& s, std::size_t t, const Box3& box,
+                  const std::array<Vec3, 8>& corners, double cutoff, double& best) {
+  const auto& tri = s.triangles[t];
+  // Overlap needs the bounding boxes to meet; separated by more than the margin, core's test
+  // (whose first axes are the box normals) says no as well.
+  if (!beyond(box_gap_sq(s.triangle_bounds[t], box), 0.0) &&
+      core::triangle_box_overlap(tri[0], tri[1], tri[2], box)) {
+    best = 0.0;
+    return;
+  }
+  best = std::min({best, core::point_box_sq_distance(tri[0], box),
+                   core::point_box_sq_distance(tri[1], box),
+                   core::point_box_sq_distance(tri[2], box)});
+  // Corners: the distance to the triangle's plane bounds the distance to the triangle; the
+  // corner nearest the plane first.
+  const Vec3& normal = s.unit_normals[t];
+  double plane[8];
+  int nearest = 0;
+  for (int q = 0; q < 8; ++q) {
+    plane[q] = std::abs(normal.dot(corners[q] - tri[0]));
+    if (plane[q] < plane[nearest]) nearest = q;
+  }
+  for (int n = -1; n < 8; ++n) {
+    const int q = n < 0 ? nearest : n;
+    if (n == nearest) continue;
+    if (beyond(plane[q] * plane[q] * (1.0 - 1e-9), std::min(best, cutoff))) continue;
+    best = std::min(best, core::point_triangle_sq_distance(corners[q], tri[0], tri[1], tri[2]));
+  }
+  for (int i = 0; i < 3; ++i) {
+    const Vec3 &f0 = tri[i], &f1 = tri[(i + 1) % 3];
+    // Every edge–edge term of f is at least f's distance to the box.
+    const double gap = segment_box_sq(f0, f1, box);
+    if (beyond(gap * (1.0 - 1e-9), std::min(best, cutoff))) continue;
+    for (const auto& e : kEdges) {
+      const Box3 edge{corners[e[0]], corners[e[1]]};  // axis-aligned: its own bounding box
+      const double cut = std::min(best, cutoff);
+      // Every point of the box edge is within half its length of its midpoint.
+      const double edge_gap =
+          std::sqrt(point_segment_sq(edge.center(), f0, f1)) - 0.5 * edge.diagonal();
+      if (edge_gap > 0.0 && beyond(edge_gap * edge_gap * (1.0 - 1e-9), cut)) continue;
+      best =
+          std::min(best, core::segment_segment_sq_distance(corners[e[0]], corners[e[1]], f0, f1));
+    }
+  }
+}
+
+}  // namespace
+
+IndexedSolid index_solid(const core::TriangleMesh& mesh) {
+  IndexedSolid s;
+  s.mesh = &mesh;
+  s.bounds = Box3{Vec3::Constant(kInf), Vec3::Constant(-kInf)};
+  for (const Vec3& v : mesh.vertices) {
+    s.bounds.min = s.bounds.min.cwiseMin(v);
+    s.bounds.max = s.bounds.max.cwiseMax(v);
+  }
+  for (const auto& t : mesh.triangles) {
+    const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
+    s.triangles.push_back({a, b, c});
+    s.triangle_bounds.push_back(bounds_of({a, b, c}));
+    s.edge_bounds.push_back({bounds_of({a, b}), bounds_of({b, c}), bounds_of({c, a})});
+    const Vec3 n = (b - a).cross(c - a);
+    s.unit_normals.push_back(n.norm() > 0.0 ? Vec3(n.normalized()) : Vec3::Zero());
+  }
+  return s;
+}
+
+double box_gap_sq(const Box3& a, const Box3& b) {
+  double sum = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    const double gap = std::max({0.0, a.min[i] - b.max[i], b.min[i] - a.max[i]});
+    sum += gap * gap;
+  }
+  return sum;
+}
+
+double vertex_upper_bound(const std::vector<IndexedSolid>& solids, const Box3& box) {
+  double best = kInf;
+  for (const IndexedSolid& s : solids) {
+    for (const Vec3& v : s.mesh->vertices)
+      best = std::min(best, core::point_box_sq_distance(v, box));
+  }
+  return best;
+}
+
+double vertex_upper_bound(const std::vector<IndexedSolid>& solids, const Vec3& p) {
+  double best = kInf;
+  for (const IndexedSolid& s : solids) {
+    for (const Vec3& v : s.mesh->vertices) best = std::min(best, (v - p).squaredNorm());
+  }
+  return best;
+}
+
+double box_solids_sq_distance(const std::vector<IndexedSolid>& solids, const Box3& box,
+                              double cutoff) {
+  // core::box_solid_sq_distance per solid is 0 when a triangle meets the box or the box's
+  // centre is inside, else the smallest triangle–box distance; the minimum over the solids is
+  // 0 when any solid gives 0, else the smallest of all triangle terms.
+  const Vec3 center = box.center();
+  const double radius = 0.5 * box.diagonal();
+  // The distance from the box's centre to each near triangle: an upper bound of the box's
+  // distance (the centre is in the box) and, less the box's radius, a lower bound of the
+  // triangle's. Triangles are then taken nearest first.
+  struct Near {
+    double centre_sq;
+    std::size_t solid, triangle;
+  };
+  thread_local std::vector<Near> near;
+  near.clear();
+  for (std::size_t o = 0; o < solids.size(); ++o) {
+    const IndexedSolid& s = solids[o];
+    if (beyond(box_gap_sq(s.bounds, box), cutoff)) continue;
+    if (s.bounds.contains(center) && core::inside_mesh(*s.mesh, center)) return 0.0;
+    for (std::size_t t = 0; t < s.triangles.size(); ++t) {
+      const auto& tri = s.triangles[t];
+      const double d = core::point_triangle_sq_distance(center, tri[0], tri[1], tri[2]);
+      near.push_back({d, o, t});
+      cutoff = std::min(cutoff, d * (1.0 + 1e-9) + 1e-18);
+    }
+  }
+  std::sort(near.begin(), near.end(),
+            [](const Near& a, const Near& b) { return a.centre_sq < b.centre_sq; });
+  double best = kInf;
+  std::array<Vec3, 8> corners;
+  bool have_corners = false;
+  for (const Near& n : near) {
+    const IndexedSolid& s = solids[n.solid];
+    const double cut = std::min(best, cutoff);
+    const double gap = std::sqrt(n.centre_sq) - radius;
+    if (gap > 0.0 && beyond(gap * gap * (1.0 - 1e-9), cut)) break;  // so are all later ones
+    if (beyond(box_gap_sq(s.triangle_bounds[n.triangle], box), cut)) continue;
+    if (!have_corners) {
+      corners = box_corners(box);
+      have_corners = true;
+    }
+    triangle_box(s, n.triangle, box, corners, cut, best);
+    if (best == 0.0) return 0.0;
+  }
+  return best;
+}
+
+double point_solids_sq_distance(const std::vector<IndexedSolid>& solids, const Vec3& p,
+                                double cutoff) {
+  double result = kInf;
+  for (const IndexedSolid& s : solids) {
+    const double bound = std::min(result, cutoff);
+    if (beyond(core::point_box_sq_distance(p, s.bounds), bound)) continue;
+    // core::point_solid_sq_distance: 0 inside (a point outside the bounds is not), else the
+    // nearest triangle.
+    if (s.bounds.contains(p) && core::inside_mesh(*s.mesh, p)) {
+      result = 0.0;
+      continue;
+    }
+    double best = kInf;
+    for (std::size_t t = 0; t < s.triangles.size(); ++t) {
+      if (beyond(core::point_box_sq_distance(p, s.triangle_bounds[t]), std::min(best, bound))) {
+        continue;
+      }
+      const auto& tri = s.triangles[t];
+      best = std::min(best, core::point_triangle_sq_distance(p, tri[0], tri[1], tri[2]));
+    }
+    result = std::min(result, best);
+  }
+  return result;
+}
+
+}  // namespace camplace::voxel::detail

@@ -1,0 +1,49 @@
+#pragma once
+// Distances from voxel boxes and centres to closed solids, equal to core's
+// box_solid_sq_distance / point_solid_sq_distance (same primitives on the same numbers, so the
+// same doubles) but with bounding-box culling: a triangle, or one of the vertex, corner and
+// edge pairs core's triangle–box distance takes the minimum over, is skipped only when a lower
+// bound of its distance (the gap between bounding boxes) exceeds a known upper bound of the
+// minimum by a margin (relative 1e-9 plus 1e-18 m², far above rounding). Every computed
+// candidate is the distance between two actual points (core's closest-point routines clamp to
+// the features), so a skipped one could not have been the minimum. Private to voxel/.
+#include <array>
+#include <vector>
+
+#include "camplace/core/geometry.hpp"
+
+namespace camplace::voxel::detail {
+
+/// One closed solid with the bounding boxes the culling needs.
+struct IndexedSolid {
+  const core::TriangleMesh* mesh = nullptr;
+  core::Box3 bounds;  ///< of the vertices
+  std::vector<std::array<core::Vec3, 3>> triangles;
+  std::vector<core::Box3> triangle_bounds;
+  std::vector<std::array<core::Box3, 3>> edge_bounds;  ///< edge i = vertices (i, i + 1)
+  std::vector<core::Vec3> unit_normals;                ///< zero for a degenerate triangle
+};
+
+IndexedSolid index_solid(const core::TriangleMesh& mesh);
+
+/// True when the lower bound `lb` (m²) proves a distance larger than `cutoff` (m²).
+inline bool beyond(double lb, double cutoff) { return lb > cutoff * (1.0 + 1e-9) + 1e-18; }
+
+/// Squared gap between two boxes (0 when they meet): a lower bound of the squared distance
+/// between any points inside them.
+double box_gap_sq(const core::Box3& a, const core::Box3& b);
+
+/// Smallest squared distance from `box` to any vertex of the solids: an upper bound of the
+/// box–solid distance (vertices belong to the solids).
+double vertex_upper_bound(const std::vector<IndexedSolid>& solids, const core::Box3& box);
+double vertex_upper_bound(const std::vector<IndexedSolid>& solids, const core::Vec3& p);
+
+/// min over the solids of core::box_solid_sq_distance(mesh, box) when that minimum is at most
+/// `cutoff`; otherwise some value above `cutoff` (possibly infinity).
+double box_solids_sq_distance(const std::vector<IndexedSolid>& solids, const core::Box3& box,
+                              double cutoff);
+/// min over the solids of core::point_solid_sq_distance(mesh, p), same contract.
+double point_solids_sq_distance(const std::vector<IndexedSolid>& solids, const core::Vec3& p,
+                                double cutoff);
+
+}  // namespace camplace::voxel::detail
