@@ -44,20 +44,19 @@ nlohmann::json voxel_json(const voxel::VoxelEvaluator& evaluator, const voxel::E
   const auto& n = evaluator.grid().n;
   nlohmann::json states = nlohmann::json::array();
   for (const auto& s : e.states) states.push_back(state_json(s));
-  return {
-      {"pipeline", core::name_of(core::Pipeline::voxel)},
-      {"mode", core::name_of(evaluator.options().mode)},
-      {"resolution", {n[0], n[1], n[2]}},
-      {"voxel_diagonal", evaluator.grid().step.norm()},
-      {"tolerance", core::default_tolerance(evaluator.scene().area, n)},
-      {"err_lower_bound", evaluator.err_lower_bound()},
-      {"err", e.err},
-      {"states", states},
-      {"timing_ms",
-       {{"labelling", e.timing.labelling_ms},
-        {"clustering", e.timing.clustering_ms},
-        {"distance", e.timing.distance_ms},
-        {"total", e.timing.total_ms}}}};
+  return {{"pipeline", core::name_of(core::Pipeline::voxel)},
+          {"mode", core::name_of(evaluator.options().mode)},
+          {"resolution", {n[0], n[1], n[2]}},
+          {"voxel_diagonal", evaluator.grid().step.norm()},
+          {"tolerance", core::default_tolerance(evaluator.scene().area, n)},
+          {"err_lower_bound", evaluator.err_lower_bound()},
+          {"err", e.err},
+          {"states", states},
+          {"timing_ms",
+           {{"labelling", e.timing.labelling_ms},
+            {"clustering", e.timing.clustering_ms},
+            {"distance", e.timing.distance_ms},
+            {"total", e.timing.total_ms}}}};
 }
 
 void print_table(const nlohmann::json& r) {
@@ -162,8 +161,7 @@ void run_evaluate(const EvaluateArgs& args) {
   if (!args.resolution.empty())
     options.resolution = core::parse_resolution(args.resolution, "--resolution");
   const unsigned cores = std::thread::hardware_concurrency();
-  options.threads = args.threads > 0 ? args.threads
-                                     : static_cast<int>(std::clamp(cores, 1u, 256u));
+  options.threads = args.threads > 0 ? args.threads : static_cast<int>(std::clamp(cores, 1u, 256u));
   const core::Pipeline pipeline = parse_enum<core::Pipeline>(args.pipeline);
   const bool want_voxel = pipeline != core::Pipeline::exact;
   const bool want_exact = pipeline != core::Pipeline::voxel;
@@ -205,8 +203,10 @@ void run_evaluate(const EvaluateArgs& args) {
   nlohmann::json out;
   if (want_voxel && want_exact) {
 #ifdef CAMPLACE_HAVE_EXACT
-    out = {
-        {"pipeline", core::name_of(core::Pipeline::both)}, {"voxel", vox}, {"exact", ex}, {"differences", differences(vox, ex)}};
+    out = {{"pipeline", core::name_of(core::Pipeline::both)},
+           {"voxel", vox},
+           {"exact", ex},
+           {"differences", differences(vox, ex)}};
 #endif
   } else {
     out = want_voxel ? vox : ex;

@@ -18,9 +18,9 @@
 #include "camplace/core/files.hpp"
 #include "camplace/core/provenance.hpp"
 #include "camplace/core/scene.hpp"
-#include "camplace/optimize/voxel_objective.hpp"
 #include "camplace/optimize/optimizer.hpp"
 #include "camplace/optimize/report.hpp"
+#include "camplace/optimize/voxel_objective.hpp"
 #include "cli_checks.hpp"
 #include "commands.hpp"
 
@@ -178,10 +178,10 @@ void register_optimize_command(CLI::App& app) {
       ->check(in_range(0.0, 1e7, "must be a number of seconds in [0, 1e7] (0 = no limit)"));
   cmd->add_option("--max-evals", args->max_evals, "objective evaluations per run, 0 = none")
       ->check(in_range(0LL, 1000000000000LL, "must lie in [0, 1e12] (0 = no limit)"));
-  CLI::Option* tolerance =
-      cmd->add_option("--tolerance", args->tolerance,
-                      "stop when Err <= X m² (default (½ voxel diagonal)²)")
-          ->check(in_range(0.0, std::numeric_limits<double>::max(), "must be a finite number >= 0 (m²)"));
+  CLI::Option* tolerance = cmd->add_option("--tolerance", args->tolerance,
+                                           "stop when Err <= X m² (default (½ voxel diagonal)²)")
+                               ->check(in_range(0.0, std::numeric_limits<double>::max(),
+                                                "must be a finite number >= 0 (m²)"));
   cmd->add_option("--start", args->start, "random, corners or a camera configuration FILE");
   cmd->add_option("--threads", args->threads,
                   "threads for batch evaluation (gaco, pso_gen), 0 = all cores")

@@ -8,10 +8,10 @@
 #include <random>
 #include <sstream>
 
+#include "camplace/compare/voxel_vs_exact.hpp"
 #include "camplace/core/camera.hpp"
 #include "camplace/core/error.hpp"
 #include "camplace/core/files.hpp"
-#include "camplace/compare/voxel_vs_exact.hpp"
 #include "camplace/exact/evaluator.hpp"
 #include "camplace/voxel/evaluator.hpp"
 #include "format.hpp"
@@ -25,8 +25,6 @@ using detail::num;
 using detail::resolution_text;
 
 namespace fs = std::filesystem;
-
-
 
 /// A configuration drawn uniformly from the scene's camera domains.
 core::CameraConfig sample_config(const core::Scene& scene, std::mt19937& rng) {
@@ -45,7 +43,8 @@ core::CameraConfig sample_config(const core::Scene& scene, std::mt19937& rng) {
 }
 
 /// The configuration moved by up to ±0.3 m and ±15° per setting, kept inside the domains.
-core::CameraConfig perturb(const core::Scene& scene, const core::CameraConfig& base, std::mt19937& rng) {
+core::CameraConfig perturb(const core::Scene& scene, const core::CameraConfig& base,
+                           std::mt19937& rng) {
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   constexpr double kStep = 0.3, kAngle = 15.0 * core::kDegree;
   auto move = [&](double v, double step, const core::Interval& iv) {
@@ -54,8 +53,9 @@ core::CameraConfig perturb(const core::Scene& scene, const core::CameraConfig& b
   core::CameraConfig out = base;
   for (std::size_t i = 0; i < out.size(); ++i) {
     const core::CameraDomain& d = scene.cameras.domains[i];
-    out[i].position = core::Vec3(move(base[i].position.x(), kStep, d.x), move(base[i].position.y(), kStep, d.y),
-                                 move(base[i].position.z(), kStep, d.z));
+    out[i].position =
+        core::Vec3(move(base[i].position.x(), kStep, d.x), move(base[i].position.y(), kStep, d.y),
+                   move(base[i].position.z(), kStep, d.z));
     out[i].yaw = move(base[i].yaw, kAngle, d.yaw);
     out[i].pitch = move(base[i].pitch, kAngle, d.pitch);
   }
@@ -82,7 +82,8 @@ double kendall_tau_b(const std::vector<double>& a, const std::vector<double>& b)
       }
     }
   }
-  const double denom = std::sqrt((concordant + discordant + ties_a) * (concordant + discordant + ties_b));
+  const double denom =
+      std::sqrt((concordant + discordant + ties_a) * (concordant + discordant + ties_b));
   return denom > 0 ? (concordant - discordant) / denom : std::nan("");
 }
 
@@ -93,7 +94,8 @@ void validate_optimizer(const core::Scene& original, const OptimizerValidationOp
   if (fs::is_directory(options.runs_dir)) {
     for (const auto& entry : fs::directory_iterator(options.runs_dir)) {
       const std::string name = entry.path().filename().string();
-      if (name.rfind("run-", 0) == 0 && entry.path().extension() == ".json") run_files.push_back(entry.path().string());
+      if (name.rfind("run-", 0) == 0 && entry.path().extension() == ".json")
+        run_files.push_back(entry.path().string());
     }
   }
   std::sort(run_files.begin(), run_files.end());
@@ -104,7 +106,8 @@ void validate_optimizer(const core::Scene& original, const OptimizerValidationOp
   if (resolutions.empty()) resolutions.push_back(scene.voxels);
   // The optima's voxel Err as the optimizer saw it (the scene's own FOV), their exact Err, and
   // the rank agreement with like-for-like pyramid FOVs.
-  const voxel::VoxelEvaluator conservative(original, {voxel::LabelMode::conservative, original.voxels});
+  const voxel::VoxelEvaluator conservative(original,
+                                           {voxel::LabelMode::conservative, original.voxels});
 
   // 1. Each voxel optimum's exact Err.
   std::ostringstream runs_csv;
@@ -117,7 +120,8 @@ void validate_optimizer(const core::Scene& original, const OptimizerValidationOp
     const double voxel_err = conservative.err(config);
     const double exact_err = exact::evaluate_exact(scene, config).err;
     const std::string name = fs::path(file).filename().string();
-    runs_csv << name << "," << num(voxel_err, 9) << "," << num(exact_err, 9) << "," << num(exact_err - voxel_err, 9) << "\n";
+    runs_csv << name << "," << num(voxel_err, 9) << "," << num(exact_err, 9) << ","
+             << num(exact_err - voxel_err, 9) << "\n";
     md_runs << "| " << name << " | " << num(voxel_err) << " | " << num(exact_err) << " | "
             << num(exact_err - voxel_err) << " |\n";
   }
@@ -129,7 +133,8 @@ void validate_optimizer(const core::Scene& original, const OptimizerValidationOp
   // Uniform samples alone mostly lose the person in every camera (all Err tied at Σω·d_true²),
   // so half of the sample perturbs the optima instead.
   for (int i = 0; i < options.samples; ++i) {
-    sample.push_back(i % 2 == 0 ? sample_config(scene, rng) : perturb(scene, optima[(i / 2) % optima.size()], rng));
+    sample.push_back(i % 2 == 0 ? sample_config(scene, rng)
+                                : perturb(scene, optima[(i / 2) % optima.size()], rng));
   }
   std::vector<double> exact_errs;
   for (const auto& config : sample) exact_errs.push_back(exact::evaluate_exact(scene, config).err);
@@ -146,17 +151,20 @@ void validate_optimizer(const core::Scene& original, const OptimizerValidationOp
       dat << "# " << mode_name << " " << resolution_text(n) << ": exact_err voxel_err\n";
       for (std::size_t i = 0; i < sample.size(); ++i) {
         voxel_errs.push_back(evaluator.err(sample[i]));
-        samples_csv << i << "," << mode_name << "," << resolution_text(n) << "," << num(voxel_errs.back(), 9)
-                    << "," << num(exact_errs[i], 9) << "\n";
+        samples_csv << i << "," << mode_name << "," << resolution_text(n) << ","
+                    << num(voxel_errs.back(), 9) << "," << num(exact_errs[i], 9) << "\n";
         dat << num(exact_errs[i], 9) << " " << num(voxel_errs.back(), 9) << "\n";
       }
       dat << "\n\n";
       const double tau = kendall_tau_b(voxel_errs, exact_errs);
       const std::string tau_text = std::isnan(tau) ? "undefined (all tied)" : num(tau, 3);
-      rank_csv << mode_name << "," << resolution_text(n) << "," << sample.size() << "," << tau_text << "\n";
-      md_rank << "| " << mode_name << " | " << resolution_text(n) << " | " << sample.size() << " | " << tau_text << " |\n";
-      plot_cmd += std::string(plot_cmd.empty() ? "plot " : ", ") + "'" + dir + "/voxel_err_vs_exact_err.dat' index " +
-                  std::to_string(block++) + " using 1:2 with points title '" + mode_name + " " + resolution_text(n) + "'";
+      rank_csv << mode_name << "," << resolution_text(n) << "," << sample.size() << "," << tau_text
+               << "\n";
+      md_rank << "| " << mode_name << " | " << resolution_text(n) << " | " << sample.size() << " | "
+              << tau_text << " |\n";
+      plot_cmd += std::string(plot_cmd.empty() ? "plot " : ", ") + "'" + dir +
+                  "/voxel_err_vs_exact_err.dat' index " + std::to_string(block++) +
+                  " using 1:2 with points title '" + mode_name + " " + resolution_text(n) + "'";
     }
   }
   core::write_file_atomically(dir + "/samples.csv", samples_csv.str());
@@ -164,19 +172,24 @@ void validate_optimizer(const core::Scene& original, const OptimizerValidationOp
   core::write_file_atomically(dir + "/voxel_err_vs_exact_err.dat", dat.str());
   detail::gnuplot_png(dir + "/voxel_err_vs_exact_err.png",
                       "set title 'Err of random configurations: voxel against exact'\n"
-                      "set xlabel 'exact Err [m^2]'\nset ylabel 'voxel Err [m^2]'\nset grid\nset key top left box opaque\n" +
+                      "set xlabel 'exact Err [m^2]'\nset ylabel 'voxel Err [m^2]'\nset grid\nset "
+                      "key top left box opaque\n" +
                           plot_cmd + ", x with lines dashtype 2 title 'equal'\n",
                       700, 640);
 
   std::ostringstream md;
-  md << "# Optimizer results against the exact pipeline\n\nScene: `" << scene.file << "`\n\nMade by:\n\n    "
-     << options.command << "\n\n## Exact Err of each voxel optimum\n\n"
+  md << "# Optimizer results against the exact pipeline\n\nScene: `" << scene.file
+     << "`\n\nMade by:\n\n    " << options.command << "\n\n## Exact Err of each voxel optimum\n\n"
      << "| run | voxel Err (conservative, " << resolution_text(scene.voxels)
      << ") [m²] | exact Err [m²] | exact − voxel [m²] |\n|---|---|---|---|\n"
      << md_runs.str()
-     << "\nVoxel Err with the scene's own FOV (as the optimizer saw it); exact Err with the inscribed "
-     << scene.cameras.sides << "-sided pyramid.\n\n## Rank agreement over " << sample.size() << " random configurations (seed " << options.seed
-     << ": even ones uniform in the camera domains, odd ones the optima moved by up to ±0.3 m and ±15°; voxel pipeline with the same pyramid FOV)\n\n| mode | resolution | samples | Kendall's τ-b |\n|---|---|---|---|\n"
+     << "\nVoxel Err with the scene's own FOV (as the optimizer saw it); exact Err with the "
+        "inscribed "
+     << scene.cameras.sides << "-sided pyramid.\n\n## Rank agreement over " << sample.size()
+     << " random configurations (seed " << options.seed
+     << ": even ones uniform in the camera domains, odd ones the optima moved by up to ±0.3 m and "
+        "±15°; voxel pipeline with the same pyramid FOV)\n\n| mode | resolution | samples | "
+        "Kendall's τ-b |\n|---|---|---|---|\n"
      << md_rank.str() << "\n![voxel Err vs exact Err](voxel_err_vs_exact_err.png)\n\n"
      << "Data: `runs.csv`, `samples.csv`, `rank_agreement.csv`.\n";
   core::write_file_atomically(dir + "/report.md", md.str());

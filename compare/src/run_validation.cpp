@@ -93,8 +93,8 @@ class SceneCache {
   std::shared_ptr<const voxel::VoxelEvaluator> evaluator(const std::string& path,
                                                          const LoadedScene& scene,
                                                          const voxel::VoxelOptions& options) {
-    const std::string key = path + "|" + core::name_of(options.mode) + "|" +
-                            resolution_text(options.resolution);
+    const std::string key =
+        path + "|" + core::name_of(options.mode) + "|" + resolution_text(options.resolution);
     {
       std::lock_guard<std::mutex> lock(mutex_);
       auto found = evaluators_.find(key);
@@ -244,11 +244,11 @@ std::string csv_text(const std::vector<RunValidation>& rows) {
     auto flag = [&](bool v) { return ok ? std::string(v ? "true" : "false") : std::string(); };
     out << csv_field(r.run) << ',' << csv_field(r.scene) << ',' << r.mode << ','
         << (r.resolution[0] > 0 ? resolution_text(r.resolution) : std::string()) << ','
-        << number(r.voxel_err) << ',' << number(r.voxel_err_same_fov) << ','
-        << number(r.exact_err) << ',' << number(r.tolerance) << ',' << flag(r.reached_voxel)
-        << ',' << flag(r.reached_exact) << ',' << number(r.max_overestimate) << ','
-        << number(r.seconds) << ',' << number(r.err_lower_bound) << ',' << number(r.target)
-        << ',' << csv_field(r.error) << "\n";
+        << number(r.voxel_err) << ',' << number(r.voxel_err_same_fov) << ',' << number(r.exact_err)
+        << ',' << number(r.tolerance) << ',' << flag(r.reached_voxel) << ','
+        << flag(r.reached_exact) << ',' << number(r.max_overestimate) << ',' << number(r.seconds)
+        << ',' << number(r.err_lower_bound) << ',' << number(r.target) << ',' << csv_field(r.error)
+        << "\n";
   }
   return out.str();
 }
@@ -270,8 +270,7 @@ std::string markdown_text(const ValidateOptions& options, const ValidationOutcom
   std::ostringstream md;
   md << "# Exact check of the optimizer results in " << options.dir << "\n\n"
      << "Made by camplace " << build.version << " (commit " << build.commit << ") on "
-     << core::host_name() << ", " << core::now_iso8601() << ":\n\n    " << options.command
-     << "\n\n"
+     << core::host_name() << ", " << core::now_iso8601() << ":\n\n    " << options.command << "\n\n"
      << "Each run's best configuration evaluated by the exact pipeline (CGAL Nef polyhedra, "
         "inscribed "
      << "pyramid FOV) and by the voxel pipeline at the run's mode and resolution with the same "
@@ -306,8 +305,8 @@ std::string markdown_text(const ValidateOptions& options, const ValidationOutcom
     md << "| " << r.run << " | " << r.mode << " | " << resolution_text(r.resolution) << " | "
        << num(r.voxel_err, 5) << " | " << num(r.voxel_err_same_fov, 5) << " | "
        << num(r.exact_err, 5) << " | " << num(r.target, 5) << " | "
-       << (r.reached_voxel ? "yes" : "no") << " / " << (r.reached_exact ? "yes" : "no")
-       << " | " << num(r.max_overestimate, 4) << " |\n";
+       << (r.reached_voxel ? "yes" : "no") << " / " << (r.reached_exact ? "yes" : "no") << " | "
+       << num(r.max_overestimate, 4) << " |\n";
   }
   md << "\nAll values: `validation.csv` (full precision).\n";
   return md.str();

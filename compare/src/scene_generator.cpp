@@ -566,22 +566,23 @@ const SceneFamily& find_family(const std::string& name) {
   }
   std::string names;
   for (const SceneFamily& f : kFamilies) names += (names.empty() ? "" : ", ") + f.name;
-  throw core::OptionError("family", "unknown scene family \"" + name + "\" (expected one of: " + names + ")");
+  throw core::OptionError("family",
+                          "unknown scene family \"" + name + "\" (expected one of: " + names + ")");
 }
 
 void check_param(const SceneFamily& f, std::optional<int> param) {
   const std::string range =
       "[" + std::to_string(f.min_param) + ", " + std::to_string(f.max_param) + "]";
   if (f.has_param && !param) {
-    throw core::OptionError("param", "family " + f.name + " needs a parameter i in " + range +
-                                         " (" + f.what + ")");
+    throw core::OptionError(
+        "param", "family " + f.name + " needs a parameter i in " + range + " (" + f.what + ")");
   }
   if (!f.has_param && param) {
     throw core::OptionError("param", "family " + f.name + " takes no parameter");
   }
   if (param && (*param < f.min_param || *param > f.max_param)) {
-    throw core::OptionError("param", "family " + f.name + " takes i in " + range + " (" + f.what + "), got " +
-                               std::to_string(*param));
+    throw core::OptionError("param", "family " + f.name + " takes i in " + range + " (" + f.what +
+                                         "), got " + std::to_string(*param));
   }
 }
 

@@ -6,8 +6,8 @@
 #include <map>
 #include <sstream>
 
-#include "camplace/core/statistics.hpp"
 #include "camplace/core/files.hpp"
+#include "camplace/core/statistics.hpp"
 #include "format.hpp"
 #include "gnuplot.hpp"
 
@@ -286,8 +286,8 @@ std::string exact_check_section(const std::vector<GroupStats>& groups,
     for (const RunRow& r : rows) reached_checked += r.group == g.group && r.checked && r.reached;
     md << "| " << g.examination << " | " << g.param << " | " << g.checked << " | "
        << reached_checked << " | " << g.reached_exact << " | " << g.false_successes << " | "
-       << g.overestimates << " | " << num(g.median_exact_err, 4) << " | "
-       << num(g.max_exact_err, 4) << " |\n";
+       << g.overestimates << " | " << num(g.median_exact_err, 4) << " | " << num(g.max_exact_err, 4)
+       << " |\n";
   }
   // Log–log scatter of exact against voxel Err, with the line exact = voxel and the targets.
   std::ostringstream dat;
@@ -369,15 +369,15 @@ void write_study_report(const StudySpec& spec, const std::vector<RunRow>& rows,
      << (spec.mode == core::LabelMode::conservative
              ? " or the conservative lower bound of Err, whichever is larger (SPEC §4)"
              : "")
-     << ", or " << spec.max_evaluations << " evaluations, or "
-     << num(spec.time_limit, 0) << " s | tolerance 0.046 m², or 3 h |\n"
+     << ", or " << spec.max_evaluations << " evaluations, or " << num(spec.time_limit, 0)
+     << " s | tolerance 0.046 m², or 3 h |\n"
      << "| solver | pagmo `" << spec.algorithm << "`, " << spec.threads << " threads | MIDACO |\n"
      << "| machine | 2 cores (this project's) | 2.8 GHz Opteron |\n"
      << "| voxel labelling | " << core::name_of(spec.mode) << " | centre of voxel |\n\n"
      << clock_note(rows);
   md << "## Groups\n\n| examination | param | scene | runs | "
      << (spec.mode == core::LabelMode::conservative ? "reached max(tolerance, lower bound)"
-                                     : "reached tolerance")
+                                                    : "reached tolerance")
      << " | median "
         "evaluations | "
         "median Err [m²] |\n|---|---|---|---|---|---|---|\n";

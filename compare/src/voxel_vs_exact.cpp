@@ -29,8 +29,6 @@ constexpr double kDistanceSlack = 1e-9;
 // Faces of the exact model lying on a voxel's boundary are not "inside" it.
 constexpr double kBoundarySlack = 1e-9;
 
-
-
 /// Counts voxels outside the voxel model that hold points of the exact model: a boundary
 /// triangle of the exact model reaching into the voxel's interior (shrunk by 1e-9 m), or the
 /// voxel's centre inside the exact model. 0 means the voxel model contains the exact model.
@@ -43,10 +41,12 @@ int exact_outside_voxel_model(const exact::ExactModel& model, const voxel::Grid&
     const double step = grid.step[axis];
     int a = static_cast<int>(std::floor((lo - grid.area.min[axis]) / step));
     int b = static_cast<int>(std::floor((hi - grid.area.min[axis]) / step));
-    return std::pair<int, int>{std::clamp(a, 0, grid.n[axis] - 1), std::clamp(b, 0, grid.n[axis] - 1)};
+    return std::pair<int, int>{std::clamp(a, 0, grid.n[axis] - 1),
+                               std::clamp(b, 0, grid.n[axis] - 1)};
   };
   for (const auto& t : boundary.triangles) {
-    const Vec3 &a = boundary.vertices[t[0]], &b = boundary.vertices[t[1]], &c = boundary.vertices[t[2]];
+    const Vec3 &a = boundary.vertices[t[0]], &b = boundary.vertices[t[1]],
+               &c = boundary.vertices[t[2]];
     const Vec3 lo = a.cwiseMin(b).cwiseMin(c), hi = a.cwiseMax(b).cwiseMax(c);
     const auto [i0, i1] = index_range(lo.x(), hi.x(), 0);
     const auto [j0, j1] = index_range(lo.y(), hi.y(), 1);
@@ -133,21 +133,23 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
     csv << r.time_step << "," << r.event << "," << num(r.weight) << "," << r.mode << ","
         << resolution_text(r.resolution) << "," << num(r.voxel_diagonal) << "," << num(r.d_true, 9)
         << "," << num(r.d_exact, 9) << "," << num(r.d_voxel, 9) << ","
-        << num(r.d_voxel - r.d_exact, 9) << "," << num(std::abs(r.d_voxel - r.d_exact) / r.voxel_diagonal)
-        << "," << num(r.volume_exact, 9) << "," << num(r.volume_voxel, 9) << "," << r.exact_outside
-        << "," << (r.distance_over_estimated ? "yes" : "no") << "\n";
+        << num(r.d_voxel - r.d_exact, 9) << ","
+        << num(std::abs(r.d_voxel - r.d_exact) / r.voxel_diagonal) << "," << num(r.volume_exact, 9)
+        << "," << num(r.volume_voxel, 9) << "," << r.exact_outside << ","
+        << (r.distance_over_estimated ? "yes" : "no") << "\n";
   }
   core::write_file_atomically(dir + "/compare.csv", csv.str());
   std::ostringstream err_csv;
   err_csv << "pipeline,resolution,err_m2,ms\n";
   for (const auto& e : result.errs) {
-    err_csv << e.pipeline << "," << (e.pipeline == "exact" ? "-" : resolution_text(e.resolution)) << ","
-            << num(e.err, 9) << "," << num(e.ms, 1) << "\n";
+    err_csv << e.pipeline << "," << (e.pipeline == "exact" ? "-" : resolution_text(e.resolution))
+            << "," << num(e.err, 9) << "," << num(e.ms, 1) << "\n";
   }
   core::write_file_atomically(dir + "/err.csv", err_csv.str());
 
   // Plot 1: mean and max |d_voxel − d_exact| against the voxel diagonal, per mode.
-  std::map<std::pair<std::string, double>, std::pair<double, double>> stats;  // (mode, diag) → (sum, max)
+  std::map<std::pair<std::string, double>, std::pair<double, double>>
+      stats;  // (mode, diag) → (sum, max)
   std::map<std::pair<std::string, double>, int> counts;
   for (const auto& r : result.rows) {
     auto& s = stats[{r.mode, r.voxel_diagonal}];
@@ -161,20 +163,25 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
     dat << "# " << mode << ": voxel_diagonal_m mean_abs_error_m max_abs_error_m\n";
     for (const auto& [key, s] : stats) {
       if (key.first != mode) continue;
-      dat << num(key.second) << " " << num(s.first / counts[key], 9) << " " << num(s.second, 9) << "\n";
+      dat << num(key.second) << " " << num(s.first / counts[key], 9) << " " << num(s.second, 9)
+          << "\n";
     }
     dat << "\n\n";
   }
   core::write_file_atomically(dir + "/error_vs_resolution.dat", dat.str());
-  detail::gnuplot_png(dir + "/error_vs_resolution.png",
-                      "set title 'Voxelisation error of d(C, M) against the exact pipeline'\n"
-                      "set xlabel 'voxel diagonal [m]'\nset ylabel '|d_{voxel} - d_{exact}| [m] (log scale; 0 not shown)'\n"
-                      "set key top left box opaque\nset grid\nset logscale y\n"
-                      "plot '" + dir + "/error_vs_resolution.dat' index 0 using 1:2 with linespoints title 'center: mean', "
-                      "'' index 0 using 1:3 with linespoints title 'center: max', "
-                      "'' index 1 using 1:2 with linespoints title 'conservative: mean', "
-                      "'' index 1 using 1:3 with linespoints title 'conservative: max', "
-                      "x with lines dashtype 2 title 'one voxel diagonal'\n");
+  detail::gnuplot_png(
+      dir + "/error_vs_resolution.png",
+      "set title 'Voxelisation error of d(C, M) against the exact pipeline'\n"
+      "set xlabel 'voxel diagonal [m]'\nset ylabel '|d_{voxel} - d_{exact}| [m] (log scale; 0 not "
+      "shown)'\n"
+      "set key top left box opaque\nset grid\nset logscale y\n"
+      "plot '" +
+          dir +
+          "/error_vs_resolution.dat' index 0 using 1:2 with linespoints title 'center: mean', "
+          "'' index 0 using 1:3 with linespoints title 'center: max', "
+          "'' index 1 using 1:2 with linespoints title 'conservative: mean', "
+          "'' index 1 using 1:3 with linespoints title 'conservative: max', "
+          "x with lines dashtype 2 title 'one voxel diagonal'\n");
 
   // Plot 2: d_voxel against d_exact per state, every resolution, both modes.
   std::ostringstream scatter;
@@ -186,14 +193,18 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
     scatter << "\n\n";
   }
   core::write_file_atomically(dir + "/d_voxel_vs_d_exact.dat", scatter.str());
-  detail::gnuplot_png(dir + "/d_voxel_vs_d_exact.png",
-                      "set title 'd(C, M) per state: voxel pipeline against exact'\n"
-                      "set xlabel 'd_{exact} [m]'\nset ylabel 'd_{voxel} [m]'\nset key bottom right box opaque\nset grid\n"
-                      "set size square\n"
-                      "plot '" + dir + "/d_voxel_vs_d_exact.dat' index 0 using 1:2 with points pt 7 title 'center', "
-                      "'' index 1 using 1:2 with points pt 6 ps 1.5 title 'conservative', "
-                      "x with lines dashtype 2 title 'd_{voxel} = d_{exact}'\n",
-                      640, 640);
+  detail::gnuplot_png(
+      dir + "/d_voxel_vs_d_exact.png",
+      "set title 'd(C, M) per state: voxel pipeline against exact'\n"
+      "set xlabel 'd_{exact} [m]'\nset ylabel 'd_{voxel} [m]'\nset key bottom right box "
+      "opaque\nset grid\n"
+      "set size square\n"
+      "plot '" +
+          dir +
+          "/d_voxel_vs_d_exact.dat' index 0 using 1:2 with points pt 7 title 'center', "
+          "'' index 1 using 1:2 with points pt 6 ps 1.5 title 'conservative', "
+          "x with lines dashtype 2 title 'd_{voxel} = d_{exact}'\n",
+      640, 640);
 
   // report.md
   std::ostringstream md;
@@ -203,8 +214,10 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
      << "The exact pipeline (CGAL Nef polyhedra, SPEC §6) is the reference. Both pipelines use the "
      << scene.cameras.sides << "-sided pyramid inscribed in each camera's "
      << scene.cameras.half_angle / core::kDegree
-     << "° cone (SPEC §1: whenever voxel and exact results are compared).\n\n## Checks (SPEC §8)\n\n"
-     << "| mode | rows | exact model outside voxel model | d_voxel > d_exact | violations |\n|---|---|---|---|---|\n";
+     << "° cone (SPEC §1: whenever voxel and exact results are compared).\n\n## Checks (SPEC "
+        "§8)\n\n"
+     << "| mode | rows | exact model outside voxel model | d_voxel > d_exact | violations "
+        "|\n|---|---|---|---|---|\n";
   for (const char* mode : {"conservative", "center"}) {
     int rows = 0, outside = 0, over = 0, bad = 0;
     for (const auto& r : result.rows) {
@@ -214,16 +227,20 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
       over += r.distance_over_estimated;
       bad += r.exact_outside > 0 || r.distance_over_estimated;
     }
-    md << "| " << mode << " | " << rows << " | " << outside << " | " << over << " | " << bad << " |\n";
+    md << "| " << mode << " | " << rows << " | " << outside << " | " << over << " | " << bad
+       << " |\n";
   }
-  md << "\n\"Exact model outside voxel model\" counts rows where some voxel outside the voxel model "
-        "holds exact-model points (a boundary triangle of the exact model reaching more than 1e-9 m "
+  md << "\n\"Exact model outside voxel model\" counts rows where some voxel outside the voxel "
+        "model "
+        "holds exact-model points (a boundary triangle of the exact model reaching more than 1e-9 "
+        "m "
         "into it, or its centre inside the exact model). Center mode is not conservative by design "
         "(SPEC §5); its violations are reported as found.\n\n"
      << "## Err\n\n| pipeline | resolution | Err [m²] |\n|---|---|---|\n";
   for (const auto& e : result.errs) {
-    md << "| " << e.pipeline << " | " << (e.pipeline == "exact" ? "exact" : resolution_text(e.resolution))
-       << " | " << num(e.err) << " |\n";
+    md << "| " << e.pipeline << " | "
+       << (e.pipeline == "exact" ? "exact" : resolution_text(e.resolution)) << " | " << num(e.err)
+       << " |\n";
   }
   md << "\n## Per state\n\n"
      << "| h | l | ω | mode | resolution | diagonal [m] | d_true [m] | d_exact [m] | d_voxel [m] | "
@@ -241,10 +258,12 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
      << "![d_voxel vs d_exact](d_voxel_vs_d_exact.png)\n\n"
      << "Data: `compare.csv` (per state), `err.csv` (Err and time per pipeline); plot data and "
         "gnuplot scripts beside each PNG.\n\n"
-     << "## Timing (varies between runs)\n\n| pipeline | resolution | ms per evaluation |\n|---|---|---|\n";
+     << "## Timing (varies between runs)\n\n| pipeline | resolution | ms per evaluation "
+        "|\n|---|---|---|\n";
   for (const auto& e : result.errs) {
-    md << "| " << e.pipeline << " | " << (e.pipeline == "exact" ? "exact" : resolution_text(e.resolution))
-       << " | " << num(e.ms, 1) << " |\n";
+    md << "| " << e.pipeline << " | "
+       << (e.pipeline == "exact" ? "exact" : resolution_text(e.resolution)) << " | " << num(e.ms, 1)
+       << " |\n";
   }
   core::write_file_atomically(dir + "/report.md", md.str());
 }

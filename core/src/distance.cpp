@@ -1,11 +1,11 @@
 // Exact true distance d(C, O_u) (SPEC §4) with CGAL's exact kernel.
 #include "camplace/core/distance.hpp"
 
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Side_of_triangle_mesh.h>
 #include <CGAL/Surface_mesh.h>
-#include <CGAL/squared_distance_3.h>
 #include <CGAL/intersections.h>
-#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/squared_distance_3.h>
 
 #include <sstream>
 #include <type_traits>
@@ -17,8 +17,8 @@ namespace camplace::core {
 
 namespace {
 using K = internal::Kernel;
-using internal::FT;
 using internal::fraction_string;
+using internal::FT;
 using internal::Point;
 using Triangle = K::Triangle_3;
 
@@ -37,7 +37,8 @@ bool point_inside(const TriangleMesh& mesh, const Vec3& p) {
   std::vector<Point> points;
   for (const Vec3& v : mesh.vertices) points.emplace_back(v.x(), v.y(), v.z());
   std::vector<std::vector<std::size_t>> polygons;
-  for (const auto& t : mesh.triangles) polygons.push_back({std::size_t(t[0]), std::size_t(t[1]), std::size_t(t[2])});
+  for (const auto& t : mesh.triangles)
+    polygons.push_back({std::size_t(t[0]), std::size_t(t[1]), std::size_t(t[2])});
   Mesh sm;
   CGAL::Polygon_mesh_processing::polygon_soup_to_polygon_mesh(points, polygons, sm);
   CGAL::Side_of_triangle_mesh<Mesh, K> side(sm);

@@ -1,8 +1,8 @@
 #include "camplace/core/err.hpp"
 
-#include "camplace/core/evaluation.hpp"
-
 #include <algorithm>
+
+#include "camplace/core/evaluation.hpp"
 
 namespace camplace::core {
 
@@ -30,8 +30,7 @@ double success_target(bool conservative, double tolerance, double err_lower_boun
 }
 
 double default_tolerance(const Box3& area, const std::array<int, 3>& resolution) {
-  const Vec3 step = area.size().cwiseQuotient(
-      Vec3(resolution[0], resolution[1], resolution[2]));
+  const Vec3 step = area.size().cwiseQuotient(Vec3(resolution[0], resolution[1], resolution[2]));
   const double half_diagonal = 0.5 * step.norm();
   return half_diagonal * half_diagonal;
 }

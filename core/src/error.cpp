@@ -13,9 +13,11 @@ std::string compose(const std::string& file, const std::string& entry, const std
 }
 }  // namespace
 
-InputError::InputError(const std::string& file, const std::string& entry,
-                       const std::string& reason)
-    : std::runtime_error(compose(file, entry, reason)), file_(file), entry_(entry), reason_(reason) {}
+InputError::InputError(const std::string& file, const std::string& entry, const std::string& reason)
+    : std::runtime_error(compose(file, entry, reason)),
+      file_(file),
+      entry_(entry),
+      reason_(reason) {}
 
 void assertion_failed(const char* expr, const char* file, int line) {
   std::fprintf(stderr, "camplace: internal check failed: %s (%s:%d)\n", expr, file, line);

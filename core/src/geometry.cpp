@@ -72,8 +72,7 @@ double point_triangle_sq_distance(const Vec3& p, const Vec3& a, const Vec3& b, c
   return (p - (a + ab * v + ac * w)).squaredNorm();
 }
 
-double segment_segment_sq_distance(const Vec3& p0, const Vec3& p1, const Vec3& q0,
-                                   const Vec3& q1) {
+double segment_segment_sq_distance(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1) {
   // Ericson 5.1.9, with the degenerate cases handled.
   const Vec3 d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
   const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);

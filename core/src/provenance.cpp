@@ -72,7 +72,8 @@ Provenance make_provenance(const Scene& scene) {
 
 nlohmann::ordered_json provenance_json(const Provenance& p) {
   nlohmann::ordered_json meshes = nlohmann::ordered_json::array();
-  for (const auto& [path, hash] : p.scene.meshes) meshes.push_back({{"path", path}, {"sha256", hash}});
+  for (const auto& [path, hash] : p.scene.meshes)
+    meshes.push_back({{"path", path}, {"sha256", hash}});
   return {{"camplace_version", p.build.version},
           {"commit", p.build.commit},
           {"scene", p.scene_file},

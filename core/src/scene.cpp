@@ -177,7 +177,8 @@ class SceneParser {
       const JsonNode f = node.at("fov");
       const std::string fov = f.string();
       const auto parsed = from_name<FovShape>(fov);
-      if (!parsed) f.fail("unknown fov \"" + fov + "\" (expected " + names_listed<FovShape>() + ")");
+      if (!parsed)
+        f.fail("unknown fov \"" + fov + "\" (expected " + names_listed<FovShape>() + ")");
       c.fov = *parsed;
     }
     if (node.has("sides")) c.sides = node.at("sides").integer_in(3, 1024);
@@ -383,8 +384,8 @@ std::string resolution_problem(const std::array<int, 3>& n) {
   }
   const long long total = static_cast<long long>(n[0]) * n[1] * n[2];
   if (total > kMaxVoxels) {
-    return "too many voxels (" + std::to_string(total) + "; at most " +
-           std::to_string(kMaxVoxels) + ")";
+    return "too many voxels (" + std::to_string(total) + "; at most " + std::to_string(kMaxVoxels) +
+           ")";
   }
   return "";
 }

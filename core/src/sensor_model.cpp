@@ -27,7 +27,8 @@ std::vector<StateObject> state_objects(const Scene& scene, const StateIndex& sta
   const TimeStep& step = scene.time_steps.at(state.time_step);
   std::vector<StateObject> out;
   auto add = [&](const std::vector<SceneObject>& objects, ObjectKind kind) {
-    for (const SceneObject& o : objects) out.push_back({&o, kind, role_of(kind, scene.dynamic_mode)});
+    for (const SceneObject& o : objects)
+      out.push_back({&o, kind, role_of(kind, scene.dynamic_mode)});
   };
   add(scene.static_obstacles, ObjectKind::static_obstacle);
   add(step.dynamic_obstacles, ObjectKind::dynamic_obstacle);

@@ -10,10 +10,10 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "camplace/core/statistics.hpp"
 #include "camplace/core/camera.hpp"
 #include "camplace/core/error.hpp"
 #include "camplace/core/json_reader.hpp"
+#include "camplace/core/statistics.hpp"
 
 namespace camplace::optimize {
 namespace {

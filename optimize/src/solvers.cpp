@@ -101,8 +101,8 @@ Solver make_solver(const std::string& name, unsigned seed, int population, std::
   const unsigned pop =
       population > 0 ? static_cast<unsigned>(population) : default_population(name, dimension);
   if (pop < entry->min_population) {
-    throw core::OptionError(
-        "population", name + " needs a population of at least " + std::to_string(entry->min_population));
+    throw core::OptionError("population", name + " needs a population of at least " +
+                                              std::to_string(entry->min_population));
   }
 
   Solver solver;

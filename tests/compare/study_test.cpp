@@ -2,8 +2,9 @@
 // resumes without repeating or losing runs; paths are names, never shell text; a run file the
 // study cannot read is an error naming it. Also compare::run_study with launchers standing in
 // for `camplace optimize`.
-#include <gtest/gtest.h>
+#include "camplace/compare/study.hpp"
 
+#include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -19,7 +20,6 @@
 #include <thread>
 #include <vector>
 
-#include "camplace/compare/study.hpp"
 #include "camplace/core/error.hpp"
 #include "camplace/optimize/report.hpp"
 #include "command.hpp"
@@ -37,12 +37,15 @@ std::string read(const std::string& path) {
   return s.str();
 }
 
-int count_lines(const std::string& text) { return static_cast<int>(std::count(text.begin(), text.end(), '\n')); }
+int count_lines(const std::string& text) {
+  return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
+}
 
 std::string study_json(int max_evaluations) {
   return R"({"description": "test study", "algorithm": "gaco", "mode": "conservative",
     "runs_per_group": 2, "threads": 1, "first_seed": 1, "scene_seed": 1,
-    "time_limit_s": 120, "max_evaluations": )" + std::to_string(max_evaluations) + R"(,
+    "time_limit_s": 120, "max_evaluations": )" +
+         std::to_string(max_evaluations) + R"(,
     "examinations": [{"name": "cameras", "family": "cameras", "params": [3, 4]},
                      {"name": "ceiling", "family": "domain_ceiling"}]})";
 }
@@ -153,7 +156,8 @@ TEST(Study, FinishesRerunsIdenticallyAndRedoesOnlyMissingRuns) {
   // With an evaluation budget the rows are the same apart from timing, and the report too.
   EXPECT_EQ(without_timing(read_csv(dir + "/out/runs.csv")), without_timing(rows));
   const std::string report2 = read(dir + "/out/report.md");
-  EXPECT_EQ(report2.substr(0, report2.find("## Time and memory")), report.substr(0, report.find("## Time and memory")));
+  EXPECT_EQ(report2.substr(0, report2.find("## Time and memory")),
+            report.substr(0, report.find("## Time and memory")));
 }
 
 TEST(Study, InterruptedStudyResumesWithoutRepeatingOrLosingRuns) {
@@ -166,7 +170,8 @@ TEST(Study, InterruptedStudyResumesWithoutRepeatingOrLosingRuns) {
   if (pid == 0) {
     setpgid(0, 0);
     const std::string out = dir + "/out";
-    execl(CAMPLACE_BINARY, CAMPLACE_BINARY, "study", study.c_str(), "--out", out.c_str(), static_cast<char*>(nullptr));
+    execl(CAMPLACE_BINARY, CAMPLACE_BINARY, "study", study.c_str(), "--out", out.c_str(),
+          static_cast<char*>(nullptr));
     _exit(127);
   }
   setpgid(pid, pid);
@@ -183,13 +188,16 @@ TEST(Study, InterruptedStudyResumesWithoutRepeatingOrLosingRuns) {
   // Finished runs before the interrupt.
   int finished_before = 0;
   for (const auto& e : fs::recursive_directory_iterator(dir + "/out/runs")) {
-    if (e.path().filename().string().rfind("run-", 0) == 0 && read(e.path().string()).find("\"interrupted\"") == std::string::npos) {
+    if (e.path().filename().string().rfind("run-", 0) == 0 &&
+        read(e.path().string()).find("\"interrupted\"") == std::string::npos) {
       ++finished_before;
     }
   }
   ASSERT_GE(finished_before, 1);
-  ASSERT_LT(finished_before, 6) << "the study finished before the interrupt; the test proves nothing";
-  const CommandResult resumed = run_camplace(CAMPLACE_BINARY, "study " + study + " --out " + dir + "/out");
+  ASSERT_LT(finished_before, 6)
+      << "the study finished before the interrupt; the test proves nothing";
+  const CommandResult resumed =
+      run_camplace(CAMPLACE_BINARY, "study " + study + " --out " + dir + "/out");
   ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
   EXPECT_NE(resumed.output.find("runs: 6 (" + std::to_string(finished_before) + " found, " +
                                 std::to_string(6 - finished_before) + " run now)"),

@@ -101,9 +101,8 @@ TEST(Validate, ExactErrEqualsEvaluateOnTheRunFileAndRerunsComeFromTheCache) {
     // The voxel Err as the run recorded it.
     EXPECT_EQ(std::stod(row.at("voxel_err")), run_file.at("err").get<double>());
     // The exact Err and the same-FOV voxel results, through `camplace evaluate` on the file.
-    const CommandResult both =
-        camplace("evaluate " + dir + "/cell.json --cameras " + run +
-                 " --pipeline both --mode center --resolution 8x6x6 --json");
+    const CommandResult both = camplace("evaluate " + dir + "/cell.json --cameras " + run +
+                                        " --pipeline both --mode center --resolution 8x6x6 --json");
     ASSERT_EQ(both.exit_code, 0) << both.output;
     const nlohmann::json j = nlohmann::json::parse(both.output);
     EXPECT_EQ(std::stod(row.at("exact_err")), j.at("exact").at("err").get<double>());
@@ -163,8 +162,9 @@ TEST(Validate, BadFoldersAndFilesAreErrorsThatKeepTheOtherRuns) {
   fs::remove(dir + "/cell.json");
   r = camplace("validate " + out);
   EXPECT_EQ(r.exit_code, 1) << r.output;
-  EXPECT_NE(r.output.find("/context/scene: the scene file \"" + dir + "/cell.json\" does not exist"),
-            std::string::npos)
+  EXPECT_NE(
+      r.output.find("/context/scene: the scene file \"" + dir + "/cell.json\" does not exist"),
+      std::string::npos)
       << r.output;
 }
 
@@ -187,8 +187,8 @@ TEST(Validate, StudyFoldersAndCtrlCMidwayResume) {
     dup2(pipe_fd[1], STDOUT_FILENO);
     close(pipe_fd[0]);
     close(pipe_fd[1]);
-    execl(CAMPLACE_BINARY, CAMPLACE_BINARY, "validate", out.c_str(), "--threads", "1",
-          "--progress", static_cast<char*>(nullptr));
+    execl(CAMPLACE_BINARY, CAMPLACE_BINARY, "validate", out.c_str(), "--threads", "1", "--progress",
+          static_cast<char*>(nullptr));
     _exit(127);
   }
   close(pipe_fd[1]);
@@ -209,8 +209,7 @@ TEST(Validate, StudyFoldersAndCtrlCMidwayResume) {
   ASSERT_TRUE(sent) << seen;
   ASSERT_TRUE(WIFEXITED(status)) << seen;
   EXPECT_EQ(WEXITSTATUS(status), 1) << seen;
-  EXPECT_NE(seen.find("validate interrupted; rerun the same command to resume"),
-            std::string::npos)
+  EXPECT_NE(seen.find("validate interrupted; rerun the same command to resume"), std::string::npos)
       << seen;
   const auto partial = read_csv(out + "/validation.csv");
   EXPECT_GE(partial.size(), 1u);
@@ -218,8 +217,7 @@ TEST(Validate, StudyFoldersAndCtrlCMidwayResume) {
 
   r = camplace("validate " + out);
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("checked 3 runs (" + std::to_string(partial.size()) +
-                          " from the cache)"),
+  EXPECT_NE(r.output.find("checked 3 runs (" + std::to_string(partial.size()) + " from the cache)"),
             std::string::npos)
       << r.output;
   const auto rows = read_csv(out + "/validation.csv");

@@ -196,9 +196,8 @@ TEST(MeshValidation, HollowSolidWithAnInwardInnerShellLoads) {
 TEST(MeshValidation, UnusedVerticesAreDroppedNotPartOfTheSolid) {
   // A fifth vertex far outside S that no triangle uses (CGAL's volume test crashed on it).
   const core::Scene s = core::load_scene(scene_with(
-      temp_dir("unused"),
-      inline_mesh({{1, 1, 1}, {100, 100, 100}, {2, 1, 1}, {1, 2, 1}, {1, 1, 2}},
-                  {{0, 3, 2}, {0, 2, 4}, {0, 4, 3}, {2, 3, 4}})));
+      temp_dir("unused"), inline_mesh({{1, 1, 1}, {100, 100, 100}, {2, 1, 1}, {1, 2, 1}, {1, 1, 2}},
+                                      {{0, 3, 2}, {0, 2, 4}, {0, 4, 3}, {2, 3, 4}})));
   const core::TriangleMesh& m = s.static_obstacles[0].mesh;
   ASSERT_EQ(m.vertices.size(), 4u);
   for (const auto& v : m.vertices) EXPECT_LE(v.maxCoeff(), 2.0);

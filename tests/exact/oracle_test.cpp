@@ -38,12 +38,13 @@ Agreement compare_with_oracle(const core::Scene& scene, const core::CameraConfig
     EXPECT_LE(eval.states[s].d_model, eval.states[s].d_true + 1e-12) << "state " << s;
     const auto& step = scene.time_steps[states[s].time_step];
     for (int i = 0; i < samples; ++i) {
-      const Vec3 p = scene.area.min + Vec3(unit(rng), unit(rng), unit(rng))
-                                          .cwiseProduct(scene.area.max - scene.area.min);
+      const Vec3 p =
+          scene.area.min +
+          Vec3(unit(rng), unit(rng), unit(rng)).cwiseProduct(scene.area.max - scene.area.min);
       bool ambiguous = false, non_free = true;
       for (const auto& cam : config) {
-        const auto label = testing::reference_label(scene, states[s].time_step, states[s].event,
-                                                    cam, p, 1e-6);
+        const auto label =
+            testing::reference_label(scene, states[s].time_step, states[s].event, cam, p, 1e-6);
         ambiguous |= label.ambiguous;
         if (label.label == voxel::Label::free) non_free = false;
       }
@@ -103,9 +104,9 @@ core::SceneObject l_prism(const std::string& name, const Vec3& lo, double s, dou
 
 TEST(ExactOracle, NonConvexObjectsAgreeWithTheBruteForceSensorModel) {
   const core::Box3 area{Vec3(0, 0, 0), Vec3(4, 3, 3)};
-  auto scene = testing::simple_scene(area, {8, 6, 6}, 3, 30.0,
-                                     {testing::box_object("c", Vec3(3.5, 0.2, 0), Vec3(3.8, 0.5, 1))},
-                                     {l_prism("person", Vec3(1.8, 1.2, 0), 0.3, 1.7)});
+  auto scene = testing::simple_scene(
+      area, {8, 6, 6}, 3, 30.0, {testing::box_object("c", Vec3(3.5, 0.2, 0), Vec3(3.8, 0.5, 1))},
+      {l_prism("person", Vec3(1.8, 1.2, 0), 0.3, 1.7)});
   scene.cameras.fov = core::FovShape::pyramid;
   scene.cameras.sides = 7;
   ASSERT_GT(core::signed_volume(scene.time_steps[0].events[0].targets[0].mesh), 0.0);
@@ -133,7 +134,6 @@ TEST(ExactOracle, PaperBasicAgreesWithTheBruteForceSensorModel) {
   const auto a = compare_with_oracle(scene, config, 500, rng);
   EXPECT_GT(a.inside, 0);
   EXPECT_EQ(a.mismatches, 0);
-
 }
 
 // Regression: an unlimited pyramid of half angle α ≥ 60° was cut at axial distance t·cos α with
@@ -162,8 +162,7 @@ TEST(ExactModel, CamerasOnTheBoundaryOfTheArea) {
   using testing::box_object;
   const core::Box3 area{Vec3(0, 0, 0), Vec3(2, 2, 2)};
   auto scene = testing::simple_scene(
-      area, {4, 4, 4}, 2, 35.0, {},
-      {box_object("person", Vec3(0.3, 0.3, 0), Vec3(0.7, 0.6, 1.6))});
+      area, {4, 4, 4}, 2, 35.0, {}, {box_object("person", Vec3(0.3, 0.3, 0), Vec3(0.7, 0.6, 1.6))});
   scene.cameras.fov = core::FovShape::pyramid;
   scene.cameras.sides = 4;
   scene.dynamic_mode = core::DynamicMode::modelled;

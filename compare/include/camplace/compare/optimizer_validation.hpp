@@ -15,7 +15,7 @@ struct OptimizerValidationOptions {
   int samples = 12;      ///< random configurations for the rank agreement
   unsigned seed = 1;     ///< seeds the sample
   std::vector<std::array<int, 3>> resolutions;  ///< empty = the scene's
-  std::string command;   ///< quoted in the report
+  std::string command;                          ///< quoted in the report
 };
 
 /// Kendall's τ-b of two equally long samples (ties handled); NaN when undefined (one sample

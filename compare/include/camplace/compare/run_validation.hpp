@@ -45,7 +45,7 @@ struct ValidationProgress {
 struct ValidateOptions {
   std::string dir;      ///< an `optimize` or `study` output folder
   std::string command;  ///< the command line, quoted in the report
-  int threads = 0;  ///< runs checked in parallel; 0 = all cores
+  int threads = 0;      ///< runs checked in parallel; 0 = all cores
   std::function<void(const ValidationProgress&)> on_progress;
   const std::atomic<bool>* interrupt = nullptr;  ///< set (e.g. by Ctrl-C): stop after the runs
                                                  ///< under way; the finished ones are kept

@@ -11,9 +11,9 @@ struct StateResult {
   int time_step = 0;
   int event = 0;
   double weight = 0.0;
-  double d_true = 0.0;        ///< d(C_h, O_u(a_lh))
-  double d_model = 0.0;       ///< d(C_h, M); empty_model_distance() when M is empty (SPEC §4)
-  double model_volume = 0.0;  ///< after the plausibility filter
+  double d_true = 0.0;         ///< d(C_h, O_u(a_lh))
+  double d_model = 0.0;        ///< d(C_h, M); empty_model_distance() when M is empty (SPEC §4)
+  double model_volume = 0.0;   ///< after the plausibility filter
   int components = 0;          ///< components kept by the plausibility filter
   int components_removed = 0;  ///< components the filter discarded
   /// Exact pipeline only: d_true² and d_model² as exact fractions "p/q" (empty otherwise).

@@ -29,9 +29,9 @@ struct ExactOptions {
 
 /// One connected component of a model (connected through interiors), before the filter.
 struct ExactComponent {
-  double volume = 0.0;  ///< m³ (exact value rounded)
+  double volume = 0.0;              ///< m³ (exact value rounded)
   double z_min = 0.0, z_max = 0.0;  ///< m
-  bool kept = true;  ///< survived the plausibility filter
+  bool kept = true;                 ///< survived the plausibility filter
 };
 
 /// The exact model M of one state after the plausibility filter (SPEC §4). Cheap to copy

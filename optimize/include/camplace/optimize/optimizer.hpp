@@ -96,7 +96,7 @@ struct RunResult {
   std::uint64_t restarts = 0;             ///< solver restarts after it stopped evaluating
   double seconds = 0.0;                   ///< wall clock of the run
   std::vector<HistoryPoint> history;      ///< one point per improvement of the best Err
-  core::Timing mean_timing;              ///< mean per evaluation (ms), summed over threads
+  core::Timing mean_timing;               ///< mean per evaluation (ms), summed over threads
   double wall_ms_per_evaluation = 0.0;    ///< seconds · 1000 / evaluations
   MemoryUsage memory;                     ///< at the end of the run
 };
