@@ -732,7 +732,8 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
             // the same camera (the order does not change the result).
             const std::size_t n_cam = cameras.size(), first_cam = hint;
             for (std::size_t step = 0; step < n_cam && pending; ++step) {
-              const std::size_t c = (first_cam + step) % n_cam;
+              const std::size_t c =
+                  first_cam + step < n_cam ? first_cam + step : first_cam + step - n_cam;
               const StateMask interest = pending & seeing[c];
               if (!interest || i < row_lo[c] || i > row_hi[c]) continue;
               const CameraSetup& cam = cameras[c];
