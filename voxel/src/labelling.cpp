@@ -757,21 +757,20 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
   }
 }
 
-std::vector<std::vector<std::uint8_t>> VoxelEvaluator::Impl::all_raw_models(
-    const core::CameraConfig& config) const {
+void VoxelEvaluator::Impl::all_raw_models(const core::CameraConfig& config,
+                                          std::vector<std::vector<std::uint8_t>>& models) const {
   core::check_configuration(scene, config);
   std::vector<CameraSetup> cameras;
   cameras.reserve(config.size());
   for (const auto& camera : config) cameras.push_back(camera_setup(camera));
-  std::vector<std::vector<std::uint8_t>> models(states.size(),
-                                                std::vector<std::uint8_t>(grid.count()));
+  models.resize(states.size());
+  for (auto& model : models) model.resize(grid.count());  // every byte is written below
   // Slices of a few z-layers each, shared out among the threads (results do not depend on it).
   const int nz = grid.n[2];
   const int slices = options.threads <= 1 ? 1 : std::min(nz, 4 * options.threads);
   detail::parallel_for(slices, options.threads, [&](int s) {
     raw_models(cameras, nz * s / slices, nz * (s + 1) / slices, models);
   });
-  return models;
 }
 
 std::vector<Label> VoxelEvaluator::Impl::labels(const CameraSetup& cam, int state) const {
