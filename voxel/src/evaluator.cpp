@@ -47,7 +47,11 @@ Evaluation VoxelEvaluator::evaluate(const core::CameraConfig& config) const {
   const int state_count = static_cast<int>(m.states.size());
   Evaluation result;
   auto t0 = Clock::now();
-  std::vector<std::vector<std::uint8_t>> models = m.all_raw_models(config);
+  // Per calling thread, reused: the optimizer evaluates thousands of configurations per
+  // thread. (A reference, so that the worker threads below see this thread's buffers.)
+  thread_local std::vector<std::vector<std::uint8_t>> buffers;
+  std::vector<std::vector<std::uint8_t>>& models = buffers;
+  m.all_raw_models(config, models);
   result.timing.labelling_ms = ms_since(t0);
   std::vector<ComponentCount> filtered(state_count);
   t0 = Clock::now();
@@ -90,7 +94,9 @@ std::vector<Label> VoxelEvaluator::labels(const core::CameraSetting& camera, int
 std::vector<std::uint8_t> VoxelEvaluator::model(const core::CameraConfig& config, int state) const {
   const Impl& m = *impl_;
   m.states.at(state);
-  std::vector<std::uint8_t> out = std::move(m.all_raw_models(config)[state]);
+  std::vector<std::vector<std::uint8_t>> models;
+  m.all_raw_models(config, models);
+  std::vector<std::uint8_t> out = std::move(models[state]);
   filter_components(out, m.grid, m.scene.plausibility);
   return out;
 }

@@ -202,8 +202,10 @@ struct VoxelEvaluator::Impl {
   /// interiors), for voxel slices k ∈ [k_begin, k_end); `models[s]` holds grid.count() bytes.
   void raw_models(const std::vector<detail::CameraSetup>& cameras, int k_begin, int k_end,
                   std::vector<std::vector<std::uint8_t>>& models) const;
-  /// The unfiltered models of all states for a configuration (checked against the scene).
-  std::vector<std::vector<std::uint8_t>> all_raw_models(const core::CameraConfig& config) const;
+  /// The unfiltered models of all states for a configuration (checked against the scene), into
+  /// `models` (resized; its memory is reused from call to call).
+  void all_raw_models(const core::CameraConfig& config,
+                      std::vector<std::vector<std::uint8_t>>& models) const;
   /// κ of every voxel for one camera in one state.
   std::vector<Label> labels(const detail::CameraSetup& camera, int state) const;
 

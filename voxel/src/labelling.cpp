@@ -714,6 +714,7 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
     std::vector<int> in_lo(cameras.size()), in_hi(cameras.size());
     std::uint8_t* out[detail::kChunk];
     for (int s = 0; s < count; ++s) out[s] = models[first + s].data();
+    std::size_t hint = 0;
     for (int k = k_begin; k < k_end; ++k) {
       for (int j = 0; j < ny; ++j) {
         for (std::size_t c = 0; c < cameras.size(); ++c) {
@@ -727,7 +728,12 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
           }
           if (pending) {
             const Vec3 center(box_center[0][i], box_center[1][j], box_center[2][k]);
-            for (std::size_t c = 0; c < cameras.size() && pending; ++c) {
+            // Cameras from the one that last freed a voxel on: neighbours tend to be seen by
+            // the same camera (the order does not change the result).
+            const std::size_t n_cam = cameras.size(), first_cam = hint;
+            for (std::size_t step = 0; step < n_cam && pending; ++step) {
+              const std::size_t c =
+                  first_cam + step < n_cam ? first_cam + step : first_cam + step - n_cam;
               const StateMask interest = pending & seeing[c];
               if (!interest || i < row_lo[c] || i > row_hi[c]) continue;
               const CameraSetup& cam = cameras[c];
@@ -739,7 +745,9 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
               }
               Verdict verdict;
               judge(cam, w, d, interest, object_states, scratch, verdict, true);
-              pending &= ~(interest & ~(verdict.occupied | verdict.blocked));
+              const StateMask freed = interest & ~(verdict.occupied | verdict.blocked);
+              if (freed) hint = c;
+              pending &= ~freed;
             }
           }
           for (int s = 0; s < count; ++s) out[s][v] = (pending >> s) & 1;
@@ -749,21 +757,20 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
   }
 }
 
-std::vector<std::vector<std::uint8_t>> VoxelEvaluator::Impl::all_raw_models(
-    const core::CameraConfig& config) const {
+void VoxelEvaluator::Impl::all_raw_models(const core::CameraConfig& config,
+                                          std::vector<std::vector<std::uint8_t>>& models) const {
   core::check_configuration(scene, config);
   std::vector<CameraSetup> cameras;
   cameras.reserve(config.size());
   for (const auto& camera : config) cameras.push_back(camera_setup(camera));
-  std::vector<std::vector<std::uint8_t>> models(states.size(),
-                                                std::vector<std::uint8_t>(grid.count()));
+  models.resize(states.size());
+  for (auto& model : models) model.resize(grid.count());  // every byte is written below
   // Slices of a few z-layers each, shared out among the threads (results do not depend on it).
   const int nz = grid.n[2];
   const int slices = options.threads <= 1 ? 1 : std::min(nz, 4 * options.threads);
   detail::parallel_for(slices, options.threads, [&](int s) {
     raw_models(cameras, nz * s / slices, nz * (s + 1) / slices, models);
   });
-  return models;
 }
 
 std::vector<Label> VoxelEvaluator::Impl::labels(const CameraSetup& cam, int state) const {
