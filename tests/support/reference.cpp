@@ -48,7 +48,8 @@ bool reference_inside(const core::TriangleMesh& mesh, const Vec3& p) {
   const Vec3 dir = Vec3(0.5773, 0.5774, 0.5775).normalized();
   int crossings = 0;
   for (const auto& t : mesh.triangles) {
-    if (ray_hits(p, dir, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]).t > 0) ++crossings;
+    if (ray_hits(p, dir, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]).t > 0)
+      ++crossings;
   }
   return crossings % 2 == 1;
 }
@@ -100,8 +101,8 @@ ReferenceLabel reference_label(const core::Scene& scene, int time_step, int even
       const double a0 = 2 * kPi * j / k, a1 = 2 * kPi * (j + 1) / k;
       const double x0 = r * std::cos(a0), y0 = r * std::sin(a0);
       const double x1 = r * std::cos(a1), y1 = r * std::sin(a1);
-      const double side = ((x1 - x0) * (y - y0) - (y1 - y0) * (x - x0)) /
-                          std::hypot(x1 - x0, y1 - y0);
+      const double side =
+          ((x1 - x0) * (y - y0) - (y1 - y0) * (x - x0)) / std::hypot(x1 - x0, y1 - y0);
       if (std::abs(side) * axial < margin) out.ambiguous = true;
       if (side < 0) return out;
     }
@@ -112,7 +113,8 @@ ReferenceLabel reference_label(const core::Scene& scene, int time_step, int even
   bool occupying = false;
   for (const Object& o : objects) {
     for (const auto& t : o.mesh->triangles) {
-      const Hit h = ray_hits(c, u, o.mesh->vertices[t[0]], o.mesh->vertices[t[1]], o.mesh->vertices[t[2]]);
+      const Hit h =
+          ray_hits(c, u, o.mesh->vertices[t[0]], o.mesh->vertices[t[1]], o.mesh->vertices[t[2]]);
       if (h.edge_gap < margin) out.ambiguous = true;
       if (h.t > 0 && h.t < first) {
         if (std::abs(h.t - first) < margin && occupying != o.occupying) out.ambiguous = true;

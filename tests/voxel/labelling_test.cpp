@@ -47,12 +47,15 @@ TEST(Labelling, ConservativeFreeOnlyWhenAllCornersInCone) {
 
 TEST(Labelling, BoxTargetCastsSilhouetteCone) {
   // Target [2.5,3]×[1.75,2.25]: rays with slope ≤ 0.25/2.5 = 0.1 meet its front face.
-  const auto labels = center_labels(planar_scene({box_object("target", {2.5, 1.75, 0}, {3, 2.25, 0.25})}));
+  const auto labels =
+      center_labels(planar_scene({box_object("target", {2.5, 1.75, 0}, {3, 2.25, 0.25})}));
   int occupied = 0;
   for (int j = 0; j < 16; ++j) {
     for (int i = 0; i < 16; ++i) {
       const double s = slope(i, j);
-      const Label expected = s <= 0.1 ? Label::occupied : s <= kTan30 ? Label::free : Label::undetectable;
+      const Label expected = s <= 0.1      ? Label::occupied
+                             : s <= kTan30 ? Label::free
+                                           : Label::undetectable;
       EXPECT_EQ(labels[i + 16 * j], expected) << "voxel " << i << "," << j;
       occupied += expected == Label::occupied;
     }
@@ -127,7 +130,8 @@ TEST(Labelling, ConservativeSeparatesBoxesFromThinTriangleCones) {
 
 TEST(Labelling, MaskedDynamicObstacleOccupiesModelledOneOccludes) {
   core::Scene scene = planar_scene();
-  scene.time_steps[0].dynamic_obstacles.push_back(box_object("robot", {2.5, 1.75, 0}, {3, 2.25, 0.25}));
+  scene.time_steps[0].dynamic_obstacles.push_back(
+      box_object("robot", {2.5, 1.75, 0}, {3, 2.25, 0.25}));
   scene.dynamic_mode = core::DynamicMode::masked;
   const auto masked = center_labels(scene);
   scene.dynamic_mode = core::DynamicMode::modelled;
@@ -169,7 +173,8 @@ TEST(Labelling, InscribedTriangularPyramidIsNarrowerThanCone) {
     for (int i = 0; i < 16; ++i) {
       const double s = slope(i, j);
       if (near(s, 1.0 / 3.0)) continue;
-      EXPECT_EQ(pyramid[i + 16 * j], s < 1.0 / 3.0 ? Label::free : Label::undetectable) << i << "," << j;
+      EXPECT_EQ(pyramid[i + 16 * j], s < 1.0 / 3.0 ? Label::free : Label::undetectable)
+          << i << "," << j;
       if (pyramid[i + 16 * j] == Label::free) {
         EXPECT_EQ(cone[i + 16 * j], Label::free);
       }
@@ -185,7 +190,8 @@ TEST(Labelling, RangeCutsTheFovAtAxialDepth) {
   const auto labels = center_labels(scene);
   for (int j = 0; j < 16; ++j) {
     for (int i = 0; i < 16; ++i) {
-      const Label expected = slope(i, j) <= kTan30 && cx(i) <= 2.0 ? Label::free : Label::undetectable;
+      const Label expected =
+          slope(i, j) <= kTan30 && cx(i) <= 2.0 ? Label::free : Label::undetectable;
       EXPECT_EQ(labels[i + 16 * j], expected) << i << "," << j;
     }
   }

@@ -50,7 +50,7 @@ TEST(Model, BoxTargetSilhouetteDistanceByHand) {
   // Nearest model voxel: silhouette voxel centre (1.375, 2.125): dx = 0.275, dy = 0.025.
   EXPECT_NEAR(e.states[0].d_model, std::hypot(0.275, 0.025), 1e-12);
   EXPECT_NEAR(e.states[0].d_true, 1.4, 1e-12);  // gap between x = 1.1 and x = 2.5
-  EXPECT_EQ(e.states[0].components, 2);  // silhouette and the joined wedges
+  EXPECT_EQ(e.states[0].components, 2);         // silhouette and the joined wedges
   EXPECT_NEAR(e.err, std::pow(1.4 - std::hypot(0.275, 0.025), 2), 1e-12);
 }
 
@@ -106,11 +106,13 @@ TEST(Model, ObstacleInteriorIsRemoved) {
   // so the model is everything but the pillar, in both modes.
   scene.static_obstacles.push_back(box_object("pillar", {0.25, 1.75, 0}, {0.75, 2.25, 0.25}));
   for (LabelMode mode : {LabelMode::center, LabelMode::conservative}) {
-    const auto e = voxel::VoxelEvaluator(scene, {mode, {0, 0, 0}}).evaluate({camera_at({0.5, 2, 0.125}, 0, 0)});
+    const auto e = voxel::VoxelEvaluator(scene, {mode, {0, 0, 0}})
+                       .evaluate({camera_at({0.5, 2, 0.125}, 0, 0)});
     EXPECT_NEAR(e.states[0].model_volume, (256 - 4) * kVoxelVolume, 1e-12);
     // Nearest model voxel (1.125, 1.875): its centre is 0.025 m off the critical box in x and y;
     // its box overlaps it.
-    EXPECT_NEAR(e.states[0].d_model, mode == LabelMode::center ? std::hypot(0.025, 0.025) : 0.0, 1e-12);
+    EXPECT_NEAR(e.states[0].d_model, mode == LabelMode::center ? std::hypot(0.025, 0.025) : 0.0,
+                1e-12);
   }
 }
 
@@ -137,10 +139,12 @@ TEST(Model, ConservativeErrLowerBoundByHandAndNeverBeaten) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(0, 1);
   for (int i = 0; i < 200; ++i) {
-    const auto camera = camera_at({4 * u(rng), 4 * u(rng), 0.25 * u(rng)}, -180 + 360 * u(rng), -10 + 20 * u(rng));
+    const auto camera =
+        camera_at({4 * u(rng), 4 * u(rng), 0.25 * u(rng)}, -180 + 360 * u(rng), -10 + 20 * u(rng));
     EXPECT_GE(evaluator.err({camera}), evaluator.err_lower_bound() - 1e-12);
   }
-  EXPECT_EQ(voxel::VoxelEvaluator(scene, {voxel::LabelMode::center, {0, 0, 0}}).err_lower_bound(), 0.0);
+  EXPECT_EQ(voxel::VoxelEvaluator(scene, {voxel::LabelMode::center, {0, 0, 0}}).err_lower_bound(),
+            0.0);
 }
 
 }  // namespace

@@ -26,8 +26,9 @@ TEST(Oracle, CenterLabelsEqualReferenceAtVoxelCentres) {
       for (const auto& camera : config) {
         const auto labels = evaluator.labels(camera, static_cast<int>(st));
         for (int v = 0; v < evaluator.grid().count(); ++v) {
-          const ReferenceLabel ref = reference_label(scene, all_states[st].time_step, all_states[st].event,
-                                                     camera, evaluator.grid().voxel_center(v));
+          const ReferenceLabel ref =
+              reference_label(scene, all_states[st].time_step, all_states[st].event, camera,
+                              evaluator.grid().voxel_center(v));
           if (ref.ambiguous) {
             ++ties;
             continue;
@@ -60,13 +61,16 @@ TEST(Oracle, ConservativeFreeVoxelsAreFreeAtSampledPoints) {
           // The 27 points of a 3×3×3 lattice (corners, edge and face centres) and 8 random ones.
           std::vector<core::Vec3> points;
           for (int a = 0; a < 27; ++a) {
-            points.push_back(box.min + box.size().cwiseProduct(core::Vec3(a % 3, (a / 3) % 3, a / 9) / 2.0));
+            points.push_back(box.min +
+                             box.size().cwiseProduct(core::Vec3(a % 3, (a / 3) % 3, a / 9) / 2.0));
           }
           for (int r = 0; r < 8; ++r) {
-            points.push_back(box.min + box.size().cwiseProduct(core::Vec3(unit(rng), unit(rng), unit(rng))));
+            points.push_back(box.min +
+                             box.size().cwiseProduct(core::Vec3(unit(rng), unit(rng), unit(rng))));
           }
           for (const core::Vec3& p : points) {
-            const ReferenceLabel ref = reference_label(scene, all_states[st].time_step, all_states[st].event, camera, p);
+            const ReferenceLabel ref =
+                reference_label(scene, all_states[st].time_step, all_states[st].event, camera, p);
             ASSERT_TRUE(ref.ambiguous || ref.label == Label::free)
                 << "scene " << s << " state " << st << " voxel " << v << " point " << p.transpose();
           }
