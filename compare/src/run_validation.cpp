@@ -19,6 +19,7 @@
 #include "camplace/core/json_reader.hpp"
 #include "camplace/core/names.hpp"
 #include "camplace/core/provenance.hpp"
+#include "camplace/core/sensor_model.hpp"
 #include "camplace/exact/evaluator.hpp"
 #include "camplace/optimize/report.hpp"
 #include "camplace/voxel/evaluator.hpp"
@@ -184,12 +185,7 @@ void check_run(const fs::path& dir, const fs::path& file, SceneCache& scenes, Ru
                                  context.provenance->scene.combined + " then, " + scene->hash +
                                  " now)");
     }
-    if (static_cast<int>(run.run.best.size()) != scene->scene.cameras.count) {
-      throw core::InputError(file.string(), "/cameras",
-                             "the run has " + std::to_string(run.run.best.size()) +
-                                 " cameras, the scene " + *scene_path + " " +
-                                 std::to_string(scene->scene.cameras.count));
-    }
+    core::check_configuration(scene->scene, run.run.best);
     row.target = core::success_target(*mode == core::LabelMode::conservative, row.tolerance,
                                       row.err_lower_bound);
     const fs::path cache_file =
