@@ -134,14 +134,7 @@ bool triangle_box_overlap(const Vec3& a, const Vec3& b, const Vec3& c, const Box
 }
 
 namespace {
-std::array<Vec3, 8> box_corners(const Box3& box) {
-  std::array<Vec3, 8> corners;
-  for (int i = 0; i < 8; ++i) {
-    corners[i] = Vec3((i & 1) ? box.max.x() : box.min.x(), (i & 2) ? box.max.y() : box.min.y(),
-                      (i & 4) ? box.max.z() : box.min.z());
-  }
-  return corners;
-}
+std::array<Vec3, 8> box_corners(const Box3& box) { return box.corners(); }
 }  // namespace
 
 double triangle_box_sq_distance(const Vec3& a, const Vec3& b, const Vec3& c, const Box3& box) {

@@ -23,15 +23,8 @@ Box3 bounds_of(std::initializer_list<Vec3> points) {
   return box;
 }
 
-// core/src/geometry.cpp's box_corners and edge table (same order, same numbers).
-std::array<Vec3, 8> box_corners(const Box3& box) {
-  std::array<Vec3, 8> corners;
-  for (int i = 0; i < 8; ++i) {
-    corners[i] = Vec3((i & 1) ? box.max.x() : box.min.x(), (i & 2) ? box.max.y() : box.min.y(),
-                      (i & 4) ? box.max.z() : box.min.z());
-  }
-  return corners;
-}
+// core/src/geometry.cpp's box corners (Box3::corners) and edge table (same order, same numbers).
+std::array<Vec3, 8> box_corners(const Box3& box) { return box.corners(); }
 constexpr int kEdges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
                                {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
 

@@ -21,6 +21,15 @@ struct Box3 {
   Vec3 center() const { return 0.5 * (min + max); }
   Vec3 size() const { return max - min; }
   double diagonal() const { return (max - min).norm(); }
+  /// The 8 corners; corner i takes max along x when bit 0 of i is set, y bit 1, z bit 2.
+  std::array<Vec3, 8> corners() const {
+    std::array<Vec3, 8> out;
+    for (int i = 0; i < 8; ++i) {
+      out[i] = Vec3((i & 1) ? max.x() : min.x(), (i & 2) ? max.y() : min.y(),
+                    (i & 4) ? max.z() : min.z());
+    }
+    return out;
+  }
   bool contains(const Vec3& p) const {
     return (p.array() >= min.array()).all() && (p.array() <= max.array()).all();
   }
