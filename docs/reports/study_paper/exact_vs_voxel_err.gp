@@ -6,10 +6,12 @@ set ylabel 'exact Err [m²]'
 set logscale xy
 set grid
 set key outside right top box
-set xrange [0.001827042:5.432236556]
-set yrange [0.001827042:5.432236556]
-set arrow 1 from 0.046875000, graph 0 to 0.046875000, graph 1 nohead dt 2 lc rgb 'gray40'
-set arrow 2 from graph 0, first 0.046875000 to graph 1, first 0.046875000 nohead dt 2 lc rgb 'gray40'
-plot 'docs/reports/study_paper/exact_vs_voxel_err.dat' using 1:2 with points pt 7 ps 0.6 title 'runs', x with lines lc rgb 'black' title 'exact = voxel', 1/0 with lines dt 2 lc rgb 'gray40' title 'target 0.0469 m²'
+set xrange [0.000361257:15.283548493]
+set yrange [0.000361257:15.283548493]
+set arrow 1 from 0.009259259, graph 0 to 0.009259259, graph 1 nohead dt 2 lc rgb 'gray40'
+set arrow 2 from graph 0, first 0.009259259 to graph 1, first 0.009259259 nohead dt 2 lc rgb 'gray40'
+set arrow 3 from 0.046875000, graph 0 to 0.046875000, graph 1 nohead dt 2 lc rgb 'gray40'
+set arrow 4 from graph 0, first 0.046875000 to graph 1, first 0.046875000 nohead dt 2 lc rgb 'gray40'
+plot 'docs/reports/study_paper/exact_vs_voxel_err.dat' using 1:2 with points pt 7 ps 0.6 title 'runs', x with lines lc rgb 'black' title 'exact = voxel', 1/0 with lines dt 2 lc rgb 'gray40' title 'target 0.0093 … 0.0469 m²'
 
 unset output
