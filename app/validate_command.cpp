@@ -49,7 +49,9 @@ void run_validate(ValidateArgs& args) {
   const bool tty = ::isatty(STDERR_FILENO) == 1;
   if (tty || args.progress) {
     options.on_progress = [tty](const compare::ValidationProgress& p) {
-      const double eta = p.done > 0 ? p.seconds / p.done * (p.total - p.done) : 0.0;
+      // Runs read from the cache cost nothing: the rate comes from the runs evaluated now.
+      const int evaluated = p.done - p.from_cache;
+      const double eta = evaluated > 0 ? p.seconds / evaluated * (p.total - p.done) : 0.0;
       std::fprintf(stderr, "%svalidate: %d/%d runs, %s elapsed, ETA %s%s", tty ? "\r\033[K" : "",
                    p.done, p.total, duration_text(p.seconds).c_str(), duration_text(eta).c_str(),
                    tty ? "" : "\n");

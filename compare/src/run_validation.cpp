@@ -327,7 +327,7 @@ ValidationOutcome validate_runs(const ValidateOptions& options) {
   SceneCache scenes;
   std::atomic<std::size_t> next{0};
   std::mutex progress_mutex;
-  int finished = 0;
+  int finished = 0, finished_from_cache = 0;
   const auto start = Clock::now();
   auto stop_requested = [&] { return options.interrupt != nullptr && options.interrupt->load(); };
   auto worker = [&] {
@@ -339,8 +339,9 @@ ValidationOutcome validate_runs(const ValidateOptions& options) {
       std::lock_guard<std::mutex> lock(progress_mutex);
       done[i] = 1;
       ++finished;
+      finished_from_cache += rows[i].cached;
       if (options.on_progress) {
-        options.on_progress({finished, static_cast<int>(files.size()),
+        options.on_progress({finished, static_cast<int>(files.size()), finished_from_cache,
                              std::chrono::duration<double>(Clock::now() - start).count()});
       }
     }

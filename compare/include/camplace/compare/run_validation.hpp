@@ -39,6 +39,7 @@ struct RunValidation {
 /// Progress after each finished run.
 struct ValidationProgress {
   int done = 0, total = 0;
+  int from_cache = 0;    ///< of `done`: read from the cache (cost no time)
   double seconds = 0.0;  ///< since the start
 };
 
