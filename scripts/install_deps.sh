@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libcgal-dev libssl-dev libgmp-dev libmpfr-dev libboost-dev libeigen3-dev
-  libpagmo-dev libtbb-dev nlohmann-json3-dev libcli11-dev
+  libpagmo-dev libtbb-dev nlohmann-json3-dev libcli11-dev libjemalloc-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 gnuplot-nox clang-format
 )

@@ -104,7 +104,7 @@ StateOutput evaluate_state(Pipeline& pipeline, const core::Scene& scene, const c
                            const std::string& export_dir) {
   StateOutput out;
   auto t0 = Clock::now();
-  Nef m = pipeline.model(s);
+  auto [m, discarded] = pipeline.model(s);
   out.labelling_ms = ms_since(t0);
 
   t0 = Clock::now();
@@ -128,6 +128,7 @@ StateOutput evaluate_state(Pipeline& pipeline, const core::Scene& scene, const c
 
   r.model_volume = nearest_double(out.model->kept_volume);
   r.model_volume_exact = fraction_string(out.model->kept_volume);
+  r.components_removed = discarded;
   for (const auto& c : out.model->components) (c.kept ? r.components : r.components_removed)++;
   if (!export_dir.empty()) export_model(*out.model, s, export_dir);
   return out;
@@ -227,7 +228,7 @@ ExactEvaluation evaluate_exact(const core::Scene& scene, const core::CameraConfi
 ExactModel build_exact_model(const core::Scene& scene, const core::CameraConfig& config,
                              const core::StateIndex& state) {
   Pipeline pipeline(scene, config);
-  return ExactModel(cluster(pipeline.model(state), scene.plausibility));
+  return ExactModel(cluster(pipeline.model(state).nef, scene.plausibility));
 }
 
 }  // namespace camplace::exact

@@ -193,7 +193,9 @@ TEST_F(PaperBasicPinned, EveryStateKeepsItsExactFractions) {
     EXPECT_EQ(r.d_model_sq_exact, p["d_model_sq_exact"].get<std::string>()) << "state " << s;
     EXPECT_EQ(r.model_volume_exact, p["model_volume_exact"].get<std::string>()) << "state " << s;
     EXPECT_EQ(r.components, p["components"].get<int>()) << "state " << s;
-    EXPECT_EQ(r.components_removed, p["components_removed"].get<int>()) << "state " << s;
+    // components_removed is not pinned: since the pipeline discards pieces that certainly fail
+    // the filter between cameras (each counted once, docs/files.md), it counts fewer, larger
+    // pieces than the final model held before (the file's counts); the kept model is the same.
     // The doubles are the fractions rounded.
     EXPECT_NEAR(r.d_model * r.d_model, fraction_value(r.d_model_sq_exact), 1e-14) << "state " << s;
     EXPECT_NEAR(r.model_volume, fraction_value(r.model_volume_exact), 1e-15) << "state " << s;

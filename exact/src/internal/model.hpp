@@ -2,10 +2,12 @@
 // The model of one state after the Nef booleans: its components (connected through interiors),
 // their exact volumes and z-extents, the plausibility filter (SPEC §4), and the exact distance
 // from the critical objects to the kept model. Private to exact_pipeline.cpp.
+#include <CGAL/Modifier_base.h>
 #include <CGAL/squared_distance_3.h>
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <memory>
 #include <optional>
 #include <unordered_map>
@@ -92,6 +94,78 @@ inline double bbox_sq_distance(const CGAL::Bbox_3& a, const CGAL::Bbox_3& b) {
   return sum * (1.0 - 1e-9);
 }
 
+/// Unmarks the marked volumes of a regularised Nef polyhedron that the plausibility filter
+/// certainly removes, judged by an upper bound of their volume and z-extent (the box of their
+/// boundary vertices' coordinate intervals). Volume marks and the marks of the sfaces in them
+/// (the volumes as the vertices' local views see them) change together, so the structure stays
+/// valid for further booleans.
+class UnmarkImplausible : public CGAL::Modifier_base<Nef::SNC_structure> {
+ public:
+  explicit UnmarkImplausible(const core::Plausibility& filter) : filter_(filter) {}
+  int unmarked() const { return unmarked_; }
+
+  void operator()(Nef::SNC_structure& snc) override {
+    struct Extent {
+      std::array<double, 3> lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    };
+    std::unordered_map<const void*, Extent> extents;
+    for (auto f = snc.halffacets_begin(); f != snc.halffacets_end(); ++f) {
+      if (!f->incident_volume()->mark()) continue;
+      Extent& e = extents[&*f->incident_volume()];
+      for (auto cycle = f->facet_cycles_begin(); cycle != f->facet_cycles_end(); ++cycle) {
+        if (!cycle.is_shalfedge()) continue;
+        Nef::SNC_structure::SHalfedge_around_facet_circulator h(cycle), end(h);
+        CGAL_For_all(h, end) {
+          const Point& p = h->source()->source()->point();
+          const std::array<std::pair<double, double>, 3> bounds{
+              CGAL::to_interval(p.x()), CGAL::to_interval(p.y()), CGAL::to_interval(p.z())};
+          for (int k = 0; k < 3; ++k) {
+            e.lo[k] = std::min(e.lo[k], bounds[k].first);
+            e.hi[k] = std::max(e.hi[k], bounds[k].second);
+          }
+        }
+      }
+    }
+    for (auto v = snc.volumes_begin(); v != snc.volumes_end(); ++v) {
+      const auto it = extents.find(&*v);
+      if (it == extents.end()) continue;
+      // Upper bounds: the rounding of these few double operations is far below the slack.
+      constexpr double slack = 1.0 + 1e-9;
+      const Extent& e = it->second;
+      const double height = (e.hi[2] - e.lo[2]) * slack;
+      const double box_volume = (e.hi[0] - e.lo[0]) * (e.hi[1] - e.lo[1]) * height * slack;
+      if (filter_.keeps(box_volume, height)) continue;
+      v->mark() = false;
+      ++unmarked_;
+    }
+    if (unmarked_ == 0) return;
+    for (auto sf = snc.sfaces_begin(); sf != snc.sfaces_end(); ++sf)
+      if (sf->mark() && !sf->volume()->mark()) sf->mark() = false;
+  }
+
+ private:
+  core::Plausibility filter_;
+  int unmarked_ = 0;
+};
+
+/// Removes from a model under construction the pieces that the plausibility filter certainly
+/// removes from the final model, and returns their number; `m` comes back regularised.
+///
+/// Sound because later booleans only subtract: each component of the final model lies in one
+/// piece (component through interiors) of `m`, with no more volume and no more z-extent, and the
+/// filter removes a component below either threshold (SPEC §4). So every final component inside
+/// a discarded piece would be removed too, and the kept model, its volume and d(C, M) are the
+/// same. Each discarded piece counts as one removed component, whatever later cameras would have
+/// split it into.
+inline int discard_implausible(Nef& m, const core::Plausibility& filter) {
+  m = m.regularization();
+  UnmarkImplausible unmark(filter);
+  m.delegate(unmark, /*compute_external=*/false, /*do_simplify=*/false);
+  if (unmark.unmarked() == 0) return 0;
+  m = m.regularization();
+  return unmark.unmarked();
+}
+
 /// Splits a regularised Nef model into components (its marked volumes: connected through
 /// interiors), computes their exact volumes and z-extents and applies the filter (SPEC §4).
 inline std::shared_ptr<ExactModel::Impl> cluster(Nef model, const core::Plausibility& filter) {
@@ -106,9 +180,8 @@ inline std::shared_ptr<ExactModel::Impl> cluster(Nef model, const core::Plausibi
   // to it; one pass over the halffacets sorts them by volume.
   std::vector<TriangleSoup> soups;
   std::unordered_map<const void*, std::size_t> soup_of;
-  auto vol = nef.volumes_begin();
-  if (vol != nef.volumes_end()) ++vol;  // the unbounded outer volume
-  for (; vol != nef.volumes_end(); ++vol) {
+  // The unbounded outer volume is unmarked (M ⊂ S is bounded); it is not always the first one.
+  for (auto vol = nef.volumes_begin(); vol != nef.volumes_end(); ++vol) {
     if (!vol->mark()) continue;
     soup_of.emplace(&*vol, soups.size());
     soups.emplace_back();

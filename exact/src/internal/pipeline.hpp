@@ -20,6 +20,7 @@
 #include "camplace/core/sensor_model.hpp"
 #include "internal/cones.hpp"
 #include "internal/kernel.hpp"
+#include "internal/model.hpp"
 #include "internal/solids.hpp"
 
 namespace camplace::exact::internal {
@@ -57,18 +58,30 @@ class Pipeline {
     step_area_.resize(scene.time_steps.size());
   }
 
-  /// The regularised model of a state before the filter: S minus the obstacles minus each
-  /// camera's free region in turn. Subtracting the free regions one by one from the shrinking
-  /// model costs less than their balanced union followed by one subtraction (each Nef boolean
-  /// visits every vertex of both operands, and the model stays smaller than the union).
-  Nef model(const core::StateIndex& s) {
+  /// The model of a state before the filter, regularised, and the number of pieces the filter
+  /// certainly removes that were discarded on the way (discard_implausible).
+  struct StateModel {
+    Nef nef;
+    int discarded = 0;
+  };
+
+  /// S minus the obstacles minus each camera's free region in turn. Subtracting the free regions
+  /// one by one from the shrinking model costs less than their balanced union followed by one
+  /// subtraction (each Nef boolean visits every vertex of both operands, and the model stays
+  /// smaller than the union). Between cameras, the pieces that the filter will certainly remove
+  /// are discarded (on paper_basic most of the model's vertices, so the later booleans cost
+  /// ~40% less).
+  StateModel model(const core::StateIndex& s) {
     const auto objects = core::state_objects(scene_, s);
+    StateModel out;
     Nef m = step_area(s.time_step, objects);
     for (std::size_t c = 0; c < cameras_.size() && !m.is_empty(); ++c) {
       const Nef free = state_free(c, s, objects);
       if (!free.is_empty()) m -= free;
+      if (c + 1 < cameras_.size()) out.discarded += discard_implausible(m, scene_.plausibility);
     }
-    return m.regularization();
+    out.nef = m.regularization();
+    return out;
   }
 
   /// The critical objects C_h of time step h (SPEC §2).

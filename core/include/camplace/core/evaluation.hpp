@@ -11,11 +11,13 @@ struct StateResult {
   int time_step = 0;
   int event = 0;
   double weight = 0.0;
-  double d_true = 0.0;         ///< d(C_h, O_u(a_lh))
-  double d_model = 0.0;        ///< d(C_h, M); empty_model_distance() when M is empty (SPEC §4)
-  double model_volume = 0.0;   ///< after the plausibility filter
-  int components = 0;          ///< components kept by the plausibility filter
-  int components_removed = 0;  ///< components the filter discarded
+  double d_true = 0.0;        ///< d(C_h, O_u(a_lh))
+  double d_model = 0.0;       ///< d(C_h, M); empty_model_distance() when M is empty (SPEC §4)
+  double model_volume = 0.0;  ///< after the plausibility filter
+  int components = 0;         ///< components kept by the plausibility filter
+  /// Components the filter discarded (exact pipeline: pieces discarded as soon as they certainly
+  /// fail the filter, one each; docs/files.md).
+  int components_removed = 0;
   /// Exact pipeline only: d_true² and d_model² as exact fractions "p/q" (empty otherwise).
   std::string d_true_sq_exact;
   std::string d_model_sq_exact;
