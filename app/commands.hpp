@@ -2,8 +2,15 @@
 /// Sub-commands of the `camplace` tool. Each registers its options and callback on the CLI11
 /// app; the callback throws core::InputError (or std::exception) on failure, which main prints.
 #include <CLI/CLI.hpp>
+#include <string>
 
 namespace camplace::app {
+
+/// The advice after a refused resume of the output folder `dir` (optimize, study).
+inline std::string restart_hint(const std::string& dir) {
+  return "rerun with --restart to discard the runs in " + dir +
+         " (and what was made of them) and start afresh, or choose another --out folder";
+}
 
 void register_evaluate_command(CLI::App& app);
 #ifdef CAMPLACE_HAVE_OPTIMIZE

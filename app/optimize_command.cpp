@@ -18,11 +18,15 @@
 #include "camplace/core/files.hpp"
 #include "camplace/core/provenance.hpp"
 #include "camplace/core/scene.hpp"
+#include "camplace/optimize/encoding.hpp"
 #include "camplace/optimize/optimizer.hpp"
 #include "camplace/optimize/report.hpp"
 #include "camplace/optimize/voxel_objective.hpp"
 #include "cli_checks.hpp"
 #include "commands.hpp"
+#ifdef CAMPLACE_HAVE_STUDY
+#include "camplace/compare/run_validation.hpp"
+#endif
 
 namespace camplace::app {
 namespace {
@@ -42,6 +46,7 @@ struct OptimizeArgs {
   double tolerance = 0.0;
   bool tolerance_given = false;
   bool quiet = false;
+  bool restart = false;
 };
 
 /// Progress on stderr: a redrawn line on a terminal (≤ 10 per second), plain lines every 5 s
@@ -83,6 +88,16 @@ class ProgressPrinter {
   bool printed_ = false;
   std::chrono::steady_clock::time_point last_;
 };
+
+/// Removes the runs of an earlier `optimize --out DIR` and what `validate DIR` made of them.
+/// Returns the number of run files removed.
+int discard_output(const std::string& dir) {
+  const int runs = optimize::discard_runs(dir);
+#ifdef CAMPLACE_HAVE_STUDY
+  compare::discard_validation(dir);
+#endif
+  return runs;
+}
 
 void run_optimize(const OptimizeArgs& args) {
   // SA_RESETHAND: the first Ctrl-C stops the run and writes its result; a second one kills.
@@ -126,6 +141,32 @@ void run_optimize(const OptimizeArgs& args) {
   context.max_evaluations = static_cast<std::uint64_t>(args.max_evals);
   context.provenance = core::make_provenance(scene);
 
+  // Runs already in --out must have been made like these (issue 13), or --restart discards them.
+  if (args.restart) {
+    const int discarded = discard_output(args.out);
+    if (!args.quiet) std::fprintf(stderr, "restart: discarded %d run files\n", discarded);
+  } else {
+    optimize::RunSettings now;
+    now.scene_file = args.scene;
+    now.scene = context.provenance->scene;
+    now.mode = context.mode;
+    now.resolution = context.resolution;
+    now.algorithm = args.algorithm;
+    now.start = args.start;
+    now.time_limit = args.time_limit;
+    now.max_evaluations = context.max_evaluations;
+    now.tolerance = options.tolerance.value_or(objective.default_tolerance());
+    const std::size_t dimension = optimize::Encoding(scene).dimension();
+    // No free variable: optimize() refuses the scene below.
+    if (dimension > 0) {
+      now.population = optimize::population_size(args.algorithm, args.population, dimension);
+    }
+    try {
+      optimize::check_resume(args.out, now);
+    } catch (const optimize::SettingsChanged& e) {
+      throw std::runtime_error(std::string(e.what()) + "\n" + restart_hint(args.out));
+    }
+  }
   core::create_output_directory(args.out, "--out");
 
   std::vector<optimize::RunResult> results;
@@ -192,6 +233,9 @@ void register_optimize_command(CLI::App& app) {
   cmd->add_option("--resolution", args->resolution,
                   "voxel resolution NXxNYxNZ (default: the scene's)");
   cmd->add_flag("--quiet", args->quiet, "no progress on stderr");
+  cmd->add_flag("--restart", args->restart,
+                "discard the run files and summaries already in --out (and validate's results) "
+                "instead of refusing runs made with other settings");
   cmd->callback([args, tolerance] {
     args->tolerance_given = tolerance->count() > 0;
     run_optimize(*args);

@@ -19,6 +19,7 @@
 
 #include "camplace/compare/study.hpp"
 #include "camplace/core/files.hpp"
+#include "camplace/optimize/report.hpp"
 #include "commands.hpp"
 
 namespace camplace::app {
@@ -152,6 +153,9 @@ void register_study_command(CLI::App& app) {
   cmd->add_flag("--validate", options->validate,
                 "after the runs, check each against the exact pipeline (camplace validate) and "
                 "add the check to the report");
+  cmd->add_flag("--restart", options->restart,
+                "discard the runs, report and exact checks already in --out and run the study "
+                "afresh (without it, runs made with other settings are refused)");
   cmd->callback([options] {
     core::create_output_directory(options->out_dir, "--out");
     // The running binary, so a study's runs use the same camplace as the study.
@@ -168,7 +172,15 @@ void register_study_command(CLI::App& app) {
         std::fprintf(stderr, "validate: %d/%d runs, %.0f s\n", p.done, p.total, p.seconds);
       };
     }
-    const compare::StudyOutcome outcome = compare::run_study(*options);
+    compare::StudyOutcome outcome;
+    try {
+      outcome = compare::run_study(*options);
+    } catch (const optimize::SettingsChanged& e) {
+      throw std::runtime_error(std::string(e.what()) + "\n" + restart_hint(options->out_dir));
+    }
+    if (options->restart) {
+      std::cout << "restart: discarded " << outcome.runs_discarded << " run files\n";
+    }
     std::cout << "runs: " << outcome.runs_total << " (" << outcome.runs_done_before << " found, "
               << outcome.runs_done_now << " run now)"
               << (outcome.interrupted ? ", interrupted" : "") << "\nreport: " << options->out_dir

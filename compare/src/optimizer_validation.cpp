@@ -12,6 +12,8 @@
 #include "camplace/core/camera.hpp"
 #include "camplace/core/error.hpp"
 #include "camplace/core/files.hpp"
+#include "camplace/core/json_reader.hpp"
+#include "camplace/core/provenance.hpp"
 #include "camplace/exact/evaluator.hpp"
 #include "camplace/voxel/evaluator.hpp"
 #include "format.hpp"
@@ -101,6 +103,17 @@ void validate_optimizer(const core::Scene& original, const OptimizerValidationOp
   std::sort(run_files.begin(), run_files.end());
   if (run_files.empty()) {
     throw core::OptionError("runs", options.runs_dir + " holds no run-<seed>.json file");
+  }
+  // Only runs made for this scene (by content): another scene's optima say nothing about it.
+  const core::SceneHashes scene_hashes = core::hash_scene(original);
+  for (const std::string& file : run_files) {
+    const nlohmann::json run = core::read_json_file(file);
+    const core::JsonNode root(run, file, "");
+    // Run files of formats 1 and 2 record no hashes.
+    if (root.has("provenance")) {
+      core::check_same_scene(core::provenance_from_json(root.at("provenance")).scene, scene_hashes,
+                             original.file, file);
+    }
   }
   std::vector<std::array<int, 3>> resolutions = options.resolutions;
   if (resolutions.empty()) resolutions.push_back(scene.voxels);

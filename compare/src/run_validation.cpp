@@ -71,7 +71,7 @@ std::vector<fs::path> find_run_files(const fs::path& dir) {
 struct LoadedScene {
   core::Scene scene;
   core::Scene pyramid_scene;  ///< the same with the exact pipeline's FOV (SPEC §1)
-  std::string hash;           ///< core::SceneHashes::combined
+  core::SceneHashes hashes;   ///< of the scene and its mesh files, as they are now
 };
 
 class SceneCache {
@@ -85,7 +85,7 @@ class SceneCache {
     loaded->scene = core::load_scene(path);
     loaded->pyramid_scene = loaded->scene;
     loaded->pyramid_scene.cameras.fov = core::FovShape::pyramid;
-    loaded->hash = core::hash_scene(loaded->scene).combined;
+    loaded->hashes = core::hash_scene(loaded->scene);
     scenes_.emplace(path, loaded);
     return loaded;
   }
@@ -178,20 +178,16 @@ void check_run(const fs::path& dir, const fs::path& file, SceneCache& scenes, Ru
                              "the scene file \"" + context.scene_file + "\" does not exist");
     }
     const auto scene = scenes.get(*scene_path);
-    if (context.provenance && context.provenance->scene.combined != scene->hash) {
-      throw core::InputError(file.string(), "/provenance/scene_sha256",
-                             "the scene " + *scene_path +
-                                 " (or a mesh file it uses) has changed since the run (SHA-256 " +
-                                 context.provenance->scene.combined + " then, " + scene->hash +
-                                 " now)");
+    if (context.provenance) {
+      core::check_same_scene(context.provenance->scene, scene->hashes, *scene_path, file.string());
     }
     core::check_configuration(scene->scene, run.run.best);
     row.target = core::success_target(*mode == core::LabelMode::conservative, row.tolerance,
                                       row.err_lower_bound);
-    const fs::path cache_file =
-        dir / kCacheDir /
-        (core::sha256_hex(text + "\n" + scene->hash + "\n" + std::to_string(kCacheFormat)) +
-         ".json");
+    const fs::path cache_file = dir / kCacheDir /
+                                (core::sha256_hex(text + "\n" + scene->hashes.combined + "\n" +
+                                                  std::to_string(kCacheFormat)) +
+                                 ".json");
     row.cached = read_cache(cache_file, row);
     if (!row.cached) {
       const auto evaluator = scenes.evaluator(*scene_path, *scene, {*mode, context.resolution});
@@ -362,6 +358,34 @@ ValidationOutcome validate_runs(const ValidateOptions& options) {
   core::write_file_atomically((dir / "validation.csv").string(), csv_text(outcome.rows));
   core::write_file_atomically((dir / "validation.md").string(), markdown_text(options, outcome));
   return outcome;
+}
+
+int discard_validation(const std::string& dir) {
+  std::vector<fs::path> files;
+  for (const char* name : {"validation.csv", "validation.md"}) {
+    if (fs::is_regular_file(fs::path(dir) / name)) files.push_back(fs::path(dir) / name);
+  }
+  const fs::path cache = fs::path(dir) / kCacheDir;
+  std::error_code ec;
+  for (auto it = fs::directory_iterator(cache, ec); !ec && it != fs::directory_iterator();
+       it.increment(ec)) {
+    // Only the entries check_run writes: 64 hex digits + ".json".
+    const std::string name = it->path().filename().string();
+    if (it->is_regular_file() && name.size() == 64 + 5 &&
+        name.find_first_not_of("0123456789abcdef") == 64 && name.substr(64) == ".json") {
+      files.push_back(it->path());
+    }
+  }
+  for (const fs::path& file : files) {
+    std::error_code removed;
+    fs::remove(file, removed);
+    if (removed) {
+      throw std::runtime_error("cannot remove " + file.string() + ": " + removed.message());
+    }
+  }
+  std::error_code not_empty;
+  fs::remove(cache, not_empty);  // only when empty; else it keeps what is not ours
+  return static_cast<int>(files.size());
 }
 
 std::vector<RunValidation> read_validation_csv(const std::string& dir) {

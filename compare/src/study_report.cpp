@@ -458,4 +458,18 @@ void write_study_report(const StudySpec& spec, const std::vector<RunRow>& rows,
   core::write_file_atomically(dir + "/report.md", md.str());
 }
 
+std::vector<std::string> study_report_files() {
+  // Every plot name write_study_report passes to plot() or writes itself.
+  std::vector<std::string> files = {"report.md", "runs.csv"};
+  for (const char* plot :
+       {"iterations_vs_resolution", "success_vs_resolution", "iterations_vs_objects",
+        "success_vs_dynamic_objects", "success_vs_cameras", "time_vs_cameras",
+        "memory_vs_resolution", "exact_vs_voxel_err"}) {
+    for (const char* extension : {".png", ".gp", ".dat"}) {
+      files.push_back(std::string(plot) + extension);
+    }
+  }
+  return files;
+}
+
 }  // namespace camplace::compare::detail

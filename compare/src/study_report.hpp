@@ -37,4 +37,8 @@ struct RunRow {
 void write_study_report(const StudySpec& spec, const std::vector<RunRow>& rows,
                         const std::string& command, bool interrupted, const std::string& dir);
 
+/// The names of every file write_study_report may write into DIR (report.md, runs.csv and each
+/// plot's .png, .gp and .dat), for discarding a study's report.
+std::vector<std::string> study_report_files();
+
 }  // namespace camplace::compare::detail

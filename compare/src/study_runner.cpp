@@ -1,9 +1,11 @@
 // Studies of the paper's examinations (SPEC §8–9): generate each group's scene, run what is
 // missing through the launcher, read the run files back and write the report.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <map>
 #include <optional>
+#include <set>
 #include <stdexcept>
 
 #include "camplace/compare/run_validation.hpp"
@@ -11,6 +13,7 @@
 #include "camplace/compare/study.hpp"
 #include "camplace/core/err.hpp"
 #include "camplace/core/files.hpp"
+#include "camplace/core/provenance.hpp"
 #include "camplace/core/scene.hpp"
 #include "camplace/optimize/report.hpp"
 #include "format.hpp"
@@ -72,6 +75,11 @@ std::optional<optimize::RunResult> existing_run(const std::string& path) {
   return optimize::read_run_file(path).run;
 }
 
+/// The study's time limit as its runs are given it (and record it).
+std::string time_limit_arg(const detail::StudySpec& spec) {
+  return detail::num(spec.time_limit, 3);
+}
+
 /// The arguments of `camplace optimize` for one run: one seed, the study's budget, the run
 /// file and summary in `run_dir`. `--out=` and `--` keep any directory or scene name (one
 /// starting with '-', say) a value.
@@ -81,11 +89,153 @@ std::vector<std::string> optimize_args(const detail::StudySpec& spec, const std:
           "--seed",       std::to_string(seed),
           "--runs",       "1",
           "--threads",    std::to_string(spec.threads),
-          "--time-limit", detail::num(spec.time_limit, 3),
+          "--time-limit", time_limit_arg(spec),
           "--max-evals",  std::to_string(spec.max_evaluations),
           "--mode",       core::name_of(spec.mode),
           "--quiet",      "--out=" + run_dir,
           "--",           scene};
+}
+
+/// One group of the study: its generated scene (not yet written) and its folders.
+struct Group {
+  const detail::Examination* examination = nullptr;
+  std::optional<int> param;
+  std::string name, scene_path, scene_text, run_dir;
+};
+
+/// The study's groups in the order of the study file.
+std::vector<Group> study_groups(const detail::StudySpec& spec, const std::string& dir) {
+  std::vector<Group> groups;
+  for (const detail::Examination& ex : spec.examinations) {
+    for (const std::optional<int>& param : ex.params) {
+      Group g;
+      g.examination = &ex;
+      g.param = param;
+      g.name = detail::group_name(ex, param);
+      g.scene_path = dir + "/scenes/" + g.name + ".json";
+      g.scene_text = generate_scene_json(ex.family, param, spec.scene_seed);
+      g.run_dir = dir + "/runs/" + g.name;
+      groups.push_back(std::move(g));
+    }
+  }
+  return groups;
+}
+
+/// The run files of `dir` by seed (names as camplace writes them), in seed order.
+std::map<unsigned, fs::path> run_files_in(const fs::path& dir) {
+  std::map<unsigned, fs::path> files;
+  std::error_code ec;
+  for (auto it = fs::directory_iterator(dir, ec); !ec && it != fs::directory_iterator();
+       it.increment(ec)) {
+    const auto seed = optimize::run_file_seed(it->path().filename().string());
+    if (seed && it->is_regular_file()) files.emplace(*seed, it->path());
+  }
+  return files;
+}
+
+/// The folders below DIR/runs (every group a study wrote there, of this study or not).
+std::vector<fs::path> run_folders(const std::string& dir) {
+  std::vector<fs::path> folders;
+  std::error_code ec;
+  for (auto it = fs::directory_iterator(dir + "/runs", ec); !ec && it != fs::directory_iterator();
+       it.increment(ec)) {
+    if (it->is_directory()) folders.push_back(it->path());
+  }
+  std::sort(folders.begin(), folders.end());
+  return folders;
+}
+
+/// Refuses to resume a folder holding runs that are not runs of the study as it is now (issue
+/// 13): made with other settings or another scene, or of a seed or group the study no longer
+/// has. Interrupted runs are run again anyway and do not count. A study that only grows (more
+/// runs per group, more groups) keeps its runs. Throws optimize::SettingsChanged, or
+/// core::InputError for a run file it cannot read.
+void check_resume(const detail::StudySpec& spec, const std::vector<Group>& groups,
+                  const std::string& dir) {
+  const unsigned last_seed = spec.first_seed + static_cast<unsigned>(spec.runs_per_group) - 1;
+  // "is not the study's seed 1", "is outside the study's seeds 1–3".
+  const std::string seeds = last_seed == spec.first_seed
+                                ? "is not the study's seed " + std::to_string(last_seed)
+                                : "is outside the study's seeds " +
+                                      std::to_string(spec.first_seed) + "–" +
+                                      std::to_string(last_seed);
+  std::vector<optimize::SettingsConflict> conflicts;
+  auto relative = [&dir](const fs::path& file) {
+    return fs::path(file).lexically_relative(dir).generic_string();
+  };
+  std::set<std::string> names;
+  for (const Group& group : groups) {
+    names.insert(group.name);
+    // What each run of the group is made with (optimize_args): the scene's resolution and the
+    // default tolerance and population follow from the scene and the solver.
+    optimize::RunSettings now;
+    now.scene_file = group.scene_path;
+    now.scene = core::combine_scene_hashes(core::sha256_hex(group.scene_text), {});
+    now.mode = core::name_of(spec.mode);
+    now.algorithm = spec.algorithm;
+    now.start = "random";
+    now.time_limit = std::stod(time_limit_arg(spec));
+    now.max_evaluations = static_cast<std::uint64_t>(spec.max_evaluations);
+    now.threads = spec.threads;
+    // Run files without provenance (formats 1, 2) were made on the scene the folder holds.
+    std::optional<core::SceneHashes> scene_copy;
+    if (fs::is_regular_file(group.scene_path)) {
+      scene_copy = core::combine_scene_hashes(core::sha256_file(group.scene_path), {});
+    }
+    for (const auto& [seed, file] : run_files_in(group.run_dir)) {
+      if (seed < spec.first_seed || seed > last_seed) {
+        conflicts.push_back({relative(file),
+                             {"seed " + std::to_string(seed) + " " + seeds +
+                              " (runs_per_group or first_seed changed)"}});
+        continue;
+      }
+      const optimize::RunFile run = optimize::read_run_file(file.string());
+      if (run.run.stop_reason == optimize::StopReason::interrupted) continue;
+      optimize::RunSettings recorded = optimize::recorded_settings(run);
+      if (!recorded.scene) recorded.scene = scene_copy;
+      now.seed = seed;
+      std::vector<std::string> changes = optimize::settings_changes(recorded, now);
+      if (!changes.empty()) conflicts.push_back({relative(file), std::move(changes)});
+    }
+  }
+  for (const fs::path& folder : run_folders(dir)) {
+    const std::string name = folder.filename().string();
+    if (names.count(name) > 0) continue;
+    for (const auto& entry : run_files_in(folder)) {
+      conflicts.push_back({relative(entry.second),
+                           {"group " + name + " is not in the study (examinations changed)"}});
+    }
+  }
+  if (!conflicts.empty()) throw optimize::SettingsChanged(dir, conflicts);
+}
+
+/// Removes what earlier invocations of a study wrote into `dir`: the run folders' files (run
+/// files, summaries, last-output.txt) and the folders once empty, the groups' scenes, the report
+/// with its plots and the exact checks. Nothing else: files of other names stay. Returns the
+/// number of run files removed.
+int discard_study(const std::vector<Group>& groups, const std::string& dir) {
+  auto remove_file = [](const fs::path& file) {
+    std::error_code ec;
+    if (!fs::is_regular_file(file)) return;
+    fs::remove(file, ec);
+    if (ec) throw std::runtime_error("cannot remove " + file.string() + ": " + ec.message());
+  };
+  std::set<std::string> names;
+  for (const Group& group : groups) names.insert(group.name);
+  int runs = 0;
+  for (const fs::path& folder : run_folders(dir)) {
+    names.insert(folder.filename().string());
+    runs += optimize::discard_runs(folder.string());
+    remove_file(folder / "last-output.txt");
+    std::error_code not_empty;
+    fs::remove(folder, not_empty);  // only when nothing else is left in it
+  }
+  std::error_code not_empty;
+  fs::remove(dir + "/runs", not_empty);
+  for (const std::string& name : names) remove_file(dir + "/scenes/" + name + ".json");
+  for (const std::string& name : detail::study_report_files()) remove_file(dir + "/" + name);
+  discard_validation(dir);
+  return runs;
 }
 
 }  // namespace
@@ -93,66 +243,67 @@ std::vector<std::string> optimize_args(const detail::StudySpec& spec, const std:
 StudyOutcome run_study(const StudyOptions& options) {
   const detail::StudySpec spec = detail::parse_study(options.study_file);
   const std::string dir = options.out_dir;
-  fs::create_directories(dir + "/scenes");
+  const std::vector<Group> groups = study_groups(spec, dir);
   StudyOutcome outcome;
-  std::vector<RunRow> rows;
-  int total_runs = 0;
-  for (const detail::Examination& ex : spec.examinations) {
-    total_runs += static_cast<int>(ex.params.size()) * spec.runs_per_group;
+  // Before anything in the folder changes: the runs found must be runs of this study.
+  if (options.restart) {
+    outcome.runs_discarded = discard_study(groups, dir);
+  } else {
+    check_resume(spec, groups, dir);
   }
-  for (const detail::Examination& ex : spec.examinations) {
-    for (const std::optional<int>& param : ex.params) {
-      const std::string group = detail::group_name(ex, param);
-      const std::string scene_path = dir + "/scenes/" + group + ".json";
-      core::write_file_atomically(scene_path,
-                                  generate_scene_json(ex.family, param, spec.scene_seed));
-      RunRow shape;
-      describe_scene(core::load_scene(scene_path), shape);
-      shape.examination = ex.name;
-      shape.family = ex.family;
-      shape.group = group;
-      shape.param = param.value_or(0);
-      const std::string run_dir = dir + "/runs/" + group;
-      for (int r = 0; r < spec.runs_per_group; ++r) {
-        ++outcome.runs_total;
-        RunRow row = shape;
-        row.seed = spec.first_seed + r;
-        const std::string run_file = run_dir + "/run-" + std::to_string(row.seed) + ".json";
-        const std::optional<optimize::RunResult> before = existing_run(run_file);
-        if (before && before->stop_reason != optimize::StopReason::interrupted) {
-          add_result(*before, spec.mode == core::LabelMode::conservative, row);
-          ++outcome.runs_done_before;
-          rows.push_back(row);
-          continue;
-        }
-        if (outcome.interrupted) continue;
-        if (!options.launch) throw std::invalid_argument("run_study: no launcher for the runs");
-        std::fprintf(stderr, "study: %s seed %u (run %d of %d)\n", group.c_str(), row.seed,
-                     outcome.runs_total, total_runs);
-        fs::create_directories(run_dir);
-        // An interrupted run's file goes: the file found afterwards is this run's.
-        if (before) fs::remove(run_file);
-        const LaunchOutcome launched = options.launch(
-            {optimize_args(spec, scene_path, row.seed, run_dir), run_dir + "/last-output.txt"});
-        // Ctrl-C ends the study after this run; the report covers the runs finished so far.
-        if (launched.interrupted) outcome.interrupted = true;
-        const std::optional<optimize::RunResult> after = existing_run(run_file);
-        if (after && after->stop_reason != optimize::StopReason::interrupted) {
-          add_result(*after, spec.mode == core::LabelMode::conservative, row);
-          ++outcome.runs_done_now;
-          rows.push_back(row);
-          continue;
-        }
-        // An interrupted run writes its best result as "interrupted" and exits normally.
-        if (after || launched.interrupted) {
-          outcome.interrupted = true;
-          continue;
-        }
-        throw std::runtime_error("study: the run of " + group + " seed " +
-                                 std::to_string(row.seed) + " wrote no run file (" +
-                                 (launched.failure.empty() ? "exit status 0" : launched.failure) +
-                                 "; its standard output is in " + run_dir + "/last-output.txt)");
+  fs::create_directories(dir + "/scenes");
+  std::vector<RunRow> rows;
+  const int total_runs = static_cast<int>(groups.size()) * spec.runs_per_group;
+  for (const Group& g : groups) {
+    const std::string& group = g.name;
+    const std::string& scene_path = g.scene_path;
+    const std::string& run_dir = g.run_dir;
+    core::write_file_atomically(scene_path, g.scene_text);
+    RunRow shape;
+    describe_scene(core::load_scene(scene_path), shape);
+    shape.examination = g.examination->name;
+    shape.family = g.examination->family;
+    shape.group = group;
+    shape.param = g.param.value_or(0);
+    for (int r = 0; r < spec.runs_per_group; ++r) {
+      ++outcome.runs_total;
+      RunRow row = shape;
+      row.seed = spec.first_seed + r;
+      const std::string run_file = run_dir + "/run-" + std::to_string(row.seed) + ".json";
+      const std::optional<optimize::RunResult> before = existing_run(run_file);
+      if (before && before->stop_reason != optimize::StopReason::interrupted) {
+        add_result(*before, spec.mode == core::LabelMode::conservative, row);
+        ++outcome.runs_done_before;
+        rows.push_back(row);
+        continue;
       }
+      if (outcome.interrupted) continue;
+      if (!options.launch) throw std::invalid_argument("run_study: no launcher for the runs");
+      std::fprintf(stderr, "study: %s seed %u (run %d of %d)\n", group.c_str(), row.seed,
+                   outcome.runs_total, total_runs);
+      fs::create_directories(run_dir);
+      // An interrupted run's file goes: the file found afterwards is this run's.
+      if (before) fs::remove(run_file);
+      const LaunchOutcome launched = options.launch(
+          {optimize_args(spec, scene_path, row.seed, run_dir), run_dir + "/last-output.txt"});
+      // Ctrl-C ends the study after this run; the report covers the runs finished so far.
+      if (launched.interrupted) outcome.interrupted = true;
+      const std::optional<optimize::RunResult> after = existing_run(run_file);
+      if (after && after->stop_reason != optimize::StopReason::interrupted) {
+        add_result(*after, spec.mode == core::LabelMode::conservative, row);
+        ++outcome.runs_done_now;
+        rows.push_back(row);
+        continue;
+      }
+      // An interrupted run writes its best result as "interrupted" and exits normally.
+      if (after || launched.interrupted) {
+        outcome.interrupted = true;
+        continue;
+      }
+      throw std::runtime_error("study: the run of " + group + " seed " + std::to_string(row.seed) +
+                               " wrote no run file (" +
+                               (launched.failure.empty() ? "exit status 0" : launched.failure) +
+                               "; its standard output is in " + run_dir + "/last-output.txt)");
     }
   }
   // The exact check of every run (issue 10): now, with --validate, or from an earlier

@@ -4,6 +4,7 @@
 #include <openssl/evp.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <ctime>
 #include <fstream>
@@ -40,15 +41,64 @@ std::string sha256_file(const std::string& path) {
 }
 
 SceneHashes hash_scene(const Scene& scene) {
+  std::vector<std::pair<std::string, std::string>> meshes;
+  for (const std::string& mesh : scene.mesh_files) meshes.emplace_back(mesh, sha256_file(mesh));
+  return combine_scene_hashes(sha256_file(scene.file), std::move(meshes));
+}
+
+SceneHashes combine_scene_hashes(std::string scene_file_sha256,
+                                 std::vector<std::pair<std::string, std::string>> meshes) {
   SceneHashes out;
-  out.scene = sha256_file(scene.file);
+  out.scene = std::move(scene_file_sha256);
+  out.meshes = std::move(meshes);
   std::string all = out.scene;
-  for (const std::string& mesh : scene.mesh_files) {
-    out.meshes.emplace_back(mesh, sha256_file(mesh));
-    all += "\n" + out.meshes.back().second;
-  }
+  for (const auto& mesh : out.meshes) all += "\n" + mesh.second;
   out.combined = sha256_hex(all);
   return out;
+}
+
+namespace {
+/// "sha256 1d6fa5ee238a… → 9d6df9c590de…": enough of each hash to tell them apart.
+std::string hash_change(const std::string& before, const std::string& after) {
+  constexpr std::size_t kShown = 12;
+  return "sha256 " + before.substr(0, kShown) + "… → " + after.substr(0, kShown) + "…";
+}
+}  // namespace
+
+std::vector<std::string> scene_changes(const SceneHashes& recorded, const SceneHashes& now,
+                                       const std::string& scene_file) {
+  std::vector<std::string> out;
+  if (recorded.combined == now.combined) return out;
+  if (recorded.scene != now.scene) {
+    out.push_back("scene " + scene_file + " changed (" + hash_change(recorded.scene, now.scene) +
+                  ")");
+  }
+  if (recorded.meshes.size() != now.meshes.size()) {
+    out.push_back("scene " + scene_file + " uses " + std::to_string(now.meshes.size()) +
+                  " mesh files, " + std::to_string(recorded.meshes.size()) + " before");
+  }
+  // Mesh files by position: the same content at another path is the same mesh.
+  for (std::size_t i = 0; i < std::min(recorded.meshes.size(), now.meshes.size()); ++i) {
+    if (recorded.meshes[i].second != now.meshes[i].second) {
+      out.push_back("mesh file " + now.meshes[i].first + " changed (" +
+                    hash_change(recorded.meshes[i].second, now.meshes[i].second) + ")");
+    }
+  }
+  // The combined hashes differ although every part agrees: recorded by another rule.
+  if (out.empty()) {
+    out.push_back("scene " + scene_file + " changed (" +
+                  hash_change(recorded.combined, now.combined) + " over the scene and its meshes)");
+  }
+  return out;
+}
+
+void check_same_scene(const SceneHashes& recorded, const SceneHashes& now,
+                      const std::string& scene_file, const std::string& file) {
+  const std::vector<std::string> changes = scene_changes(recorded, now, scene_file);
+  if (changes.empty()) return;
+  std::string reason = "made for another scene (or the scene changed since): ";
+  for (std::size_t i = 0; i < changes.size(); ++i) reason += (i > 0 ? "; " : "") + changes[i];
+  throw InputError(file, "/provenance/scene_sha256", reason);
 }
 
 std::string host_name() {

@@ -127,6 +127,10 @@ MemoryUsage peak_memory() {
   return usage;
 }
 
+int population_size(const std::string& algorithm, int population, std::size_t dimension) {
+  return static_cast<int>(detail::make_solver(algorithm, 1, population, dimension).population);
+}
+
 RunResult optimize(const core::Scene& scene, const Objective& objective,
                    const OptimizeOptions& options) {
   const Encoding encoding(scene);

@@ -208,6 +208,198 @@ RunFile read_run_file(const std::string& path) {
   return run_from_json(core::read_json_file(path), path);
 }
 
+std::optional<unsigned> run_file_seed(const std::string& file_name) {
+  const std::string prefix = "run-", suffix = ".json";
+  if (file_name.size() <= prefix.size() + suffix.size() || file_name.rfind(prefix, 0) != 0 ||
+      file_name.compare(file_name.size() - suffix.size(), suffix.size(), suffix) != 0) {
+    return std::nullopt;
+  }
+  const std::string digits =
+      file_name.substr(prefix.size(), file_name.size() - prefix.size() - suffix.size());
+  // As std::to_string writes a seed: decimal digits, no sign, no leading zero.
+  if (digits.size() > 10 || digits.find_first_not_of("0123456789") != std::string::npos ||
+      (digits.size() > 1 && digits[0] == '0')) {
+    return std::nullopt;
+  }
+  const unsigned long long seed = std::stoull(digits);
+  if (seed > std::numeric_limits<unsigned>::max()) return std::nullopt;
+  return static_cast<unsigned>(seed);
+}
+
+RunSettings recorded_settings(const RunFile& file) {
+  RunSettings s;
+  s.scene_file = file.context.scene_file;
+  if (file.context.provenance) s.scene = file.context.provenance->scene;
+  s.mode = file.context.mode;
+  s.resolution = file.context.resolution;
+  s.algorithm = file.run.algorithm;
+  s.start = file.context.start;
+  s.time_limit = file.context.time_limit;
+  s.max_evaluations = file.context.max_evaluations;
+  s.tolerance = file.run.tolerance;
+  s.population = file.run.population;
+  s.seed = file.run.seed;
+  s.threads = file.run.threads;
+  return s;
+}
+
+std::vector<std::string> settings_changes(const RunSettings& recorded, const RunSettings& now) {
+  std::vector<std::string> out;
+  auto compare = [&out](const char* name, const std::string& before, const std::string& after) {
+    if (before != after) out.push_back(std::string(name) + ": " + before + " → " + after);
+  };
+  auto resolution = [](const std::array<int, 3>& n) {
+    return std::to_string(n[0]) + "x" + std::to_string(n[1]) + "x" + std::to_string(n[2]);
+  };
+  if (recorded.scene && now.scene) {
+    for (std::string& line : core::scene_changes(*recorded.scene, *now.scene, now.scene_file)) {
+      out.push_back(std::move(line));
+    }
+  }
+  compare("mode", recorded.mode, now.mode);
+  if (recorded.resolution && now.resolution) {
+    compare("resolution", resolution(*recorded.resolution), resolution(*now.resolution));
+  }
+  compare("algorithm", recorded.algorithm, now.algorithm);
+  compare("start", recorded.start, now.start);
+  // Exact comparisons: both sides hold what the run file's JSON round trip keeps exactly.
+  if (recorded.time_limit != now.time_limit) {
+    out.push_back("time_limit_s: " + core::format_number(recorded.time_limit) + " → " +
+                  core::format_number(now.time_limit));
+  }
+  compare("max_evaluations", std::to_string(recorded.max_evaluations),
+          std::to_string(now.max_evaluations));
+  if (recorded.tolerance && now.tolerance && *recorded.tolerance != *now.tolerance) {
+    out.push_back("tolerance: " + core::format_number(*recorded.tolerance) + " → " +
+                  core::format_number(*now.tolerance));
+  }
+  if (recorded.population && now.population) {
+    compare("population", std::to_string(*recorded.population), std::to_string(*now.population));
+  }
+  if (recorded.seed && now.seed) {
+    compare("seed", std::to_string(*recorded.seed), std::to_string(*now.seed));
+  }
+  if (recorded.threads && now.threads) {
+    compare("threads", std::to_string(*recorded.threads), std::to_string(*now.threads));
+  }
+  return out;
+}
+
+namespace {
+
+std::string conflicts_text(const std::vector<SettingsConflict>& conflicts) {
+  // Each distinct change once (a study of 1,100 runs with another budget is one line), with the
+  // first run file showing it and how many more do; changes shared by the same runs together.
+  struct Change {
+    std::string text, first_run;
+    int runs = 0;
+  };
+  std::vector<Change> changes;
+  for (const SettingsConflict& c : conflicts) {
+    for (const std::string& text : c.changes) {
+      auto found = std::find_if(changes.begin(), changes.end(),
+                                [&](const Change& seen) { return seen.text == text; });
+      if (found == changes.end()) {
+        changes.push_back({text, c.run_file, 1});
+      } else {
+        ++found->runs;
+      }
+    }
+  }
+  struct Runs {
+    std::string first_run;
+    int runs = 0;
+    std::vector<std::string> changes;
+  };
+  std::vector<Runs> by_runs;
+  for (const Change& change : changes) {
+    auto found = std::find_if(by_runs.begin(), by_runs.end(), [&](const Runs& r) {
+      return r.first_run == change.first_run && r.runs == change.runs;
+    });
+    if (found == by_runs.end()) {
+      by_runs.push_back({change.first_run, change.runs, {change.text}});
+    } else {
+      found->changes.push_back(change.text);
+    }
+  }
+  constexpr std::size_t kShown = 20;
+  std::string text = "holds runs made with other settings than this command:";
+  std::size_t shown = 0;
+  for (const Runs& r : by_runs) {
+    if (shown >= kShown) break;
+    text += "\n  " + r.first_run;
+    const int more = r.runs - 1;
+    if (more > 0)
+      text += " (and " + std::to_string(more) + (more == 1 ? " more run)" : " more runs)");
+    text += ":";
+    if (r.changes.size() == 1) {
+      text += " " + r.changes.front();
+      ++shown;
+      continue;
+    }
+    for (const std::string& change : r.changes) {
+      if (shown == kShown) break;
+      text += "\n    " + change;
+      ++shown;
+    }
+  }
+  if (changes.size() > shown) {
+    text += "\n  ... and " + std::to_string(changes.size() - shown) + " more differences";
+  }
+  return text;
+}
+
+}  // namespace
+
+SettingsChanged::SettingsChanged(const std::string& dir,
+                                 const std::vector<SettingsConflict>& conflicts)
+    : core::InputError(dir, "", conflicts_text(conflicts)) {}
+
+void check_resume(const std::string& dir, const RunSettings& now) {
+  namespace fs = std::filesystem;
+  std::vector<fs::path> files;
+  std::error_code ec;
+  for (auto it = fs::directory_iterator(dir, ec); !ec && it != fs::directory_iterator();
+       it.increment(ec)) {
+    if (it->is_regular_file() && run_file_seed(it->path().filename().string())) {
+      files.push_back(it->path());
+    }
+  }
+  std::sort(files.begin(), files.end());
+  std::vector<SettingsConflict> conflicts;
+  for (const fs::path& file : files) {
+    RunSettings recorded = recorded_settings(read_run_file(file.string()));
+    recorded.seed.reset();  // a run of any seed may join the folder
+    std::vector<std::string> changes = settings_changes(recorded, now);
+    if (!changes.empty()) conflicts.push_back({file.filename().string(), std::move(changes)});
+  }
+  if (!conflicts.empty()) throw SettingsChanged(dir, conflicts);
+}
+
+int discard_runs(const std::string& dir) {
+  namespace fs = std::filesystem;
+  std::vector<fs::path> files;
+  std::error_code ec;
+  for (auto it = fs::directory_iterator(dir, ec); !ec && it != fs::directory_iterator();
+       it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (it->is_regular_file() &&
+        (run_file_seed(name) || name == "summary.json" || name == "summary.csv")) {
+      files.push_back(it->path());
+    }
+  }
+  int runs = 0;
+  for (const fs::path& file : files) {
+    std::error_code removed;
+    fs::remove(file, removed);
+    if (removed) {
+      throw std::runtime_error("cannot remove " + file.string() + ": " + removed.message());
+    }
+    runs += run_file_seed(file.filename().string()).has_value();
+  }
+  return runs;
+}
+
 Summary summarize(const std::vector<RunResult>& runs) {
   Summary s;
   s.runs = static_cast<int>(runs.size());

@@ -291,7 +291,8 @@ TEST(Study, DamagedRunFilesAndUnknownFormatsAreErrorsNamingTheFileAndInterrupted
 }
 
 /// A stand-in for `camplace optimize`: records the launch and copies a real run file (from
-/// docs/reports, 3 cameras) to where the run's `--out=` directory puts it.
+/// docs/reports, 3 cameras, format 1) to where the run's `--out=` directory puts it, with the
+/// launch's settings (so that a rerun of the study finds it one of its runs).
 struct FakeOptimize {
   std::vector<compare::OptimizeLaunch> launches;
   bool write_run_file = true;
@@ -299,15 +300,23 @@ struct FakeOptimize {
 
   compare::LaunchOutcome operator()(const compare::OptimizeLaunch& launch) {
     launches.push_back(launch);
-    std::string out, seed;
+    std::map<std::string, std::string> value;
+    std::string out;
     for (std::size_t i = 0; i < launch.args.size(); ++i) {
       if (launch.args[i].rfind("--out=", 0) == 0) out = launch.args[i].substr(6);
-      if (launch.args[i] == "--seed" && i + 1 < launch.args.size()) seed = launch.args[i + 1];
+      if (i + 1 < launch.args.size()) value[launch.args[i]] = launch.args[i + 1];
     }
     if (write_run_file) {
-      fs::copy_file(std::string(CAMPLACE_SOURCE_DIR) +
-                        "/docs/reports/study_cameras/runs/cameras-3/run-1.json",
-                    out + "/run-" + seed + ".json", fs::copy_options::overwrite_existing);
+      nlohmann::ordered_json run = nlohmann::ordered_json::parse(
+          read(std::string(CAMPLACE_SOURCE_DIR) +
+               "/docs/reports/study_cameras/runs/cameras-3/run-1.json"));
+      run["algorithm"] = value.at("--algorithm");
+      run["seed"] = std::stoi(value.at("--seed"));
+      run["threads"] = std::stoi(value.at("--threads"));
+      run["context"]["mode"] = value.at("--mode");
+      run["context"]["time_limit_s"] = std::stod(value.at("--time-limit"));
+      run["context"]["max_evaluations"] = std::stoll(value.at("--max-evals"));
+      write_file(out + "/run-" + value.at("--seed") + ".json", run.dump(2) + "\n");
     }
     return outcome;
   }

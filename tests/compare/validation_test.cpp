@@ -154,8 +154,9 @@ TEST(Validate, BadFoldersAndFilesAreErrorsThatKeepTheOtherRuns) {
   write_file(dir + "/cell.json", std::string(kScene) + "\n");
   r = camplace("validate " + out);
   EXPECT_EQ(r.exit_code, 1) << r.output;
-  EXPECT_NE(r.output.find("/provenance/scene_sha256: the scene " + dir +
-                          "/cell.json (or a mesh file it uses) has changed since the run"),
+  EXPECT_NE(r.output.find("/provenance/scene_sha256: made for another scene (or the scene "
+                          "changed since): scene " +
+                          dir + "/cell.json changed (sha256 "),
             std::string::npos)
       << r.output;
   // The scene is gone.

@@ -4,8 +4,10 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <optional>
 #include <sstream>
@@ -14,6 +16,7 @@
 #include "camplace/core/error.hpp"
 #include "camplace/core/files.hpp"
 #include "camplace/core/json_reader.hpp"
+#include "camplace/core/provenance.hpp"
 #include "camplace/optimize/voxel_objective.hpp"
 #include "test_scene.hpp"
 
@@ -220,6 +223,203 @@ TEST(Report, SummaryCountsSuccessesAndTakesMedians) {
   std::ostringstream table;
   print_summary(table, runs);
   EXPECT_NE(table.str().find("2/3"), std::string::npos) << table.str();
+}
+
+TEST(Resume, RunFileSeedReadsOnlyTheNamesCamplaceWrites) {
+  EXPECT_EQ(run_file_seed("run-1.json"), 1u);
+  EXPECT_EQ(run_file_seed("run-0.json"), 0u);
+  EXPECT_EQ(run_file_seed("run-4294967295.json"), 4294967295u);
+  for (const char* name :
+       {"run-4294967296.json", "run-01.json", "run-1 copy.json", "run-.json", "run--1.json",
+        "run-+1.json", "run-1.json.tmp123", "summary.json", "Run-1.json", "run-1.JSON"}) {
+    EXPECT_FALSE(run_file_seed(name)) << name;
+  }
+}
+
+/// Settings with every member set, as recorded_settings gives them.
+RunSettings full_settings() {
+  RunSettings s;
+  s.scene_file = "cell.json";
+  s.scene = core::combine_scene_hashes(core::sha256_hex("scene"), {});
+  s.mode = "center";
+  s.resolution = std::array<int, 3>{8, 6, 6};
+  s.algorithm = "gaco";
+  s.start = "random";
+  s.time_limit = 60.0;
+  s.max_evaluations = 3000;
+  s.tolerance = 0.1875;
+  s.population = 32;
+  s.seed = 1;
+  s.threads = 2;
+  return s;
+}
+
+TEST(Resume, SettingsChangesNameEachDifferingSettingOldToNew) {
+  const RunSettings recorded = full_settings();
+  EXPECT_TRUE(settings_changes(recorded, recorded).empty());
+  const struct {
+    std::function<void(RunSettings&)> change;
+    std::string expect;
+  } cases[] = {
+      {[](RunSettings& s) { s.mode = "conservative"; }, "mode: center → conservative"},
+      {[](RunSettings& s) {
+         s.resolution = std::array<int, 3>{16, 12, 12};
+       },
+       "resolution: 8x6x6 → 16x12x12"},
+      {[](RunSettings& s) { s.algorithm = "cmaes"; }, "algorithm: gaco → cmaes"},
+      {[](RunSettings& s) { s.start = "corners"; }, "start: random → corners"},
+      {[](RunSettings& s) { s.time_limit = 0.5; }, "time_limit_s: 60 → 0.5"},
+      {[](RunSettings& s) { s.max_evaluations = 200; }, "max_evaluations: 3000 → 200"},
+      {[](RunSettings& s) { s.tolerance = 0.1; }, "tolerance: 0.1875 → 0.1"},
+      {[](RunSettings& s) { s.population = 20; }, "population: 32 → 20"},
+      {[](RunSettings& s) { s.seed = 7; }, "seed: 1 → 7"},
+      {[](RunSettings& s) { s.threads = 4; }, "threads: 2 → 4"},
+      {[](RunSettings& s) { s.scene = core::combine_scene_hashes(core::sha256_hex("other"), {}); },
+       "scene cell.json changed (sha256 " + core::sha256_hex("scene").substr(0, 12) + "… → " +
+           core::sha256_hex("other").substr(0, 12) + "…)"},
+  };
+  for (const auto& c : cases) {
+    RunSettings now = recorded;
+    c.change(now);
+    EXPECT_EQ(settings_changes(recorded, now), std::vector<std::string>{c.expect}) << c.expect;
+  }
+  // Unset on either side: not compared (a run file without provenance has no scene hashes;
+  // `optimize` leaves the seed and the threads out).
+  RunSettings now = recorded;
+  now.scene = core::combine_scene_hashes(core::sha256_hex("other"), {});
+  now.seed = 7;
+  now.threads = 4;
+  now.tolerance = 0.1;
+  RunSettings unrecorded = recorded;
+  unrecorded.scene.reset();
+  unrecorded.tolerance.reset();
+  now.seed.reset();
+  now.threads.reset();
+  EXPECT_TRUE(settings_changes(unrecorded, now).empty());
+  // The scene path alone is no change: the same content at another path is the same scene.
+  now = recorded;
+  now.scene_file = "elsewhere/cell.json";
+  EXPECT_TRUE(settings_changes(recorded, now).empty());
+}
+
+TEST(Resume, RecordedSettingsAreWhatTheRunFileSays) {
+  RunResult run;
+  run.best = core::CameraConfig(2);
+  run.algorithm = "sade";
+  run.seed = 9;
+  run.threads = 3;
+  run.population = 24;
+  run.tolerance = 0.25;
+  RunContext context;
+  context.scene_file = "a.json";
+  context.mode = "conservative";
+  context.resolution = {4, 5, 6};
+  context.start = "corners";
+  context.time_limit = 7.5;
+  context.max_evaluations = 77;
+  const RunSettings without =
+      recorded_settings(run_from_json(run_json(run, context), "run-9.json"));
+  EXPECT_FALSE(without.scene);
+  context.provenance = core::Provenance{};
+  context.provenance->scene = core::combine_scene_hashes(core::sha256_hex("a"), {});
+  const RunSettings s = recorded_settings(run_from_json(run_json(run, context), "run-9.json"));
+  EXPECT_EQ(s.scene_file, "a.json");
+  ASSERT_TRUE(s.scene);
+  EXPECT_EQ(s.scene->combined, context.provenance->scene.combined);
+  EXPECT_EQ(s.mode, "conservative");
+  EXPECT_EQ(s.resolution, (std::array<int, 3>{4, 5, 6}));
+  EXPECT_EQ(s.algorithm, "sade");
+  EXPECT_EQ(s.start, "corners");
+  EXPECT_EQ(s.time_limit, 7.5);
+  EXPECT_EQ(s.max_evaluations, 77u);
+  EXPECT_EQ(s.tolerance, 0.25);
+  EXPECT_EQ(s.population, 24);
+  EXPECT_EQ(s.seed, 9u);
+  EXPECT_EQ(s.threads, 3);
+}
+
+TEST(Resume, CheckResumeListsEachChangeOnceAndDiscardRunsRemovesOnlyCamplaceFiles) {
+  const fs::path dir = fresh_dir("resume");
+  RunResult run;
+  run.best = core::CameraConfig(2);
+  run.algorithm = "gaco";
+  run.population = 32;
+  run.tolerance = 0.1875;
+  run.threads = 2;
+  RunContext context;
+  context.scene_file = "cell.json";
+  context.mode = "center";
+  context.resolution = {8, 6, 6};
+  context.start = "random";
+  context.time_limit = 60.0;
+  context.max_evaluations = 3000;
+  context.provenance = core::Provenance{};
+  context.provenance->scene = core::combine_scene_hashes(core::sha256_hex("scene"), {});
+  for (unsigned seed : {1u, 2u, 10u}) {
+    run.seed = seed;
+    core::write_file_atomically((dir / ("run-" + std::to_string(seed) + ".json")).string(),
+                                run_json(run, context).dump(2));
+  }
+  core::write_file_atomically((dir / "summary.json").string(), "{}");
+  core::write_file_atomically((dir / "summary.csv").string(), "seed\n");
+  core::write_file_atomically((dir / "notes.txt").string(), "mine");
+  core::write_file_atomically((dir / "run-1 copy.json").string(), "not a run file");
+
+  RunSettings now = full_settings();
+  now.seed.reset();
+  now.threads.reset();
+  EXPECT_NO_THROW(check_resume(dir.string(), now));  // every seed, any thread count
+  EXPECT_NO_THROW(check_resume((dir / "missing").string(), now));
+  now.algorithm = "cmaes";
+  now.max_evaluations = 200;
+  try {
+    check_resume(dir.string(), now);
+    ADD_FAILURE() << "no error";
+  } catch (const SettingsChanged& e) {
+    EXPECT_EQ(std::string(e.what()),
+              dir.string() +
+                  ": holds runs made with other settings than this command:\n"
+                  "  run-1.json (and 2 more runs):\n"
+                  "    algorithm: gaco → cmaes\n"
+                  "    max_evaluations: 3000 → 200");
+  }
+
+  EXPECT_EQ(discard_runs(dir.string()), 3);
+  std::vector<std::string> left;
+  for (const auto& e : fs::directory_iterator(dir)) left.push_back(e.path().filename().string());
+  std::sort(left.begin(), left.end());
+  EXPECT_EQ(left, (std::vector<std::string>{"notes.txt", "run-1 copy.json"}));
+  EXPECT_EQ(discard_runs((dir / "missing").string()), 0);
+  fs::remove_all(dir);
+}
+
+TEST(Resume, SettingsChangedListsAtMostTwentyDifferencesAndGroupsTheirRuns) {
+  std::vector<SettingsConflict> conflicts;
+  for (int i = 0; i < 25; ++i) {
+    conflicts.push_back({"runs/g" + std::to_string(i) + "/run-1.json",
+                         {"scene g" + std::to_string(i) + " changed", "algorithm: gaco → de"}});
+  }
+  const std::string text = SettingsChanged("DIR", conflicts).what();
+  const std::string expect_start =
+      "DIR: holds runs made with other settings than this command:\n"
+      "  runs/g0/run-1.json: scene g0 changed\n"
+      "  runs/g0/run-1.json (and 24 more runs): algorithm: gaco → de\n"
+      "  runs/g1/run-1.json: scene g1 changed\n";
+  EXPECT_EQ(text.substr(0, expect_start.size()), expect_start) << text;
+  const std::string expect_end =
+      "  runs/g18/run-1.json: scene g18 changed\n"
+      "  ... and 6 more differences";
+  ASSERT_GE(text.size(), expect_end.size());
+  EXPECT_EQ(text.substr(text.size() - expect_end.size()), expect_end) << text;
+
+  // The limit falls inside the changes of one run: 19 single ones, then a run with 5.
+  conflicts.clear();
+  for (int i = 0; i < 19; ++i) conflicts.push_back({"r" + std::to_string(i), {std::to_string(i)}});
+  conflicts.push_back({"last", {"a", "b", "c", "d", "e"}});
+  const std::string capped = SettingsChanged("DIR", conflicts).what();
+  const std::string capped_end = "  r18: 18\n  last:\n    a\n  ... and 4 more differences";
+  ASSERT_GE(capped.size(), capped_end.size());
+  EXPECT_EQ(capped.substr(capped.size() - capped_end.size()), capped_end) << capped;
 }
 
 }  // namespace

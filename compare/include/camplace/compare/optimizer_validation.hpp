@@ -23,7 +23,9 @@ struct OptimizerValidationOptions {
 double kendall_tau_b(const std::vector<double>& a, const std::vector<double>& b);
 
 /// Writes DIR/report.md, DIR/runs.csv, DIR/samples.csv, DIR/rank_agreement.csv and
-/// DIR/voxel_err_vs_exact_err.png. Throws core::InputError when runs_dir has no run file.
+/// DIR/voxel_err_vs_exact_err.png. Throws core::InputError when runs_dir has no run file, and
+/// when one was made for another scene (core::check_same_scene: the scene hashes its
+/// provenance recorded differ from those of `scene`'s files).
 void validate_optimizer(const core::Scene& scene, const OptimizerValidationOptions& options,
                         const std::string& dir);
 

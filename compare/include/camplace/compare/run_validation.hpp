@@ -70,4 +70,10 @@ ValidationOutcome validate_runs(const ValidateOptions& options);
 /// The rows of DIR/validation.csv (for reports); empty when the file does not exist.
 std::vector<RunValidation> read_validation_csv(const std::string& dir);
 
+/// Removes what validate_runs wrote into `dir` (validation.csv, validation.md and the
+/// validation-cache/<SHA-256>.json entries, then the cache folder when that leaves it empty),
+/// nothing else. Returns how many files it removed. Throws std::runtime_error naming a file it
+/// cannot remove.
+int discard_validation(const std::string& dir);
+
 }  // namespace camplace::compare

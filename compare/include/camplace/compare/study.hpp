@@ -39,6 +39,10 @@ struct StudyOptions {
   /// After the runs, check each against the exact pipeline (validate_runs) and add the check to
   /// the report. Without it, the report still shows an earlier `camplace validate DIR`.
   bool validate = false;
+  /// Discard what earlier invocations wrote into out_dir (run files, the groups' scenes, the
+  /// report, runs.csv, the plots, the exact checks; nothing else) and run the study afresh,
+  /// instead of refusing runs that are not of this study.
+  bool restart = false;
   int validate_threads = 0;  ///< 0 = all cores
   std::function<void(const ValidationProgress&)> on_validate_progress;
 };
@@ -48,6 +52,7 @@ struct StudyOutcome {
   int runs_total = 0;
   int runs_done_before = 0;  ///< found complete in out_dir and not repeated
   int runs_done_now = 0;
+  int runs_discarded = 0;    ///< run files removed by StudyOptions::restart
   bool interrupted = false;  ///< Ctrl-C: the report covers the runs finished so far
 };
 
@@ -55,9 +60,13 @@ struct StudyOutcome {
 /// `optimize SCENE ... --runs 1`, so peak memory is per run), then writes DIR/report.md,
 /// DIR/runs.csv and the plots. A run counts as finished when
 /// DIR/runs/<group>/run-<seed>.json exists and was not interrupted; an interrupted one is run
-/// again. Throws core::InputError for a bad study file and for a run file that is damaged or of
-/// a format this version does not read (optimize::read_run_file), std::runtime_error when a run
-/// fails.
+/// again. Before any run starts, every run file found must be one of this study (issue 13):
+/// made with its settings (optimize::settings_changes: scene content, mode, solver, budget,
+/// threads, seed) and of one of its groups and seeds; a study that grows (more runs per group,
+/// more groups) keeps its runs. Otherwise it throws optimize::SettingsChanged and leaves the
+/// folder as it was, unless options.restart. Throws core::InputError for a bad study file and
+/// for a run file that is damaged or of a format this version does not read
+/// (optimize::read_run_file), std::runtime_error when a run fails.
 StudyOutcome run_study(const StudyOptions& options);
 
 }  // namespace camplace::compare

@@ -35,6 +35,27 @@ struct SceneHashes {
 /// Hashes the files the scene was loaded from (scene.file and scene.mesh_files) as they are
 /// now; throws InputError when one cannot be read.
 SceneHashes hash_scene(const Scene& scene);
+/// The SceneHashes of a scene file with SHA-256 `scene_file_sha256` using the mesh files
+/// `meshes` ((path, SHA-256) in order): fills in `combined` as hash_scene does (for a scene that
+/// is not on disk yet, e.g. a generated one about to be written).
+SceneHashes combine_scene_hashes(std::string scene_file_sha256,
+                                 std::vector<std::pair<std::string, std::string>> meshes);
+
+/// How the scene content `now` differs from `recorded` (the hashes a result file recorded),
+/// one line per difference, empty when the combined hashes agree: "scene F changed (sha256
+/// 1d6fa5ee238a… → 9d6df9c590de…)" for the scene file, "mesh file M changed (…)" per mesh file
+/// (M: its path now), "scene F uses 2 mesh files, 1 before" when the lists differ. F is
+/// `scene_file`, the scene's path as the caller names it. The one rule by which `optimize` and
+/// `study` refuse to resume and `validate` and `compare-optimizer` refuse a run of another
+/// scene.
+std::vector<std::string> scene_changes(const SceneHashes& recorded, const SceneHashes& now,
+                                       const std::string& scene_file);
+
+/// Refuses a result made for another scene: throws InputError naming `file` (the result file),
+/// the entry "/provenance/scene_sha256" and the lines of scene_changes when `recorded` (the
+/// hashes the file recorded) differ from `now` (those of the scene at `scene_file`).
+void check_same_scene(const SceneHashes& recorded, const SceneHashes& now,
+                      const std::string& scene_file, const std::string& file);
 
 /// The machine's host name and the current local time as ISO 8601 ("2026-11-29T08:26:25+0000").
 std::string host_name();

@@ -106,6 +106,11 @@ const std::vector<std::string>& algorithm_names();
 /// One line per solver: name, pagmo algorithm, batch-parallel or not, default population.
 std::string algorithm_help();
 
+/// The population size a run of `algorithm` uses over `dimension` (> 0) free variables:
+/// `population`, or the solver's default when it is 0 (RunResult::population). Throws
+/// core::InputError for a bad algorithm name or population size, as optimize() does.
+int population_size(const std::string& algorithm, int population, std::size_t dimension);
+
 /// Runs one optimisation of `objective` over the scene's camera domains. Results depend only on
 /// (scene, objective, options without time limit/interrupt, seed), not on the thread count.
 /// Throws core::InputError for a bad algorithm name, start file or population size.

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "camplace/core/error.hpp"
 #include "camplace/core/provenance.hpp"
 #include "camplace/optimize/optimizer.hpp"
 
@@ -54,6 +55,65 @@ RunFile run_from_json(const nlohmann::json& j, const std::string& file);
 /// Reads and parses the run file `path` with run_from_json. Throws core::InputError when the
 /// file cannot be read, is not JSON or is not a run file this version reads.
 RunFile read_run_file(const std::string& path);
+
+/// The seed of a run file's name as camplace writes it ("run-<seed>.json"); none for any other
+/// name ("run-1 copy.json", "summary.json").
+std::optional<unsigned> run_file_seed(const std::string& file_name);
+
+/// The settings that determine a run's result: what the runs of one folder share, so that a
+/// job resuming the folder adds only runs like them (issue 13). Optional members are compared
+/// only when set on both sides (settings_changes).
+struct RunSettings {
+  std::string scene_file;  ///< for messages only: the same content at another path is the same
+  std::optional<core::SceneHashes> scene;  ///< none in run files of formats 1 and 2
+  std::string mode;                        ///< voxel labelling mode
+  std::optional<std::array<int, 3>> resolution;
+  std::string algorithm;
+  std::string start;        ///< "random", "corners" or the start file's path
+  double time_limit = 0.0;  ///< s; 0 = none
+  std::uint64_t max_evaluations = 0;
+  std::optional<double> tolerance;  ///< m², as the run used it (the default resolved)
+  std::optional<int> population;    ///< as the run used it (the solver's default resolved)
+  std::optional<unsigned> seed;
+  /// Threads of batch evaluation. The Err does not depend on them (optimize()), the timings do:
+  /// `study` compares them (its report states them and plots timings), `optimize` does not.
+  std::optional<int> threads;
+};
+
+/// What a run file records about its settings (all members but `scene` of a file without
+/// provenance).
+RunSettings recorded_settings(const RunFile& file);
+
+/// How `now` differs from `recorded`, one line per setting in run-file terms, old → new
+/// ("algorithm: gaco → cmaes", "max_evaluations: 3000 → 200", the lines of core::scene_changes);
+/// empty when they agree.
+std::vector<std::string> settings_changes(const RunSettings& recorded, const RunSettings& now);
+
+/// A run file of a folder whose settings differ from those of the job about to resume it.
+struct SettingsConflict {
+  std::string run_file;              ///< as the message names it (e.g. relative to the folder)
+  std::vector<std::string> changes;  ///< settings_changes(), or why the run does not belong
+};
+
+/// A job would resume a folder holding runs made with other settings. The message names the
+/// folder and lists each distinct change once, with the first run file showing it and how many
+/// more do.
+class SettingsChanged : public core::InputError {
+ public:
+  SettingsChanged(const std::string& dir, const std::vector<SettingsConflict>& conflicts);
+};
+
+/// Checks every run file of the `optimize` folder `dir` (run-<seed>.json) against `now`, the
+/// seed aside (a run of any seed may join the folder). Throws SettingsChanged listing the
+/// differences, core::InputError for a run file it cannot read; a folder without run files (or
+/// none at all) passes.
+void check_resume(const std::string& dir, const RunSettings& now);
+
+/// Removes what `camplace optimize` wrote into `dir`: every run-<seed>.json, summary.json and
+/// summary.csv, nothing else (so never a file of the user's). Returns how many run files it
+/// removed; a missing folder removes none. Throws std::runtime_error naming a file it cannot
+/// remove.
+int discard_runs(const std::string& dir);
 
 /// Aggregates over R runs.
 struct Summary {
