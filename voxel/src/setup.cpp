@@ -162,11 +162,11 @@ double VoxelEvaluator::Impl::lower_bound() const {
 }
 
 double VoxelEvaluator::Impl::contact_depth() const {
-  // 1000 times the labeller's touching tolerance (1e-12 of camera distance + voxel size, both
-  // below S's diagonal + voxel diagonal) and far above the rounding of coordinates as large as
-  // S's corners.
-  const double far = std::max(grid.area.min.cwiseAbs().maxCoeff(),
-                              grid.area.max.cwiseAbs().maxCoeff());
+  // Hundreds of times the labeller's touching tolerance (1e-12 of the camera's distance plus
+  // the voxel's half extents; cameras lie in S, so that is below 2e-12 of S's diagonal) and far
+  // above the rounding of coordinates as large as S's corners.
+  const double far =
+      std::max(grid.area.min.cwiseAbs().maxCoeff(), grid.area.max.cwiseAbs().maxCoeff());
   return 1e-9 * (grid.area.diagonal() + far);
 }
 
