@@ -1,9 +1,11 @@
 // `camplace evaluate`: Err of one camera configuration, per state, in the voxel and/or the
 // exact pipeline.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 #include <string>
 #include <thread>
 
@@ -57,6 +59,23 @@ nlohmann::json voxel_json(const voxel::VoxelEvaluator& evaluator, const voxel::E
             {"clustering", e.timing.clustering_ms},
             {"distance", e.timing.distance_ms},
             {"total", e.timing.total_ms}}}};
+}
+
+/// Every number in `j` is finite. nlohmann::json prints NaN and ±inf as null; the scene loader
+/// bounds the weights so that Err stays finite (core::kMaxErr), so a non-finite number here is
+/// an internal error, reported as such rather than printed. `pointer`: where `j` sits.
+void require_finite(const nlohmann::json& j, const std::string& pointer = "") {
+  if (j.is_number_float() && !std::isfinite(j.get<double>())) {
+    throw std::logic_error("internal error: the result's " + pointer + " is " +
+                           std::to_string(j.get<double>()) + ", not a finite number");
+  }
+  if (j.is_object()) {
+    for (const auto& [key, value] : j.items()) require_finite(value, pointer + "/" + key);
+  } else if (j.is_array()) {
+    for (std::size_t i = 0; i < j.size(); ++i) {
+      require_finite(j[i], pointer + "/" + std::to_string(i));
+    }
+  }
 }
 
 void print_table(const nlohmann::json& r) {
@@ -213,6 +232,7 @@ void run_evaluate(const EvaluateArgs& args) {
   }
   out["scene"] = args.scene;
   out["cameras_file"] = args.cameras;
+  require_finite(out);
   if (args.json) {
     std::cout << out.dump(2) << "\n";
     return;

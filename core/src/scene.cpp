@@ -270,6 +270,10 @@ class SceneParser {
   void parse_time_steps(const JsonNode& list) {
     if (list.array_size() == 0) list.fail("a scene needs at least one time step");
     double weight_sum = 0.0;
+    // Err ≤ Σ ω · diag(S)² (kMaxErr): the largest sum of weights whose Err stays finite with a
+    // wide margin. (S is parsed before the time steps.)
+    const double diagonal_sq = scene_.area.diagonal() * scene_.area.diagonal();
+    const double max_weight_sum = kMaxErr / diagonal_sq;
     for (std::size_t h = 0; h < list.array_size(); ++h) {
       const JsonNode node = list.at(h);
       node.only_keys({"t", "dynamic_obstacles", "critical", "events"});
@@ -291,7 +295,17 @@ class SceneParser {
         const JsonNode w = e.at("weight");
         event.weight = w.number();
         if (event.weight < 0.0) w.fail("weight must not be negative");
+        // Checked on the sum itself, before any product with diag(S)² can overflow; a sum that
+        // overflows (or a diagonal whose square underflows to 0) is caught as not finite.
         weight_sum += event.weight;
+        if (!(weight_sum <= max_weight_sum) || !std::isfinite(weight_sum)) {
+          w.fail("weight " + format_number(event.weight) +
+                 " is too large: the weights up to here sum to " +
+                 (std::isfinite(weight_sum) ? format_number(weight_sum) : "more than any double") +
+                 ", and Err can reach that sum times diag(S)² = " + format_number(diagonal_sq) +
+                 " m², which must not exceed " + format_number(kMaxErr) +
+                 " m² (so that Err stays finite)");
+        }
         const JsonNode targets = e.at("targets");
         if (targets.array_size() == 0) targets.fail("an event needs at least one target");
         event.targets = parse_objects(targets);

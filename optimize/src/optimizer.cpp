@@ -221,7 +221,7 @@ RunResult optimize(const core::Scene& scene, const Objective& objective,
 
   result.best = json_round_trip(encoding.decode(state->best_x()), scene);
   core::Timing timing;
-  result.err = objective.evaluate(result.best, timing);
+  result.err = detail::checked_err(objective.evaluate(result.best, timing));
   result.reached_tolerance = result.err <= tolerance;
   result.memory = peak_memory();
   return result;

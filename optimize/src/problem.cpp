@@ -4,6 +4,9 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
 #include <thread>
 
 #include "camplace/core/err.hpp"
@@ -56,7 +59,18 @@ void RunState::stop(StopReason reason) {
   if (!stop_reason_) stop_reason_ = reason;
 }
 
+double checked_err(double err) {
+  if (!std::isfinite(err)) {
+    std::ostringstream value;
+    value << err;
+    throw std::runtime_error("internal error: the objective returned Err = " + value.str() +
+                             ", not a finite number (Err must be finite to optimise)");
+  }
+  return err;
+}
+
 bool RunState::record(const pagmo::vector_double& x, double err, const core::Timing& timing) {
+  checked_err(err);  // before anything is recorded: the caller's exception ends the run
   Progress progress;
   bool must_stop = false;
   {

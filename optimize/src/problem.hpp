@@ -26,6 +26,12 @@ namespace camplace::optimize::detail {
 /// Thrown through pagmo's evolve() to end a run at once; the run's state keeps the best.
 struct StopRequested {};
 
+/// `err` when it is finite; otherwise throws std::runtime_error. A NaN or infinite Err would
+/// never become the run's best (nor reach a stop criterion), leaving the run without a result;
+/// core::load_scene bounds the weights so that the voxel Err stays finite (core::kMaxErr), so
+/// this is an internal error, or a bug in an objective of one's own.
+double checked_err(double err);
+
 /// State of one run shared by every copy of the problem pagmo makes.
 class RunState {
  public:

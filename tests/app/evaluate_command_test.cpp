@@ -101,6 +101,9 @@ TEST(EvaluateCommand, BadInputsExitOneNamingFileEntryAndReason) {
   const std::string scene = read_text(kData + "paper_basic.json");
   const std::string huge_area = write_file(
       dir + "/huge.json", replace_first(scene, "\"min\": [\n   0,", "\"min\": [\n   -1e200,"));
+  // Issue 16: Err overflowed (`"err": null` from evaluate, a failed internal check in optimize).
+  const std::string huge_weight = write_file(
+      dir + "/weight.json", replace_first(scene, "\"weight\": 0.3", "\"weight\": 1.7e308"));
   const std::string basic =
       "evaluate " + kData + "paper_basic.json --cameras " + kData + "paper_basic_corners.json";
   const std::string compare =
@@ -118,6 +121,10 @@ TEST(EvaluateCommand, BadInputsExitOneNamingFileEntryAndReason) {
       {"evaluate " + huge_area + " --cameras " + kData + "paper_basic_corners.json",
        "/area/min: coordinates must lie within"},
       {"evaluate " + kData + "paper_basic.json --cameras " + dir, "is a directory"},
+      {"evaluate " + huge_weight + " --cameras " + kData + "paper_basic_corners.json --json",
+       "weight.json: /time_steps/0/events/1/weight: weight 1.7e+308 is too large"},
+      {"optimize " + huge_weight + " --max-evals 10 --out " + dir + "/o",
+       "/time_steps/0/events/1/weight: weight 1.7e+308 is too large"},
       {basic + " --export-mesh " + dir, "--export-mesh: needs --pipeline exact"},
       {basic + " --exact-fractions", "--exact-fractions: needs --pipeline exact"},
       {basic + " --voxels-out " + dir, "--voxels-out: " + dir + ": is a directory"},

@@ -316,6 +316,28 @@ TEST(SceneRejection, NegativeOrAllZeroWeights) {
   expect_rejected(s, "zero", "/time_steps", "all event weights are 0");
 }
 
+TEST(SceneRejection, WeightsWhoseErrCouldOverflow) {
+  // Err ≤ Σ ω · diag(S)² must stay ≤ core::kMaxErr = 1e150 m²; S is 4×3×3 m: diag(S)² = 34 m².
+  json s = base_scene();
+  s["time_steps"][0]["events"][0]["weight"] = 1.7e308;  // Err would be infinite
+  expect_rejected(s, "huge", "/time_steps/0/events/0/weight",
+                  "weight 1.7e+308 is too large: the weights up to here sum to 1.7e+308, and Err "
+                  "can reach that sum times diag(S)² = 34 m², which must not exceed 1e+150 m²");
+  // Each weight alone is accepted (2e148 · 34 = 6.8e149 m²); their sum is not (1.36e150 m²),
+  // named at the entry where it crosses the limit.
+  s = base_scene();
+  s["time_steps"][0]["events"][0]["weight"] = 2e148;
+  EXPECT_NO_THROW(core::load_scene(write_scene(s, "one")));
+  s["time_steps"][0]["events"].push_back(s["time_steps"][0]["events"][0]);
+  expect_rejected(s, "sum", "/time_steps/0/events/1/weight",
+                  "the weights up to here sum to 4e+148");
+  // Across time steps too.
+  s = base_scene();
+  s["time_steps"][0]["events"][0]["weight"] = 2e148;
+  s["time_steps"].push_back(s["time_steps"][0]);
+  expect_rejected(s, "steps", "/time_steps/1/events/0/weight", "is too large");
+}
+
 TEST(SceneRejection, TimeStepWithoutCriticalObjectsOrEvents) {
   json s = base_scene();
   s["time_steps"][0].erase("dynamic_obstacles");

@@ -366,6 +366,40 @@ TEST(Optimizer, StopsWhenErrReachesTheLowerBound) {
   EXPECT_EQ(optimize(scene, objective, o).stop_reason, StopReason::max_evaluations);
 }
 
+/// Err = `value` (+inf or NaN) everywhere: what a weight of 1.7e308 made of the voxel Err
+/// before the scene loader bounded the weights (core::kMaxErr).
+class NonFiniteObjective : public Objective {
+ public:
+  explicit NonFiniteObjective(double value) : value_(value) {}
+  double evaluate(const core::CameraConfig&, voxel::Timing& timing) const override {
+    timing = voxel::Timing{};
+    return value_;
+  }
+  double default_tolerance() const override { return 0.1; }
+  double err_lower_bound() const override { return 0.0; }
+
+ private:
+  double value_;
+};
+
+TEST(Optimizer, NonFiniteErrIsAClearErrorNotAFailedInternalCheck) {
+  // Such an Err never became the best, so the run ended without a best point and decoding it
+  // failed an internal check (encoding.cpp). Now the first such Err ends the run with an error.
+  const core::Scene scene = small_scene();
+  for (const double value :
+       {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::quiet_NaN()}) {
+    for (const char* algorithm : {"gaco", "cmaes"}) {
+      const NonFiniteObjective objective(value);
+      try {
+        optimize(scene, objective, budget(algorithm, 200, 1));
+        ADD_FAILURE() << algorithm << ": no error for Err = " << value;
+      } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("not a finite number"), std::string::npos) << e.what();
+      }
+    }
+  }
+}
+
 TEST(Optimizer, BadAlgorithmOrPopulationIsAnInputError) {
   Fixture f;
   EXPECT_THROW(optimize(f.scene, f.objective, budget("midaco", 10, 1)), core::InputError);

@@ -130,12 +130,13 @@ namespace camplace::testing {
 namespace {
 
 TEST(Model, ConservativeErrLowerBoundByHandAndNeverBeaten) {
-  // Target [2.5,3]×[1.75,2.25]: the touching voxel nearest to the critical box is
-  // [2.25,2.5]×[1.75,2]×[0,0.25] (it touches the face x = 2.5) at 2.25 − 1.1 = 1.15 m, while
-  // d_true = 1.4 m: the bound is (1.4 − 1.15)² = 0.0625 m².
-  const core::Scene scene = planar_scene({box_object("target", {2.5, 1.75, 0}, {3, 2.25, 0.25})});
+  // Target [2.45,3]×[1.75,2.25]: the voxel it reaches into nearest to the critical box is
+  // [2.25,2.5]×[1.75,2]×[0,0.25] at 2.25 − 1.1 = 1.15 m, while d_true = 1.35 m: the bound is
+  // (1.35 − 1.15)² = 0.04 m². (Voxels the target only touches do not count:
+  // lower_bound_test.cpp.)
+  const core::Scene scene = planar_scene({box_object("target", {2.45, 1.75, 0}, {3, 2.25, 0.25})});
   const voxel::VoxelEvaluator evaluator(scene, {voxel::LabelMode::conservative, {0, 0, 0}});
-  EXPECT_NEAR(evaluator.err_lower_bound(), 0.0625, 1e-12);
+  EXPECT_NEAR(evaluator.err_lower_bound(), 0.04, 1e-12);
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(0, 1);
   for (int i = 0; i < 200; ++i) {

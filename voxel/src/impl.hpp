@@ -188,7 +188,13 @@ struct VoxelEvaluator::Impl {
   // Set-up (setup.cpp): everything that does not depend on the cameras.
   void build();
   int add_object(const core::SceneObject& object, core::ObjectRole role);
+  /// The conservative lower bound of Err (err_lower_bound(); the proof is in setup.cpp).
   double lower_bound() const;
+  /// How deep (m) an occupying object must reach into a voxel's box for lower_bound() to count
+  /// the voxel as always in M: 1e-9 of S's diagonal plus its largest |coordinate|.
+  double contact_depth() const;
+  /// Voxels whose box, shrunk by contact_depth(), meets the closed solid `mesh`, ascending.
+  std::vector<int> voxels_reached(const core::TriangleMesh& mesh) const;
   std::vector<std::uint8_t> obstacle_interiors(const core::TimeStep& step) const;
   /// The lower bounds of critical_lb_by_step for one step.
   std::vector<double> critical_distances(const std::vector<detail::IndexedSolid>& solids) const;

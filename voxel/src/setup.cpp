@@ -7,6 +7,7 @@
 
 #include "camplace/core/distance.hpp"
 #include "camplace/core/err.hpp"
+#include "camplace/voxel/components.hpp"
 #include "impl.hpp"
 #include "solid_distance.hpp"
 
@@ -100,27 +101,102 @@ void VoxelEvaluator::Impl::build() {
   if (conservative) err_lower_bound = lower_bound();
 }
 
-/// Err if the model held only the voxels touching a target (see err_lower_bound()).
+/// The conservative lower bound of Err (see VoxelEvaluator::err_lower_bound() for the rule).
+/// Why it holds, per state (h, l) and for every configuration:
+///  - Let a voxel's box hold a point q of an occupying object X of the state (a target; a
+///    dynamic obstacle in masked mode) at depth ≥ contact_depth() inside the box. For each
+///    camera, q is not free (SPEC §3: the first hit on the ray through q is at q or before it,
+///    so q is occupied or undetectable; or q is outside the FOV, or the camera is blind). The
+///    labeller sees it: the triangle of X through which that ray first meets X has a cone
+///    holding the whole ray, which passes through q deep inside the box, so the cone test
+///    meets by far more than its rounding (labelling.cpp); and if q is outside the FOV, some
+///    corner of the box is outside by at least the depth. So the voxel is never labelled free
+///    and, unless it lies wholly inside an obstacle of the step (removed_by_step), it is in M
+///    before the filter. Voxels that X touches only at their boundary are not counted: there
+///    rounding decides (a ray through a vertex of X grazing a voxel's edge: seen free).
+///  - Such voxels that form a 6-connected group G lie in one component of M before the filter,
+///    and that component holds G: its volume ≥ |G|·voxel volume and its z-extent ≥ G's. The
+///    filter keeps components by thresholds (core::Plausibility::keeps, monotone in both), so if
+///    G alone passes them, G stays in the filtered M. filter_components applied to the set of
+///    those voxels keeps exactly the groups that pass, computed with the filter's own formulas.
+///  - Then M is not empty and d_model ≤ U = the distance from C_h to the nearest voxel of a kept
+///    group (model_distance takes the minimum over a superset of the same critical_sq values).
+///    With d' = min(U, d_true): d_model ≤ d' ≤ d_true, so (d_true − d_model)² ≥ (d_true − d')².
+///    (U can exceed d_true when the groups nearest to the target were dropped; then d_model may
+///    equal d_true and the term is 0.)
+///  - A state with no kept group proves nothing: the filter may remove every component (then
+///    d_model is S's diagonal, SPEC §4) or keep one at d_true; its term is 0.
+/// The bound sums the states' terms as Err does (core::error_functional); Err and the bound add
+/// the same terms in different orders, so compare through core::lower_bound_threshold.
 double VoxelEvaluator::Impl::lower_bound() const {
+  // The voxels an occupying object reaches into, computed once: objects are shared by states.
+  std::vector<std::vector<int>> reached(objects.size());
+  std::vector<std::uint8_t> known(objects.size(), 0);
+  std::vector<std::uint8_t> group(grid.count());
   std::vector<core::ErrTerm> terms;
   for (const detail::StateInfo& state : states) {
-    const core::Event& event = scene.time_steps[state.time_step].events[state.event];
-    const auto& lb = critical_lb_by_step[state.time_step];
-    std::vector<detail::IndexedSolid> targets;
-    for (const core::SceneObject& target : event.targets) {
-      targets.push_back(detail::index_solid(target.mesh));
-    }
-    double best = std::numeric_limits<double>::infinity();
-    for (int v = 0; v < grid.count(); ++v) {
-      if (lb[v] >= best) continue;  // so is the value
-      // Touching (core::box_solid_sq_distance == 0): the culled distance is exact at 0.
-      if (detail::box_solids_sq_distance(targets, grid.voxel_box(v), 0.0) == 0.0) {
-        best = std::min(best, critical_sq(state.time_step, v));
+    const auto& removed = removed_by_step[state.time_step];
+    std::fill(group.begin(), group.end(), std::uint8_t(0));
+    for (int o : state.objects) {
+      if (!objects[o].occupying) continue;
+      if (!known[o]) {
+        reached[o] = voxels_reached(*objects[o].mesh);
+        known[o] = 1;
+      }
+      for (int v : reached[o]) {
+        if (!removed[v]) group[v] = 1;
       }
     }
-    terms.push_back({state.weight, state.d_true, std::sqrt(best)});
+    filter_components(group, grid, scene.plausibility);
+    const auto& lb = critical_lb_by_step[state.time_step];
+    double best = std::numeric_limits<double>::infinity();
+    for (int v = 0; v < grid.count(); ++v) {
+      if (!group[v] || lb[v] >= best) continue;  // lb[v] ≥ best: so is the value
+      best = std::min(best, critical_sq(state.time_step, v));
+    }
+    // No kept group (best = ∞): d' = d_true, the term is 0.
+    const double bound = std::min(state.d_true, std::sqrt(best));
+    terms.push_back({state.weight, state.d_true, bound});
   }
   return core::error_functional(terms);
+}
+
+double VoxelEvaluator::Impl::contact_depth() const {
+  // Hundreds of times the labeller's touching tolerance (1e-12 of the camera's distance plus
+  // the voxel's half extents; cameras lie in S, so that is below 2e-12 of S's diagonal) and far
+  // above the rounding of coordinates as large as S's corners.
+  const double far =
+      std::max(grid.area.min.cwiseAbs().maxCoeff(), grid.area.max.cwiseAbs().maxCoeff());
+  return 1e-9 * (grid.area.diagonal() + far);
+}
+
+/// The voxels whose box, shrunk by contact_depth() on every side, meets the closed solid `mesh`
+/// (core::box_solid_sq_distance == 0; the culled distance is exact at 0), ascending. Only
+/// voxels within one voxel of the solid's bounding box are tested.
+std::vector<int> VoxelEvaluator::Impl::voxels_reached(const core::TriangleMesh& mesh) const {
+  const double depth = contact_depth();
+  std::vector<int> out;
+  if (!(2.0 * depth < grid.step.minCoeff())) return out;  // voxels too small to tell
+  const std::vector<detail::IndexedSolid> solid{detail::index_solid(mesh)};
+  const Box3& bounds = solid.front().bounds;
+  std::array<int, 3> lo{}, hi{};
+  for (int a = 0; a < 3; ++a) {
+    const double first = std::floor((bounds.min[a] - grid.area.min[a]) / grid.step[a]) - 1.0;
+    const double last = std::floor((bounds.max[a] - grid.area.min[a]) / grid.step[a]) + 1.0;
+    lo[a] = static_cast<int>(std::clamp(first, 0.0, grid.n[a] - 1.0));
+    hi[a] = static_cast<int>(std::clamp(last, 0.0, grid.n[a] - 1.0));
+  }
+  for (int k = lo[2]; k <= hi[2]; ++k) {
+    for (int j = lo[1]; j <= hi[1]; ++j) {
+      for (int i = lo[0]; i <= hi[0]; ++i) {
+        const int v = i + grid.n[0] * (j + grid.n[1] * k);
+        const Box3 box = grid.voxel_box(v);
+        const Box3 inner{box.min + Vec3::Constant(depth), box.max - Vec3::Constant(depth)};
+        if (detail::box_solids_sq_distance(solid, inner, 0.0) == 0.0) out.push_back(v);
+      }
+    }
+  }
+  return out;
 }
 
 /// Voxels removed as obstacle interior (SPEC §4–5): centre inside (center mode) or the whole

@@ -107,6 +107,12 @@ Scene load_scene(const std::string& path);
 /// cell, small enough that squared distances and exact constructions stay finite.
 constexpr double kMaxCoordinate = 1e6;
 
+/// Largest Σ ω · diag(S)² (m²) a scene may have, summed over all events' weights ω. Every
+/// state's |d_true − d_model| is at most S's diagonal (SPEC §4), so this bounds Err for every
+/// configuration in both pipelines; at 1e150 m², Err, sums of up to 1e150 Err values and Err²
+/// all stay finite doubles (a weight of 1e308 would make Err infinite).
+constexpr double kMaxErr = 1e150;
+
 /// Largest voxel grid camplace accepts (per-voxel data is kept per camera), and the largest
 /// count along one axis.
 constexpr long long kMaxVoxels = 1LL << 25;

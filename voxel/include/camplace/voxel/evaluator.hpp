@@ -59,10 +59,19 @@ class VoxelEvaluator {
   /// Model voxels after the plausibility filter (1 = in M) for one state.
   std::vector<std::uint8_t> model(const core::CameraConfig& config, int state) const;
 
-  /// A lower bound of Err over all camera configurations (m²), conservative mode only: every
-  /// voxel that touches a target is in M whatever the cameras (its rays meet the target), so
-  /// d(C, M) never exceeds the distance to the nearest such voxel. When this bound exceeds the
-  /// tolerance, no configuration can reach it. Center mode: 0 (no bound).
+  /// A lower bound of Err over all camera configurations (m²), conservative mode only. Per
+  /// state: a voxel that an occupying object (a target; a dynamic obstacle in masked mode)
+  /// reaches into — meets its box shrunk by 1e-9·(S's diagonal + S's largest |coordinate|) —
+  /// and that does not lie wholly inside an obstacle is in M before the plausibility filter
+  /// whatever the cameras (its rays meet that object; contact only at the box's boundary does
+  /// not count, rounding decides there). A 6-connected group G of such voxels lies in one
+  /// component of that M, whose volume and z-extent are at least G's; so when G alone passes
+  /// the filter (volume |G|·voxel volume, z-extent of its boxes), G stays in M and d(C, M) ≤ U,
+  /// the distance from C to the nearest voxel of such a group. The state's term is
+  /// ω·(d_true − min(U, d_true))², or 0 when no group passes (the filter may then remove all of
+  /// M or keep a component at d_true). Without a filter every group passes. Compare Err against
+  /// it through core::lower_bound_threshold (the sums' order differs). When this bound exceeds
+  /// the tolerance, no configuration can reach it. Center mode: 0 (no bound).
   double err_lower_bound() const;
 
   const Grid& grid() const;
