@@ -12,6 +12,8 @@
 #include "camplace/core/camera.hpp"
 #include "camplace/core/geometry.hpp"
 #include "camplace/exact/evaluator.hpp"
+#include "camplace/voxel/evaluator.hpp"
+#include "camplace/voxel/grid.hpp"
 #include "reference.hpp"
 #include "scene_builder.hpp"
 
@@ -152,6 +154,96 @@ TEST(ExactOracle, WidePyramidReachesTheFarEndOfTheArea) {
   const auto a = compare_with_oracle(scene, config, 1000, rng);
   EXPECT_GT(a.checked, 900);
   EXPECT_EQ(a.mismatches, 0);
+}
+
+// Issue 16: voxel and exact disagreed near 90° (a 4-sided pyramid at 89.999999999° gave an exact
+// model of nearly all of S), and the exact pyramid stopped short of S above 60°. One camera high
+// in a corner of paper_basic's area, 8-sided pyramids from 30° to 89.999999999°: the exact model
+// agrees with the brute-force sensor model at random points, and the conservative voxel model
+// contains it (d_voxel ≤ d_exact, and every sampled exact model point lies in a model voxel).
+TEST(ExactOracle, WideAnglesAgreeWithTheBruteForceSensorModelAndTheVoxelPipeline) {
+  using testing::box_object;
+  std::mt19937 rng(16);
+  for (const double angle : {30.0, 60.0, 75.0, 85.0, 89.0, 89.999999999}) {
+    SCOPED_TRACE(angle);
+    const core::Box3 area{Vec3(0, 0, 0), Vec3(4, 3, 3)};
+    auto scene =
+        testing::simple_scene(area, {16, 12, 12}, 1, angle,
+                              {box_object("cabinet", Vec3(2.6, 0.5, 0.0), Vec3(3.1, 1.0, 0.7))},
+                              {box_object("person", Vec3(1.0, 1.5, 0.0), Vec3(1.4, 1.8, 1.75))});
+    scene.cameras.fov = core::FovShape::pyramid;
+    scene.cameras.sides = 8;
+    const core::CameraConfig config{testing::camera_at(Vec3(0, 0, 3), 36.87, -35.0)};
+    const auto a = compare_with_oracle(scene, config, 400, rng);
+    EXPECT_GT(a.checked, 350);
+    EXPECT_EQ(a.mismatches, 0);
+
+    exact::ExactOptions options;
+    options.keep_models = true;
+    const auto exact_eval = exact::evaluate_exact(scene, config, options);
+    const voxel::VoxelEvaluator voxels(scene, {});
+    const auto voxel_eval = voxels.evaluate(config);
+    ASSERT_EQ(voxel_eval.states.size(), exact_eval.states.size());
+    for (std::size_t s = 0; s < exact_eval.states.size(); ++s) {
+      EXPECT_LE(voxel_eval.states[s].d_model, exact_eval.states[s].d_model + 1e-9) << "state " << s;
+      EXPECT_GE(voxel_eval.states[s].model_volume, exact_eval.states[s].model_volume - 1e-9)
+          << "state " << s;
+      const auto model = voxels.model(config, int(s));
+      const auto& grid = voxels.grid();
+      std::uniform_real_distribution<double> unit(0.0, 1.0);
+      int in_exact = 0;
+      for (int i = 0; i < 400; ++i) {
+        const Vec3 p =
+            area.min + Vec3(unit(rng), unit(rng), unit(rng)).cwiseProduct(area.max - area.min);
+        if (!exact_eval.models[s].contains(p)) continue;
+        ++in_exact;
+        std::array<int, 3> ijk{};
+        for (int k = 0; k < 3; ++k)
+          ijk[k] =
+              std::clamp(int(std::floor((p[k] - area.min[k]) / grid.step[k])), 0, grid.n[k] - 1);
+        const int index = ijk[0] + grid.n[0] * (ijk[1] + grid.n[1] * ijk[2]);
+        EXPECT_TRUE(model[index]) << "state " << s << " point " << p.transpose();
+      }
+      EXPECT_GT(in_exact, 0) << "state " << s;
+    }
+  }
+}
+
+// Issue 16: a camera exactly on an object's surface was blind in the exact pipeline (closed
+// containment) and saw in the voxel pipeline (winding number), so the conservative voxel model
+// no longer contained the exact one. One convention now (SPEC §3.3: on the surface = inside,
+// blind): cameras on a face, an edge and a vertex of a static box, and on a face, an edge and
+// the apex of the target, with a second camera seeing normally.
+TEST(ExactOracle, CamerasOnAnObjectsSurfaceAreBlindInBothPipelines) {
+  using testing::box_object;
+  const core::Box3 area{Vec3(0, 0, 0), Vec3(4, 3, 3)};
+  core::SceneObject person = box_object("person", Vec3(2.5, 1.0, 0.0), Vec3(2.9, 1.4, 1.7));
+  auto scene = testing::simple_scene(area, {16, 12, 12}, 2, 40.0,
+                                     {box_object("box", Vec3(1, 1, 0), Vec3(2, 2, 1))}, {person});
+  scene.cameras.fov = core::FovShape::pyramid;
+  scene.cameras.sides = 8;
+  const auto other = testing::camera_at(Vec3(4, 3, 3), -140.0, -35.0);
+  const std::vector<std::pair<const char*, Vec3>> on_surface{
+      {"box face", Vec3(1.5, 1.5, 1.0)},    {"box edge", Vec3(2.0, 1.5, 1.0)},
+      {"box vertex", Vec3(2.0, 2.0, 1.0)},  {"person face", Vec3(2.5, 1.2, 0.8)},
+      {"person edge", Vec3(2.5, 1.0, 0.8)}, {"person apex", Vec3(2.9, 1.4, 1.7)}};
+  for (const auto& [where, position] : on_surface) {
+    SCOPED_TRACE(where);
+    const core::CameraConfig config{testing::camera_at(position, 180.0, -30.0), other};
+    // The blind camera changes nothing: the model is the one the other camera alone leaves.
+    // (A camera in the ceiling's corner looking straight up sees nothing of S.)
+    const core::CameraConfig alone{testing::camera_at(Vec3(0, 0, 3), 0.0, 89.0), other};
+    const auto exact_eval = exact::evaluate_exact(scene, config);
+    const auto exact_alone = exact::evaluate_exact(scene, alone);
+    const voxel::VoxelEvaluator voxels(scene, {});
+    const auto voxel_eval = voxels.evaluate(config);
+    const auto voxel_alone = voxels.evaluate(alone);
+    ASSERT_EQ(exact_eval.states.size(), 1u);
+    EXPECT_EQ(exact_eval.states[0].model_volume_exact, exact_alone.states[0].model_volume_exact);
+    EXPECT_EQ(voxel_eval.states[0].model_volume, voxel_alone.states[0].model_volume);
+    EXPECT_LE(voxel_eval.states[0].d_model, exact_eval.states[0].d_model + 1e-9);
+    EXPECT_GE(voxel_eval.states[0].model_volume, exact_eval.states[0].model_volume - 1e-9);
+  }
 }
 
 // Regression (a crash): cameras on S's boundary — (0,0,2) on an edge of the ceiling, (2,0.1,1.8)

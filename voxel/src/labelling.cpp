@@ -105,12 +105,18 @@ CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera
   const double widened = scene.cameras.half_angle + 1e-6;
   cam.row_cos_sq = widened < 0.5 * core::kPi ? std::cos(widened) * std::cos(widened) : 0.0;
 
+  // SPEC §3.3 with one convention in both pipelines (issue 16): a camera in the closed object,
+  // on its surface too, is blind (its rays start on the object). The exact pipeline decides
+  // this exactly; here a camera within a rounding distance of the surface counts as on it,
+  // which only makes the model larger, never smaller (conservative mode stays ⊇ exact).
   cam.inside_object.assign(objects.size(), 0);
   for (std::size_t o = 0; o < objects.size(); ++o) {
     const detail::ObjectInfo& info = objects[o];
     const double d = (info.center - c).norm();
-    const bool near = d <= info.radius * (1.0 + 1e-12) + 1e-12;
-    cam.inside_object[o] = near && core::inside_mesh(*info.mesh, c);
+    const double on_surface = 1e-9 * (info.radius + info.center.norm() + c.norm());
+    const bool near = d <= info.radius + on_surface;
+    cam.inside_object[o] =
+        near && core::point_solid_sq_distance(*info.mesh, c) <= on_surface * on_surface;
   }
   cam.triangles.resize(triangles.size());
   std::vector<double> tilt(triangles.size(), 0.0);  // det / scale: 0 when the camera is in-plane
