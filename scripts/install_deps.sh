@@ -8,7 +8,7 @@ packages=(
   libcgal-dev libssl-dev libgmp-dev libmpfr-dev libboost-dev libeigen3-dev
   libpagmo-dev libtbb-dev nlohmann-json3-dev libcli11-dev libjemalloc-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  python3 gnuplot-nox clang-format
+  python3 gnuplot-nox clang-format clang libclang-rt-14-dev
 )
 missing=()
 for p in "${packages[@]}"; do
