@@ -2,6 +2,7 @@
 #include "study_definition.hpp"
 
 #include <algorithm>
+#include <filesystem>
 
 #include "camplace/compare/scene_generator.hpp"
 #include "camplace/core/error.hpp"
@@ -16,6 +17,7 @@ StudySpec parse_study(const std::string& path) {
   root.only_keys({"description", "algorithm", "mode", "runs_per_group", "threads", "first_seed",
                   "scene_seed", "time_limit_s", "max_evaluations", "examinations"});
   StudySpec s;
+  s.name = std::filesystem::path(path).stem().string();
   if (root.has("description")) s.description = root.at("description").string();
   if (root.has("algorithm")) {
     s.algorithm = root.at("algorithm").string();

@@ -16,6 +16,7 @@ struct Examination {
 
 /// The study: its examinations and the budget of every run.
 struct StudySpec {
+  std::string name;  ///< the study file's name without its extension (the report's title)
   std::string description, algorithm = "gaco";
   core::LabelMode mode = core::LabelMode::conservative;
   int runs_per_group = 3, threads = 2;

@@ -2,9 +2,12 @@
 #include "study_report.hpp"
 
 #include <algorithm>
+#include <fstream>
 #include <functional>
+#include <limits>
 #include <map>
 #include <sstream>
+#include <thread>
 
 #include "camplace/core/files.hpp"
 #include "camplace/core/statistics.hpp"
@@ -17,6 +20,30 @@ namespace {
 
 /// Whether a rerun with the same seeds reproduces the rows: only when no run was ended by the
 /// clock (the evaluation count reached by a time limit depends on the machine's speed).
+/// This machine as /proc and the C++ runtime describe it: cores, processor model, memory.
+std::string machine_text() {
+  std::string model;
+  std::ifstream cpuinfo("/proc/cpuinfo");
+  for (std::string line; model.empty() && std::getline(cpuinfo, line);) {
+    if (line.rfind("model name", 0) == 0 && line.find(':') != std::string::npos)
+      model = line.substr(line.find(':') + 2);
+  }
+  long mem_kb = 0;
+  std::ifstream meminfo("/proc/meminfo");
+  for (std::string key; meminfo >> key;) {
+    if (key == "MemTotal:") {
+      meminfo >> mem_kb;
+      break;
+    }
+    meminfo.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+  }
+  std::ostringstream out;
+  out << std::thread::hardware_concurrency() << " cores";
+  if (!model.empty()) out << ", " << model;
+  if (mem_kb > 0) out << ", " << num(mem_kb / 1048576.0, 1) << " GiB";
+  return out.str();
+}
+
 std::string clock_note(const std::vector<RunRow>& rows) {
   std::vector<std::string> timed;
   for (const RunRow& r : rows) {
@@ -360,7 +387,7 @@ void write_study_report(const StudySpec& spec, const std::vector<RunRow>& rows,
 
   const std::vector<GroupStats> groups = group_stats(rows);
   std::ostringstream md;
-  md << "# Study: the paper's examinations\n\n";
+  md << "# Study `" << spec.name << "`\n\n";
   if (!spec.description.empty()) md << spec.description << "\n\n";
   md << "Made by:\n\n    " << command << "\n\n"
      << "## Budget\n\n| | this study | the paper |\n|---|---|---|\n"
@@ -372,7 +399,7 @@ void write_study_report(const StudySpec& spec, const std::vector<RunRow>& rows,
      << ", or " << spec.max_evaluations << " evaluations, or " << num(spec.time_limit, 0)
      << " s | tolerance 0.046 m², or 3 h |\n"
      << "| solver | pagmo `" << spec.algorithm << "`, " << spec.threads << " threads | MIDACO |\n"
-     << "| machine | 2 cores (this project's) | 2.8 GHz Opteron |\n"
+     << "| machine (writing this report) | " << machine_text() << " | 2.8 GHz Opteron |\n"
      << "| voxel labelling | " << core::name_of(spec.mode) << " | centre of voxel |\n\n"
      << clock_note(rows);
   md << "## Groups\n\n| examination | param | scene | runs | "

@@ -459,8 +459,11 @@ nlohmann::ordered_json summary_json(const std::vector<RunResult>& runs, const Ru
   j["success_rate"] = s.runs > 0 ? static_cast<double>(s.reached) / s.runs : 0.0;
   j["median_evaluations"] = s.median_evaluations;
   j["median_seconds"] = s.median_seconds;
-  j["median_evaluations_reached"] = s.median_evaluations_reached;
-  j["median_seconds_reached"] = s.median_seconds_reached;
+  // null when no run reached the tolerance (a median of nothing, not 0)
+  j["median_evaluations_reached"] =
+      s.reached > 0 ? nlohmann::ordered_json(s.median_evaluations_reached) : nullptr;
+  j["median_seconds_reached"] =
+      s.reached > 0 ? nlohmann::ordered_json(s.median_seconds_reached) : nullptr;
   if (s.best_run >= 0) {
     const RunResult& best = runs[static_cast<std::size_t>(s.best_run)];
     j["best"] = {{"seed", best.seed}, {"err", best.err}, {"cameras", cameras_json(best.best)}};

@@ -220,6 +220,13 @@ TEST(Report, SummaryCountsSuccessesAndTakesMedians) {
   const auto j = summary_json(runs, RunContext{}, false);
   EXPECT_EQ(j.at("reached_tolerance"), 2);
   EXPECT_EQ(j.at("best").at("seed"), 3);
+  EXPECT_EQ(j.at("median_evaluations_reached"), 200.0);
+  // No run reached the tolerance: the medians over those runs are null, not 0.
+  std::vector<RunResult> failed = runs;
+  for (auto& r : failed) r.reached_tolerance = false;
+  const auto none = summary_json(failed, RunContext{}, false);
+  EXPECT_TRUE(none.at("median_evaluations_reached").is_null());
+  EXPECT_TRUE(none.at("median_seconds_reached").is_null());
   std::ostringstream table;
   print_summary(table, runs);
   EXPECT_NE(table.str().find("2/3"), std::string::npos) << table.str();
