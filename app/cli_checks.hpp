@@ -15,7 +15,9 @@ namespace camplace::app {
 /// [lo, hi]".
 template <class T>
 CLI::Validator in_range(T lo, T hi, std::string reason = "") {
-  const std::string range = "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+  std::ostringstream shown;  // 6 significant digits: "[0, 1.79769e+308]", not 309 digits
+  shown << "[" << lo << ", " << hi << "]";
+  const std::string range = shown.str();
   if (reason.empty()) reason = "must lie in " + range;
   return CLI::Validator(
       [lo, hi, reason](std::string& input) -> std::string {

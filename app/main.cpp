@@ -10,6 +10,8 @@
 int main(int argc, char** argv) {
   CLI::App app{"camplace: camera placement for human-robot work cells (visual hull distance)"};
   app.require_subcommand(1);
+  // Every option's help shows its default (inherited by the subcommands registered below).
+  app.option_defaults()->always_capture_default();
   app.set_version_flag("--version", "camplace 0.1.0");
   camplace::app::register_evaluate_command(app);
 #ifdef CAMPLACE_HAVE_OPTIMIZE
