@@ -128,6 +128,12 @@ void run_optimize(const OptimizeArgs& args) {
   } else if (args.start == "corners") {
     options.start.kind = optimize::StartKind::corners;
   } else {
+    // Neither keyword: a camera file, which must exist (else the error would name only "bogus").
+    if (!std::filesystem::is_regular_file(args.start)) {
+      throw core::OptionError("start", "\"" + args.start +
+                                           "\" is neither random, corners nor a camera "
+                                           "configuration file that exists");
+    }
     options.start = {optimize::StartKind::file, args.start};
   }
 
