@@ -1,25 +1,19 @@
 // `camplace evaluate`: Err of one camera configuration, per state, in the voxel and/or the
 // exact pipeline.
-#include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
-#include <thread>
 
+#include "camplace/compare/evaluation_json.hpp"
 #include "camplace/core/camera.hpp"
-#include "camplace/core/err.hpp"
 #include "camplace/core/error.hpp"
 #include "camplace/core/files.hpp"
 #include "camplace/core/scene.hpp"
 #include "camplace/voxel/evaluator.hpp"
 #include "cli_checks.hpp"
 #include "commands.hpp"
-#ifdef CAMPLACE_HAVE_EXACT
-#include "camplace/exact/evaluator.hpp"
-#endif
 
 namespace camplace::app {
 
@@ -32,51 +26,6 @@ struct EvaluateArgs {
   bool json = false, exact_fractions = false;
   int threads = 0;  // 0 = one per core (both pipelines)
 };
-
-/// The per-state fields both pipelines report (voxel::StateResult, core::StateResult).
-template <class StateResult>
-nlohmann::json state_json(const StateResult& s) {
-  return {{"time_step", s.time_step},   {"event", s.event},
-          {"weight", s.weight},         {"d_true", s.d_true},
-          {"d_model", s.d_model},       {"model_volume", s.model_volume},
-          {"components", s.components}, {"components_removed", s.components_removed}};
-}
-
-nlohmann::json voxel_json(const voxel::VoxelEvaluator& evaluator, const voxel::Evaluation& e) {
-  const auto& n = evaluator.grid().n;
-  nlohmann::json states = nlohmann::json::array();
-  for (const auto& s : e.states) states.push_back(state_json(s));
-  return {{"pipeline", core::name_of(core::Pipeline::voxel)},
-          {"mode", core::name_of(evaluator.options().mode)},
-          {"resolution", {n[0], n[1], n[2]}},
-          {"voxel_diagonal", evaluator.grid().step.norm()},
-          {"tolerance", core::default_tolerance(evaluator.scene().area, n)},
-          {"err_lower_bound", evaluator.err_lower_bound()},
-          {"err", e.err},
-          {"states", states},
-          {"timing_ms",
-           {{"labelling", e.timing.labelling_ms},
-            {"clustering", e.timing.clustering_ms},
-            {"distance", e.timing.distance_ms},
-            {"total", e.timing.total_ms}}}};
-}
-
-/// Every number in `j` is finite. nlohmann::json prints NaN and ±inf as null; the scene loader
-/// bounds the weights so that Err stays finite (core::kMaxErr), so a non-finite number here is
-/// an internal error, reported as such rather than printed. `pointer`: where `j` sits.
-void require_finite(const nlohmann::json& j, const std::string& pointer = "") {
-  if (j.is_number_float() && !std::isfinite(j.get<double>())) {
-    throw std::logic_error("internal error: the result's " + pointer + " is " +
-                           std::to_string(j.get<double>()) + ", not a finite number");
-  }
-  if (j.is_object()) {
-    for (const auto& [key, value] : j.items()) require_finite(value, pointer + "/" + key);
-  } else if (j.is_array()) {
-    for (std::size_t i = 0; i < j.size(); ++i) {
-      require_finite(j[i], pointer + "/" + std::to_string(i));
-    }
-  }
-}
 
 void print_table(const nlohmann::json& r) {
   std::printf("pipeline %s", r["pipeline"].get<std::string>().c_str());
@@ -111,60 +60,8 @@ void print_table(const nlohmann::json& r) {
   std::printf("\n");
 }
 
-#ifdef CAMPLACE_HAVE_EXACT
-nlohmann::json exact_json(const exact::ExactEvaluation& e, bool fractions) {
-  nlohmann::json states = nlohmann::json::array();
-  for (const auto& s : e.states) {
-    nlohmann::json j = state_json(s);
-    if (fractions) {
-      j["d_true_sq_exact"] = s.d_true_sq_exact;
-      j["d_model_sq_exact"] = s.d_model_sq_exact;
-      j["model_volume_exact"] = s.model_volume_exact;
-    }
-    states.push_back(j);
-  }
-  return {{"pipeline", core::name_of(core::Pipeline::exact)},
-          {"err", e.err},
-          {"states", states},
-          {"timing_ms",
-           {{"model", e.timing.labelling_ms},
-            {"clustering", e.timing.clustering_ms},
-            {"distance", e.timing.distance_ms},
-            {"total", e.timing.total_ms}}}};
-}
-
-nlohmann::json differences(const nlohmann::json& vox, const nlohmann::json& ex) {
-  nlohmann::json states = nlohmann::json::array();
-  for (std::size_t i = 0; i < vox["states"].size(); ++i) {
-    const auto& a = vox["states"][i];
-    const auto& b = ex["states"][i];
-    states.push_back(
-        {{"time_step", a["time_step"]},
-         {"event", a["event"]},
-         {"d_model_voxel_minus_exact", a["d_model"].get<double>() - b["d_model"].get<double>()},
-         {"model_volume_voxel_minus_exact",
-          a["model_volume"].get<double>() - b["model_volume"].get<double>()}});
-  }
-  return {{"err_voxel_minus_exact", vox["err"].get<double>() - ex["err"].get<double>()},
-          {"voxel_diagonal", vox["voxel_diagonal"]},
-          {"states", states}};
-}
-#endif
-
-// The filtered voxel model of every state, one character per voxel ('1' = in M) in index
-// order i + nx·(j + ny·k), written atomically (temporary file, then rename).
-void write_voxels(const voxel::VoxelEvaluator& evaluator, const core::CameraConfig& config,
-                  const std::string& path) {
-  const auto& n = evaluator.grid().n;
-  nlohmann::json states = nlohmann::json::array();
-  const auto all = core::states(evaluator.scene());
-  for (std::size_t i = 0; i < all.size(); ++i) {
-    std::string bits;
-    for (std::uint8_t b : evaluator.model(config, static_cast<int>(i))) bits += b ? '1' : '0';
-    states.push_back({{"time_step", all[i].time_step}, {"event", all[i].event}, {"model", bits}});
-  }
-  const nlohmann::json doc = {
-      {"resolution", {n[0], n[1], n[2]}}, {"index_order", "i + nx*(j + ny*k)"}, {"states", states}};
+// The --voxels-out document, written atomically (temporary file, then rename).
+void write_voxels(const nlohmann::json& doc, const std::string& path) {
   try {
     core::write_file_atomically(path, doc.dump() + "\n");
   } catch (const std::runtime_error& e) {
@@ -175,15 +72,14 @@ void write_voxels(const voxel::VoxelEvaluator& evaluator, const core::CameraConf
 void run_evaluate(const EvaluateArgs& args) {
   const core::Scene scene = core::load_scene(args.scene);
   const core::CameraConfig config = core::load_camera_config(args.cameras, scene);
-  voxel::VoxelOptions options;
+  compare::EvaluationOptions options;
   options.mode = parse_enum<core::LabelMode>(args.mode);
   if (!args.resolution.empty())
     options.resolution = core::parse_resolution(args.resolution, "--resolution");
-  const unsigned cores = std::thread::hardware_concurrency();
-  options.threads = args.threads > 0 ? args.threads : static_cast<int>(std::clamp(cores, 1u, 256u));
-  const core::Pipeline pipeline = parse_enum<core::Pipeline>(args.pipeline);
-  const bool want_voxel = pipeline != core::Pipeline::exact;
-  const bool want_exact = pipeline != core::Pipeline::voxel;
+  options.threads = args.threads;
+  options.pipeline = parse_enum<core::Pipeline>(args.pipeline);
+  const bool want_voxel = options.pipeline != core::Pipeline::exact;
+  const bool want_exact = options.pipeline != core::Pipeline::voxel;
   if (!want_exact && (args.export_given || args.exact_fractions)) {
     throw core::InputError("command line",
                            args.export_given ? "--export-mesh" : "--exact-fractions",
@@ -195,52 +91,21 @@ void run_evaluate(const EvaluateArgs& args) {
         args.voxels_out.empty() ? "needs a file name" : "needs --pipeline voxel or both");
   }
   if (args.export_given) core::create_output_directory(args.export_dir, "--export-mesh");
-#ifndef CAMPLACE_HAVE_EXACT
-  if (want_exact) {
-    throw core::InputError("command line", "--pipeline", "this build has no exact pipeline");
-  }
-#endif
-  nlohmann::json vox, ex;
-  if (want_voxel) {
-    // SPEC §1: when voxel and exact results are compared, the voxel pipeline also uses the
-    // inscribed pyramid.
-    core::Scene voxel_scene = scene;
-    if (want_exact) voxel_scene.cameras.fov = core::FovShape::pyramid;
-    const voxel::VoxelEvaluator evaluator(voxel_scene, options);
-    vox = voxel_json(evaluator, evaluator.evaluate(config));
-    vox["fov"] = core::name_of(voxel_scene.cameras.fov);
-    if (!args.voxels_out.empty()) write_voxels(evaluator, config, args.voxels_out);
-  }
-#ifdef CAMPLACE_HAVE_EXACT
-  if (want_exact) {
-    exact::ExactOptions exact_options;
-    exact_options.export_dir = args.export_dir;
-    exact_options.threads = args.threads;
-    ex = exact_json(exact::evaluate_exact(scene, config, exact_options), args.exact_fractions);
-  }
-#endif
-  nlohmann::json out;
-  if (want_voxel && want_exact) {
-#ifdef CAMPLACE_HAVE_EXACT
-    out = {{"pipeline", core::name_of(core::Pipeline::both)},
-           {"voxel", vox},
-           {"exact", ex},
-           {"differences", differences(vox, ex)}};
-#endif
-  } else {
-    out = want_voxel ? vox : ex;
-  }
-  out["scene"] = args.scene;
-  out["cameras_file"] = args.cameras;
-  require_finite(out);
+  options.export_dir = args.export_dir;
+  options.exact_fractions = args.exact_fractions;
+  options.cameras_file = args.cameras;
+  options.voxel_models = !args.voxels_out.empty();
+  const compare::EvaluationJson evaluation = compare::evaluate_json(scene, config, options);
+  if (options.voxel_models) write_voxels(evaluation.voxel_models, args.voxels_out);
+  const nlohmann::json& out = evaluation.result;
   if (args.json) {
     std::cout << out.dump(2) << "\n";
     return;
   }
   if (want_voxel && want_exact) {
-    print_table(vox);
+    print_table(out["voxel"]);
     std::printf("\n");
-    print_table(ex);
+    print_table(out["exact"]);
     std::printf("\nErr voxel - exact = %.6f m^2\n",
                 out["differences"]["err_voxel_minus_exact"].get<double>());
   } else {

@@ -9,6 +9,7 @@ packages=(
   libpagmo-dev libtbb-dev nlohmann-json3-dev libcli11-dev libjemalloc-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 gnuplot-nox clang-format clang libclang-rt-14-dev
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -84,13 +84,17 @@ bool Fov::contains_ball(const Vec3& center, double radius) const {
 }
 
 CameraConfig load_camera_config(const std::string& path, const Scene& scene) {
-  const nlohmann::json doc = read_json_file(path);
-  const JsonNode root(doc, path, "");
+  return camera_config_from_json(read_json_file(path), path, &scene);
+}
+
+CameraConfig camera_config_from_json(const nlohmann::json& doc, const std::string& file,
+                                     const Scene* scene) {
+  const JsonNode root(doc, file, "");
   const JsonNode cameras = root.at("cameras");
   const std::size_t count = cameras.array_size();
-  if (count != static_cast<std::size_t>(scene.cameras.count)) {
-    cameras.fail("holds " + std::to_string(count) + " cameras but the scene " + scene.file +
-                 " has " + std::to_string(scene.cameras.count));
+  if (scene != nullptr && count != static_cast<std::size_t>(scene->cameras.count)) {
+    cameras.fail("holds " + std::to_string(count) + " cameras but the scene " + scene->file +
+                 " has " + std::to_string(scene->cameras.count));
   }
   CameraConfig config;
   for (std::size_t i = 0; i < count; ++i) {

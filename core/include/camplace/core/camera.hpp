@@ -1,5 +1,6 @@
 #pragma once
 /// Camera settings e = (x, y, z, yaw ψ, pitch θ) and the FOV geometry of SPEC §1.
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,11 @@ class Fov {
 /// Reads a camera configuration file {"cameras": [{"position": [x,y,z], "yaw_deg": a,
 /// "pitch_deg": b}, ...]}; the count must equal the scene's camera count. Throws InputError.
 CameraConfig load_camera_config(const std::string& path, const Scene& scene);
+/// The configuration in `doc`, a camera file's parsed content, checked as load_camera_config
+/// checks a file; `file` names the source in messages. With a `scene` the count must equal its
+/// camera count; nullptr accepts any count. Throws InputError.
+CameraConfig camera_config_from_json(const nlohmann::json& doc, const std::string& file,
+                                     const Scene* scene);
 /// The configuration as the JSON text load_camera_config reads (angles in degrees).
 std::string camera_config_json(const CameraConfig& config, int indent = 2);
 

@@ -1,0 +1,54 @@
+#pragma once
+/// The result of `camplace evaluate --json` (docs/files.md, "evaluate --json"): one camera
+/// configuration evaluated by the voxel pipeline, the exact pipeline or both, as one JSON object.
+/// The command-line tool and the Python module (python/) both print or return this object.
+#include <array>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "camplace/core/camera.hpp"
+#include "camplace/core/names.hpp"
+#include "camplace/core/scene.hpp"
+
+namespace camplace::compare {
+
+/// What `camplace evaluate` takes besides the scene and the cameras.
+struct EvaluationOptions {
+  core::Pipeline pipeline = core::Pipeline::voxel;
+  core::LabelMode mode = core::LabelMode::conservative;  ///< voxel labelling mode
+  std::array<int, 3> resolution{0, 0, 0};  ///< nx, ny, nz; all 0 = the scene's `voxels`
+  /// States evaluated in parallel, both pipelines; 0 = one thread per core.
+  int threads = 0;
+  /// Exact pipeline: add each state's squared distances and volume as exact fractions "p/q".
+  bool exact_fractions = false;
+  /// Exact pipeline: write each state's model and each camera's pyramid as OFF files to this
+  /// directory (exact::ExactOptions::export_dir); empty = none.
+  std::string export_dir;
+  /// The camera file's path as the result names it ("cameras_file").
+  std::string cameras_file;
+  /// Voxel pipeline: also return each state's filtered model (Evaluation::voxel_models).
+  bool voxel_models = false;
+};
+
+/// What evaluate_json returns.
+struct EvaluationJson {
+  /// The object `camplace evaluate --json` prints: for one pipeline its result (voxel: with
+  /// "mode", "fov", "resolution", "voxel_diagonal", "tolerance" and "err_lower_bound"), for both
+  /// {"pipeline": "both", "voxel", "exact", "differences"}; always with "scene" (the scene's
+  /// path as loaded) and "cameras_file". Every number is finite.
+  nlohmann::json result;
+  /// With EvaluationOptions::voxel_models and a voxel pipeline: the `--voxels-out` document
+  /// {"resolution", "index_order", "states": [{"time_step", "event", "model"}]}, where "model"
+  /// has one character per voxel ('1' = in M) in index order i + nx·(j + ny·k). Null otherwise.
+  nlohmann::json voxel_models;
+};
+
+/// Evaluates `config` (one setting per camera of `scene`) as `camplace evaluate` does: with
+/// pipeline both the voxel pipeline uses the inscribed pyramid (SPEC §1). Throws
+/// core::InputError for a configuration that does not fit the scene or a bad resolution,
+/// core::OptionError("pipeline", ...) when the exact pipeline is asked for but not built, and
+/// std::runtime_error when an export file cannot be written.
+EvaluationJson evaluate_json(const core::Scene& scene, const core::CameraConfig& config,
+                             const EvaluationOptions& options);
+
+}  // namespace camplace::compare

@@ -1,0 +1,174 @@
+// The JSON object of `camplace evaluate --json` (docs/files.md), for the command-line tool and the
+// Python module alike.
+#include "camplace/compare/evaluation_json.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <thread>
+
+#include "camplace/core/err.hpp"
+#include "camplace/core/error.hpp"
+#include "camplace/voxel/evaluator.hpp"
+#ifdef CAMPLACE_HAVE_EXACT
+#include "camplace/exact/evaluator.hpp"
+#endif
+
+namespace camplace::compare {
+
+namespace {
+
+/// The per-state fields both pipelines report (core::StateResult).
+nlohmann::json state_json(const core::StateResult& s) {
+  return {{"time_step", s.time_step},   {"event", s.event},
+          {"weight", s.weight},         {"d_true", s.d_true},
+          {"d_model", s.d_model},       {"model_volume", s.model_volume},
+          {"components", s.components}, {"components_removed", s.components_removed}};
+}
+
+nlohmann::json voxel_json(const voxel::VoxelEvaluator& evaluator, const voxel::Evaluation& e) {
+  const auto& n = evaluator.grid().n;
+  nlohmann::json states = nlohmann::json::array();
+  for (const auto& s : e.states) states.push_back(state_json(s));
+  return {{"pipeline", core::name_of(core::Pipeline::voxel)},
+          {"mode", core::name_of(evaluator.options().mode)},
+          {"resolution", {n[0], n[1], n[2]}},
+          {"voxel_diagonal", evaluator.grid().step.norm()},
+          {"tolerance", core::default_tolerance(evaluator.scene().area, n)},
+          {"err_lower_bound", evaluator.err_lower_bound()},
+          {"err", e.err},
+          {"states", states},
+          {"timing_ms",
+           {{"labelling", e.timing.labelling_ms},
+            {"clustering", e.timing.clustering_ms},
+            {"distance", e.timing.distance_ms},
+            {"total", e.timing.total_ms}}}};
+}
+
+/// Every number in `j` is finite. nlohmann::json prints NaN and ±inf as null; the scene loader
+/// bounds the weights so that Err stays finite (core::kMaxErr), so a non-finite number here is
+/// an internal error, reported as such rather than printed. `pointer`: where `j` sits.
+void require_finite(const nlohmann::json& j, const std::string& pointer = "") {
+  if (j.is_number_float() && !std::isfinite(j.get<double>())) {
+    throw std::logic_error("internal error: the result's " + pointer + " is " +
+                           std::to_string(j.get<double>()) + ", not a finite number");
+  }
+  if (j.is_object()) {
+    for (const auto& [key, value] : j.items()) require_finite(value, pointer + "/" + key);
+  } else if (j.is_array()) {
+    for (std::size_t i = 0; i < j.size(); ++i) {
+      require_finite(j[i], pointer + "/" + std::to_string(i));
+    }
+  }
+}
+
+#ifdef CAMPLACE_HAVE_EXACT
+nlohmann::json exact_json(const exact::ExactEvaluation& e, bool fractions) {
+  nlohmann::json states = nlohmann::json::array();
+  for (const auto& s : e.states) {
+    nlohmann::json j = state_json(s);
+    if (fractions) {
+      j["d_true_sq_exact"] = s.d_true_sq_exact;
+      j["d_model_sq_exact"] = s.d_model_sq_exact;
+      j["model_volume_exact"] = s.model_volume_exact;
+    }
+    states.push_back(j);
+  }
+  return {{"pipeline", core::name_of(core::Pipeline::exact)},
+          {"err", e.err},
+          {"states", states},
+          {"timing_ms",
+           {{"model", e.timing.labelling_ms},
+            {"clustering", e.timing.clustering_ms},
+            {"distance", e.timing.distance_ms},
+            {"total", e.timing.total_ms}}}};
+}
+
+nlohmann::json differences(const nlohmann::json& vox, const nlohmann::json& ex) {
+  nlohmann::json states = nlohmann::json::array();
+  for (std::size_t i = 0; i < vox["states"].size(); ++i) {
+    const auto& a = vox["states"][i];
+    const auto& b = ex["states"][i];
+    states.push_back(
+        {{"time_step", a["time_step"]},
+         {"event", a["event"]},
+         {"d_model_voxel_minus_exact", a["d_model"].get<double>() - b["d_model"].get<double>()},
+         {"model_volume_voxel_minus_exact",
+          a["model_volume"].get<double>() - b["model_volume"].get<double>()}});
+  }
+  return {{"err_voxel_minus_exact", vox["err"].get<double>() - ex["err"].get<double>()},
+          {"voxel_diagonal", vox["voxel_diagonal"]},
+          {"states", states}};
+}
+#endif
+
+// The filtered voxel model of every state, one character per voxel ('1' = in M) in index
+// order i + nx·(j + ny·k) (docs/files.md, "--voxels-out").
+nlohmann::json voxel_models_json(const voxel::VoxelEvaluator& evaluator,
+                                 const core::CameraConfig& config) {
+  const auto& n = evaluator.grid().n;
+  nlohmann::json states = nlohmann::json::array();
+  const auto all = core::states(evaluator.scene());
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    std::string bits;
+    for (std::uint8_t b : evaluator.model(config, static_cast<int>(i))) bits += b ? '1' : '0';
+    states.push_back({{"time_step", all[i].time_step}, {"event", all[i].event}, {"model", bits}});
+  }
+  return {
+      {"resolution", {n[0], n[1], n[2]}}, {"index_order", "i + nx*(j + ny*k)"}, {"states", states}};
+}
+
+}  // namespace
+
+EvaluationJson evaluate_json(const core::Scene& scene, const core::CameraConfig& config,
+                             const EvaluationOptions& options) {
+  const bool want_voxel = options.pipeline != core::Pipeline::exact;
+  const bool want_exact = options.pipeline != core::Pipeline::voxel;
+#ifndef CAMPLACE_HAVE_EXACT
+  if (want_exact) throw core::OptionError("pipeline", "this build has no exact pipeline");
+#endif
+  EvaluationJson out;
+  nlohmann::json vox, ex;
+  if (want_voxel) {
+    voxel::VoxelOptions voxel_options;
+    voxel_options.mode = options.mode;
+    voxel_options.resolution = options.resolution;
+    const unsigned cores = std::thread::hardware_concurrency();
+    voxel_options.threads =
+        options.threads > 0 ? options.threads : static_cast<int>(std::clamp(cores, 1u, 256u));
+    // SPEC §1: when voxel and exact results are compared, the voxel pipeline also uses the
+    // inscribed pyramid.
+    core::Scene voxel_scene = scene;
+    if (want_exact) voxel_scene.cameras.fov = core::FovShape::pyramid;
+    const voxel::VoxelEvaluator evaluator(voxel_scene, voxel_options);
+    vox = voxel_json(evaluator, evaluator.evaluate(config));
+    vox["fov"] = core::name_of(voxel_scene.cameras.fov);
+    if (options.voxel_models) out.voxel_models = voxel_models_json(evaluator, config);
+  }
+#ifdef CAMPLACE_HAVE_EXACT
+  if (want_exact) {
+    exact::ExactOptions exact_options;
+    exact_options.export_dir = options.export_dir;
+    exact_options.threads = options.threads;
+    ex = exact_json(exact::evaluate_exact(scene, config, exact_options), options.exact_fractions);
+  }
+  if (want_voxel && want_exact) {
+    out.result = {{"pipeline", core::name_of(core::Pipeline::both)},
+                  {"voxel", vox},
+                  {"exact", ex},
+                  {"differences", differences(vox, ex)}};
+  } else {
+    out.result = want_voxel ? vox : ex;
+  }
+#else
+  out.result = vox;
+#endif
+  out.result["scene"] = scene.file;
+  out.result["cameras_file"] = options.cameras_file;
+  require_finite(out.result);
+  return out;
+}
+
+}  // namespace camplace::compare
