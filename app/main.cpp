@@ -6,6 +6,7 @@
 
 #include "camplace/core/error.hpp"
 #include "commands.hpp"
+#include "interrupt.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"camplace: camera placement for human-robot work cells (visual hull distance)"};
@@ -53,6 +54,9 @@ int main(int argc, char** argv) {
     const std::string flag = e.option() == "family" ? "FAMILY" : "--" + e.option();
     std::cerr << "error: command line: " << flag << ": " << e.reason() << "\n";
     return 1;
+  } catch (const camplace::app::Interrupted& e) {
+    std::cerr << "interrupted: " << e.what() << "\n";
+    return camplace::app::interrupted_exit_status();
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
     return 1;

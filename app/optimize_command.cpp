@@ -24,18 +24,13 @@
 #include "camplace/optimize/voxel_objective.hpp"
 #include "cli_checks.hpp"
 #include "commands.hpp"
+#include "interrupt.hpp"
 #ifdef CAMPLACE_HAVE_STUDY
 #include "camplace/compare/run_validation.hpp"
 #endif
 
 namespace camplace::app {
 namespace {
-
-// Raised by SIGINT; the running optimisation stops at its next evaluation and writes its best.
-std::atomic<bool> g_interrupted{false};
-static_assert(std::atomic<bool>::is_always_lock_free, "the SIGINT flag must be lock-free");
-
-extern "C" void on_sigint(int) { g_interrupted.store(true); }
 
 struct OptimizeArgs {
   std::string scene, algorithm = "gaco", start = "random", mode = "conservative", resolution, out;
@@ -100,13 +95,11 @@ int discard_output(const std::string& dir) {
 }
 
 void run_optimize(const OptimizeArgs& args) {
-  // SA_RESETHAND: the first Ctrl-C stops the run and writes its result; a second one kills.
-  // Installed first, so a Ctrl-C while the scene loads still ends with a (one-evaluation) run file.
-  struct sigaction action {};
-  action.sa_handler = on_sigint;
-  sigemptyset(&action.sa_mask);
-  action.sa_flags = SA_RESETHAND;
-  sigaction(SIGINT, &action, nullptr);
+  // The first SIGINT, SIGTERM or SIGHUP stops the run and writes its result (interrupt.hpp).
+  // Installed first, so a signal while the scene loads still ends with a (one-evaluation) run
+  // file.
+  const InterruptSignals signals;
+  std::atomic<bool>& stop = InterruptSignals::flag();
 
   const core::Scene scene = core::load_scene(args.scene);
   voxel::VoxelOptions voxel_options;
@@ -122,7 +115,7 @@ void run_optimize(const OptimizeArgs& args) {
   if (args.tolerance_given) options.tolerance = args.tolerance;
   options.threads = args.threads;
   options.population = args.population;
-  options.interrupt = &g_interrupted;
+  options.interrupt = &stop;
   if (args.start == "random") {
     options.start.kind = optimize::StartKind::random;
   } else if (args.start == "corners") {
@@ -177,7 +170,7 @@ void run_optimize(const OptimizeArgs& args) {
 
   std::vector<optimize::RunResult> results;
   // The first run always starts (and stops at once after an early Ctrl-C); Ctrl-C ends the job.
-  for (int i = 0; i < args.runs && (i == 0 || !g_interrupted.load()); ++i) {
+  for (int i = 0; i < args.runs && (i == 0 || !stop.load()); ++i) {
     options.seed = args.seed + static_cast<unsigned>(i);
     ProgressPrinter progress(args.quiet, i + 1, args.runs, options.seed);
     options.on_progress = [&progress](const optimize::Progress& p) { progress.update(p); };
@@ -189,18 +182,17 @@ void run_optimize(const OptimizeArgs& args) {
     core::write_file_atomically(file, optimize::run_json(result, context).dump(2) + "\n");
     results.push_back(std::move(result));
   }
-  const bool interrupted = g_interrupted.load();
+  const bool interrupted = stop.load();
   const std::filesystem::path out(args.out);
   core::write_file_atomically((out / "summary.json").string(),
                               optimize::summary_json(results, context, interrupted).dump(2) + "\n");
   core::write_file_atomically((out / "summary.csv").string(), optimize::summary_csv(results));
-  signal(SIGINT, SIG_DFL);
-
   if (interrupted) {
     std::cout << "interrupted: the best result so far is in " << args.out << "\n\n";
   }
   optimize::print_summary(std::cout, results);
   std::cout << "\nrun files, summary.json and summary.csv in " << args.out << "\n";
+  if (interrupted) throw Interrupted("the best result so far is in " + args.out);
 }
 
 }  // namespace

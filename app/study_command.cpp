@@ -21,19 +21,23 @@
 #include "camplace/core/files.hpp"
 #include "camplace/optimize/report.hpp"
 #include "commands.hpp"
+#include "interrupt.hpp"
 
 namespace camplace::app {
 
 namespace {
 
-// Set by SIGINT while a run goes: the run handles Ctrl-C itself; the study stops after it.
+// Set by SIGINT while a run goes: the run handles Ctrl-C itself (the terminal sends it to the
+// whole process group); the study notes it and stops after the run.
 std::atomic<bool> g_sigint_during_run{false};
 static_assert(std::atomic<bool>::is_always_lock_free, "the SIGINT flag must be lock-free");
 
 extern "C" void note_sigint(int) { g_sigint_during_run.store(true); }
 
-/// Sets SIGINT to note_sigint and SIGQUIT to ignored for its lifetime, as std::system does
-/// while its command runs, and restores them afterwards.
+/// Sets SIGINT to note_sigint (no reset: a second Ctrl-C is the run's to handle) and SIGQUIT to
+/// ignored for its lifetime, as std::system does while its command runs, and restores them
+/// afterwards. SIGTERM and SIGHUP keep the study's InterruptSignals handler, which forwards them
+/// to the run (InterruptSignals::forward_to).
 class RunSignals {
  public:
   RunSignals() {
@@ -122,16 +126,32 @@ compare::LaunchOutcome launch_optimize(const std::string& program,
     got = ::read(exec_error[0], &child_error, sizeof child_error);
   } while (got < 0 && errno == EINTR);
   ::close(exec_error[0]);
+  InterruptSignals::forward_to(pid);
+  // A SIGTERM or SIGHUP that arrived before the child existed is passed on now.
+  if (InterruptSignals::received() == SIGTERM || InterruptSignals::received() == SIGHUP)
+    ::kill(pid, InterruptSignals::received());
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) throw std::runtime_error("waiting for a run: " + errno_text(errno));
+    if (errno != EINTR) {
+      InterruptSignals::forward_to(0);
+      throw std::runtime_error("waiting for a run: " + errno_text(errno));
+    }
   }
+  InterruptSignals::forward_to(0);
 
+  // A run stopped by a signal writes its best result and exits with 128 + the signal (or, on a
+  // second Ctrl-C, dies of it).
+  auto interrupt_signal = [](int sig) { return sig == SIGINT || sig == SIGTERM || sig == SIGHUP; };
+  const bool exited_interrupted =
+      WIFEXITED(status) && WEXITSTATUS(status) > 128 && interrupt_signal(WEXITSTATUS(status) - 128);
   compare::LaunchOutcome outcome;
-  outcome.interrupted =
-      g_sigint_during_run.load() || (WIFSIGNALED(status) && WTERMSIG(status) == SIGINT);
+  outcome.interrupted = g_sigint_during_run.load() || InterruptSignals::flag().load() ||
+                        exited_interrupted ||
+                        (WIFSIGNALED(status) && interrupt_signal(WTERMSIG(status)));
   if (got == static_cast<ssize_t>(sizeof child_error)) {
     outcome.failure = "could not be started: " + program + ": " + errno_text(child_error);
+  } else if (exited_interrupted) {
+    // interrupted, not failed: the run file holds its best result and is run again on resume
   } else if (WIFEXITED(status) && WEXITSTATUS(status) != 0) {
     outcome.failure = "exit status " + std::to_string(WEXITSTATUS(status));
   } else if (WIFSIGNALED(status)) {
@@ -157,6 +177,8 @@ void register_study_command(CLI::App& app) {
                 "discard the runs, report and exact checks already in --out and run the study "
                 "afresh (without it, runs made with other settings are refused)");
   cmd->callback([options] {
+    // SIGINT, SIGTERM and SIGHUP stop the study after the run under way (interrupt.hpp).
+    const InterruptSignals signals;
     core::create_output_directory(options->out_dir, "--out");
     // The running binary, so a study's runs use the same camplace as the study.
     std::error_code ec;
@@ -185,8 +207,8 @@ void register_study_command(CLI::App& app) {
               << outcome.runs_done_now << " run now)"
               << (outcome.interrupted ? ", interrupted" : "") << "\nreport: " << options->out_dir
               << "/report.md\n";
-    if (outcome.interrupted)
-      throw std::runtime_error("study interrupted; rerun the same command to resume");
+    if (outcome.interrupted || InterruptSignals::flag().load())
+      throw Interrupted("study interrupted; rerun the same command to resume");
   });
 }
 

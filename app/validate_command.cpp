@@ -12,13 +12,11 @@
 #include "camplace/compare/run_validation.hpp"
 #include "cli_checks.hpp"
 #include "commands.hpp"
+#include "interrupt.hpp"
 
 namespace camplace::app {
 
 namespace {
-
-std::atomic<bool> g_validate_interrupted{false};
-extern "C" void on_validate_sigint(int) { g_validate_interrupted.store(true); }
 
 struct ValidateArgs {
   compare::ValidateOptions options;
@@ -38,14 +36,11 @@ std::string duration_text(double seconds) {
 }
 
 void run_validate(ValidateArgs& args) {
-  // The first Ctrl-C finishes the runs under way and writes the files; a second one kills.
-  struct sigaction action {};
-  action.sa_handler = on_validate_sigint;
-  sigemptyset(&action.sa_mask);
-  action.sa_flags = SA_RESETHAND;
-  sigaction(SIGINT, &action, nullptr);
+  // The first SIGINT, SIGTERM or SIGHUP finishes the runs under way and writes the files
+  // (interrupt.hpp).
+  const InterruptSignals signals;
   compare::ValidateOptions& options = args.options;
-  options.interrupt = &g_validate_interrupted;
+  options.interrupt = &InterruptSignals::flag();
   const bool tty = ::isatty(STDERR_FILENO) == 1;
   if (tty || args.progress) {
     options.on_progress = [tty](const compare::ValidationProgress& p) {
@@ -60,7 +55,6 @@ void run_validate(ValidateArgs& args) {
   }
   options.command = "camplace validate " + options.dir;
   const compare::ValidationOutcome outcome = compare::validate_runs(options);
-  signal(SIGINT, SIG_DFL);
   if (tty) std::fprintf(stderr, "\n");
   int false_successes = 0, over = 0, checked = 0;
   for (const auto& r : outcome.rows) {
@@ -78,7 +72,7 @@ void run_validate(ValidateArgs& args) {
             << "results: " << options.dir << "/validation.csv, " << options.dir
             << "/validation.md\n";
   if (outcome.interrupted) {
-    throw std::runtime_error("validate interrupted; rerun the same command to resume");
+    throw Interrupted("validate interrupted; rerun the same command to resume");
   }
   if (outcome.failed > 0) {
     throw std::runtime_error(std::to_string(outcome.failed) +

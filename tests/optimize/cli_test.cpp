@@ -46,9 +46,12 @@ int wait_for(pid_t pid, double seconds) {
   return -1;
 }
 
-TEST(Cli, SigintLeavesACompleteRunFileThatEvaluateReproduces) {
+/// Sends `sig` to a running `camplace optimize` and checks what it leaves (issue 16: SIGINT,
+/// SIGTERM and SIGHUP alike, exit status 128 + the signal).
+void signal_leaves_a_complete_run_file(int sig) {
   const fs::path dir =
-      fs::temp_directory_path() / ("camplace-cli-test-" + std::to_string(::getpid()));
+      fs::temp_directory_path() /
+      ("camplace-cli-test-" + std::to_string(::getpid()) + "-" + std::to_string(sig));
   fs::remove_all(dir);
   const std::string log = (dir.string() + ".log");
 
@@ -63,11 +66,11 @@ TEST(Cli, SigintLeavesACompleteRunFileThatEvaluateReproduces) {
     ::_exit(127);
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));
-  ASSERT_EQ(::kill(pid, SIGINT), 0);
+  ASSERT_EQ(::kill(pid, sig), 0);
   const int status = wait_for(pid, 20.0);
-  ASSERT_NE(status, -1) << "camplace optimize did not stop after SIGINT";
+  ASSERT_NE(status, -1) << "camplace optimize did not stop after signal " << sig;
   ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
-  EXPECT_EQ(WEXITSTATUS(status), 0);
+  EXPECT_EQ(WEXITSTATUS(status), 128 + sig);
 
   // The run file is complete JSON (written through a temporary file and a rename).
   const fs::path run_file = dir / "run-3.json";
@@ -97,6 +100,15 @@ TEST(Cli, SigintLeavesACompleteRunFileThatEvaluateReproduces) {
   fs::remove_all(dir);
   fs::remove(log);
   fs::remove(log + ".err");
+}
+
+TEST(Cli, SigintLeavesACompleteRunFileThatEvaluateReproduces) {
+  signal_leaves_a_complete_run_file(SIGINT);
+}
+
+TEST(Cli, SigtermAndSighupLeaveACompleteRunFileToo) {
+  signal_leaves_a_complete_run_file(SIGTERM);
+  signal_leaves_a_complete_run_file(SIGHUP);
 }
 
 TEST(Cli, BadOptionValuesExitOneNamingTheOption) {
