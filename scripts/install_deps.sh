@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs every Debian 12 package camplace needs to build, test (including the clang-format
-# check) and benchmark.
+# check and the viewer's browser test) and benchmark. libtinygltf-dev writes the glTF files of
+# `camplace export`, libjs-three is the three.js it copies beside the viewer page, chromium runs
+# the page headless in the test labelled `browser`.
 # The one list of dependencies; README commands and .ci/run call this script.
 set -euo pipefail
 packages=(
@@ -9,6 +11,7 @@ packages=(
   libpagmo-dev libtbb-dev nlohmann-json3-dev libcli11-dev libjemalloc-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 gnuplot-nox clang-format
+  libtinygltf-dev libjs-three chromium
 )
 missing=()
 for p in "${packages[@]}"; do
