@@ -14,6 +14,7 @@
 #include "camplace/core/error.hpp"
 #include "camplace/core/files.hpp"
 #include "camplace/core/scene.hpp"
+#include "camplace/view/voxel_files.hpp"
 #include "camplace/voxel/evaluator.hpp"
 #include "cli_checks.hpp"
 #include "commands.hpp"
@@ -151,22 +152,21 @@ nlohmann::json differences(const nlohmann::json& vox, const nlohmann::json& ex) 
 }
 #endif
 
-// The filtered voxel model of every state, one character per voxel ('1' = in M) in index
-// order i + nx·(j + ny·k), written atomically (temporary file, then rename).
+// The filtered voxel model of every state as NAME.npy + NAME.json + NAME.vtk (docs/files.md),
+// each file written atomically.
 void write_voxels(const voxel::VoxelEvaluator& evaluator, const core::CameraConfig& config,
                   const std::string& path) {
-  const auto& n = evaluator.grid().n;
-  nlohmann::json states = nlohmann::json::array();
+  std::vector<view::VoxelLayer> layers;
   const auto all = core::states(evaluator.scene());
   for (std::size_t i = 0; i < all.size(); ++i) {
-    std::string bits;
-    for (std::uint8_t b : evaluator.model(config, static_cast<int>(i))) bits += b ? '1' : '0';
-    states.push_back({{"time_step", all[i].time_step}, {"event", all[i].event}, {"model", bits}});
+    layers.push_back(
+        {all[i].time_step, all[i].event, evaluator.model(config, static_cast<int>(i))});
   }
-  const nlohmann::json doc = {
-      {"resolution", {n[0], n[1], n[2]}}, {"index_order", "i + nx*(j + ny*k)"}, {"states", states}};
   try {
-    core::write_file_atomically(path, doc.dump() + "\n");
+    view::write_voxel_files(evaluator.grid(), layers, path,
+                            {{"pipeline", "voxel"},
+                             {"mode", core::name_of(evaluator.options().mode)},
+                             {"fov", core::name_of(evaluator.scene().cameras.fov)}});
   } catch (const std::runtime_error& e) {
     throw core::InputError("command line", "--voxels-out", e.what());
   }
@@ -189,10 +189,12 @@ void run_evaluate(const EvaluateArgs& args) {
                            args.export_given ? "--export-mesh" : "--exact-fractions",
                            "needs --pipeline exact or both");
   }
-  if (args.voxels_out_given && (!want_voxel || args.voxels_out.empty())) {
+  if (args.voxels_out_given && (!want_voxel || args.voxels_out.size() <= 4 ||
+                                args.voxels_out.compare(args.voxels_out.size() - 4, 4, ".npy"))) {
     throw core::InputError(
         "command line", "--voxels-out",
-        args.voxels_out.empty() ? "needs a file name" : "needs --pipeline voxel or both");
+        !want_voxel ? "needs --pipeline voxel or both"
+                    : "needs a file name ending in .npy, got \"" + args.voxels_out + "\"");
   }
   if (args.export_given) core::create_output_directory(args.export_dir, "--export-mesh");
 #ifndef CAMPLACE_HAVE_EXACT
@@ -269,9 +271,9 @@ void register_evaluate_command(CLI::App& app) {
   CLI::Option* export_mesh = cmd->add_option(
       "--export-mesh", args->export_dir,
       "exact pipeline: write each state's model and each camera's pyramid (OFF) to DIR");
-  CLI::Option* voxels_out =
-      cmd->add_option("--voxels-out", args->voxels_out,
-                      "voxel pipeline: write each state's filtered model voxels to this JSON file");
+  CLI::Option* voxels_out = cmd->add_option(
+      "--voxels-out", args->voxels_out,
+      "voxel pipeline: each state's filtered model voxels as FILE.npy (+ .json, .vtk)");
   cmd->callback([args, export_mesh, voxels_out] {
     args->export_given = export_mesh->count() > 0;
     args->voxels_out_given = voxels_out->count() > 0;
