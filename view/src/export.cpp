@@ -248,7 +248,7 @@ std::string state_glb(const core::Scene& scene, const core::CameraConfig& config
        {"camera_nodes",
         "glTF convention: a camera looks along its node's local -Z with +Y up (camplace's up "
         "vector u) and +X right; yfov = 2 * half angle"},
-       {"extras",
+       {"node_extras",
         "every node's extras.role is one of static_obstacle, dynamic_obstacle, "
         "critical_object, target, model, camera, fov, true_distance, model_distance; points "
         "in extras (from, to, position) are in camplace's z-up frame"}});
