@@ -29,6 +29,7 @@ WINDOW = (1200, 800)
 CHROMIUM_FLAGS = [
     "--headless=new", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader",
     "--enable-unsafe-swiftshader", "--hide-scrollbars", "--no-first-run",
+    "--disable-dev-shm-usage",  # containers often have a tiny /dev/shm
     "--window-size=%d,%d" % WINDOW, "--virtual-time-budget=10000", "--enable-logging=stderr",
     "--v=0",
 ]
