@@ -60,10 +60,10 @@ void print_table(const nlohmann::json& r) {
   std::printf("\n");
 }
 
-// The --voxels-out document, written atomically (temporary file, then rename).
-void write_voxels(const nlohmann::json& doc, const std::string& path) {
+// The filtered voxel models as NAME.npy + NAME.json + NAME.vtk (docs/files.md).
+void write_voxels(const compare::EvaluationJson& evaluation, const std::string& path) {
   try {
-    core::write_file_atomically(path, doc.dump() + "\n");
+    compare::write_voxel_models(evaluation, path);
   } catch (const std::runtime_error& e) {
     throw core::InputError("command line", "--voxels-out", e.what());
   }
@@ -85,10 +85,10 @@ void run_evaluate(const EvaluateArgs& args) {
                            args.export_given ? "--export-mesh" : "--exact-fractions",
                            "needs --pipeline exact or both");
   }
-  if (args.voxels_out_given && (!want_voxel || args.voxels_out.empty())) {
-    throw core::InputError(
-        "command line", "--voxels-out",
-        args.voxels_out.empty() ? "needs a file name" : "needs --pipeline voxel or both");
+  if (args.voxels_out_given) {
+    const std::string problem = !want_voxel ? "needs --pipeline voxel or both"
+                                            : compare::voxel_models_path_problem(args.voxels_out);
+    if (!problem.empty()) throw core::InputError("command line", "--voxels-out", problem);
   }
   if (args.export_given) core::create_output_directory(args.export_dir, "--export-mesh");
   options.export_dir = args.export_dir;
@@ -96,8 +96,8 @@ void run_evaluate(const EvaluateArgs& args) {
   options.cameras_file = args.cameras;
   options.voxel_models = !args.voxels_out.empty();
   const compare::EvaluationJson evaluation = compare::evaluate_json(scene, config, options);
-  if (options.voxel_models) write_voxels(evaluation.voxel_models, args.voxels_out);
   const nlohmann::json& out = evaluation.result;
+  if (options.voxel_models) write_voxels(evaluation, args.voxels_out);
   if (args.json) {
     std::cout << out.dump(2) << "\n";
     return;
@@ -134,9 +134,9 @@ void register_evaluate_command(CLI::App& app) {
   CLI::Option* export_mesh = cmd->add_option(
       "--export-mesh", args->export_dir,
       "exact pipeline: write each state's model and each camera's pyramid (OFF) to DIR");
-  CLI::Option* voxels_out =
-      cmd->add_option("--voxels-out", args->voxels_out,
-                      "voxel pipeline: write each state's filtered model voxels to this JSON file");
+  CLI::Option* voxels_out = cmd->add_option(
+      "--voxels-out", args->voxels_out,
+      "voxel pipeline: each state's filtered model voxels as FILE.npy (+ .json, .vtk)");
   cmd->callback([args, export_mesh, voxels_out] {
     args->export_given = export_mesh->count() > 0;
     args->voxels_out_given = voxels_out->count() > 0;

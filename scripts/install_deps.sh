@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs every Debian 12 package camplace needs to build, test (including the clang-format
-# check) and benchmark.
+# check and the viewer's browser test) and benchmark. libtinygltf-dev writes the glTF files of
+# `camplace export`, libjs-three is the three.js it copies beside the viewer page, chromium runs
+# the page headless in the test labelled `browser`.
 # The one list of dependencies; README commands and .ci/run call this script.
 set -euo pipefail
 packages=(
@@ -10,6 +12,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 gnuplot-nox clang-format clang libclang-rt-14-dev
   pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
+  libtinygltf-dev libjs-three chromium
 )
 missing=()
 for p in "${packages[@]}"; do

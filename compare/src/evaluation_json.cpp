@@ -11,6 +11,7 @@
 
 #include "camplace/core/err.hpp"
 #include "camplace/core/error.hpp"
+#include "camplace/view/voxel_files.hpp"
 #include "camplace/voxel/evaluator.hpp"
 #ifdef CAMPLACE_HAVE_EXACT
 #include "camplace/exact/evaluator.hpp"
@@ -104,22 +105,6 @@ nlohmann::json differences(const nlohmann::json& vox, const nlohmann::json& ex) 
 }
 #endif
 
-// The filtered voxel model of every state, one character per voxel ('1' = in M) in index
-// order i + nx·(j + ny·k) (docs/files.md, "--voxels-out").
-nlohmann::json voxel_models_json(const voxel::VoxelEvaluator& evaluator,
-                                 const core::CameraConfig& config) {
-  const auto& n = evaluator.grid().n;
-  nlohmann::json states = nlohmann::json::array();
-  const auto all = core::states(evaluator.scene());
-  for (std::size_t i = 0; i < all.size(); ++i) {
-    std::string bits;
-    for (std::uint8_t b : evaluator.model(config, static_cast<int>(i))) bits += b ? '1' : '0';
-    states.push_back({{"time_step", all[i].time_step}, {"event", all[i].event}, {"model", bits}});
-  }
-  return {
-      {"resolution", {n[0], n[1], n[2]}}, {"index_order", "i + nx*(j + ny*k)"}, {"states", states}};
-}
-
 }  // namespace
 
 EvaluationJson evaluate_json(const core::Scene& scene, const core::CameraConfig& config,
@@ -145,7 +130,14 @@ EvaluationJson evaluate_json(const core::Scene& scene, const core::CameraConfig&
     const voxel::VoxelEvaluator evaluator(voxel_scene, voxel_options);
     vox = voxel_json(evaluator, evaluator.evaluate(config));
     vox["fov"] = core::name_of(voxel_scene.cameras.fov);
-    if (options.voxel_models) out.voxel_models = voxel_models_json(evaluator, config);
+    if (options.voxel_models) {
+      out.grid = evaluator.grid();
+      const auto all = core::states(evaluator.scene());
+      for (std::size_t i = 0; i < all.size(); ++i) {
+        out.voxel_models.push_back(
+            {all[i].time_step, all[i].event, evaluator.model(config, static_cast<int>(i))});
+      }
+    }
   }
 #ifdef CAMPLACE_HAVE_EXACT
   if (want_exact) {
@@ -169,6 +161,25 @@ EvaluationJson evaluate_json(const core::Scene& scene, const core::CameraConfig&
   out.result["cameras_file"] = options.cameras_file;
   require_finite(out.result);
   return out;
+}
+
+std::string voxel_models_path_problem(const std::string& npy_path) {
+  const std::string suffix = ".npy";
+  if (npy_path.size() > suffix.size() &&
+      npy_path.compare(npy_path.size() - suffix.size(), suffix.size(), suffix) == 0)
+    return "";
+  return "needs a file name ending in .npy, got \"" + npy_path + "\"";
+}
+
+void write_voxel_models(const EvaluationJson& evaluation, const std::string& npy_path) {
+  const nlohmann::json& result = evaluation.result.at("pipeline") == "both"
+                                     ? evaluation.result.at("voxel")
+                                     : evaluation.result;
+  std::vector<view::VoxelLayer> layers;
+  for (const auto& m : evaluation.voxel_models) layers.push_back({m.time_step, m.event, m.model});
+  view::write_voxel_files(
+      evaluation.grid, layers, npy_path,
+      {{"pipeline", "voxel"}, {"mode", result.at("mode")}, {"fov", result.at("fov")}});
 }
 
 }  // namespace camplace::compare

@@ -185,6 +185,10 @@ py::dict evaluate(const PyScene& scene, const py::object& cameras, const std::st
   if (!want_voxel && voxels_out) {
     throw core::OptionError("voxels_out", "needs pipeline \"voxel\" or \"both\"");
   }
+  if (voxels_out) {
+    const std::string problem = compare::voxel_models_path_problem(voxels_out->string());
+    if (!problem.empty()) throw core::OptionError("voxels_out", problem);
+  }
   const core::CameraConfig config = cameras_argument(cameras, *scene.scene, options.cameras_file);
   options.exact_fractions = fractions;
   options.voxel_models = voxels_out.has_value();
@@ -203,7 +207,7 @@ py::dict evaluate(const PyScene& scene, const py::object& cameras, const std::st
     if (voxels_out) {
       // As `camplace evaluate --voxels-out`: an unwritable file is bad input.
       try {
-        core::write_file_atomically(voxels_out->string(), evaluation.voxel_models.dump() + "\n");
+        compare::write_voxel_models(evaluation, voxels_out->string());
       } catch (const std::runtime_error& e) {
         throw core::OptionError("voxels_out", e.what());
       }
@@ -610,7 +614,7 @@ parallel, 0 = one per core.
 fractions: exact pipeline: add 'd_true_sq_exact', 'd_model_sq_exact' (m²) and
 'model_volume_exact' (m³) to each state as fractions.Fraction.
 export_mesh: exact pipeline: a directory receiving each state's model and each camera's pyramid
-as OFF files. voxels_out: voxel pipeline: a file receiving `--voxels-out`'s JSON.
+as OFF files. voxels_out: voxel pipeline: a NAME.npy file receiving `--voxels-out`'s files (NAME.npy, NAME.json, NAME.vtk).
 
 Returns a dict with exactly the keys and values of `camplace evaluate --json` (docs/files.md):
 'err' (m²), 'states' [{'time_step', 'event', 'weight', 'd_true' (m), 'd_model' (m),

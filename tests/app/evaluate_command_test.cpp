@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -51,19 +52,33 @@ TEST(EvaluateCommand, ResolutionOptionChangesTheGrid) {
 }
 
 TEST(EvaluateCommand, VoxelsOutHoldsTheModelWhoseVolumeIsReported) {
-  const std::string path = temp_dir("voxelsout") + "/model.json";
+  const std::string dir = temp_dir("voxelsout");
   const CommandResult r = run("evaluate " + kData + "paper_basic.json --cameras " + kData +
-                              "paper_basic_corners.json --json --voxels-out " + path);
+                              "paper_basic_corners.json --json --voxels-out " + dir + "/model.npy");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto report = nlohmann::json::parse(r.output);
-  std::ifstream in(path);
-  const auto voxels = nlohmann::json::parse(in);
-  ASSERT_EQ(voxels["states"].size(), 6u);
+  std::ifstream sidecar_in(dir + "/model.json");
+  const auto sidecar = nlohmann::json::parse(sidecar_in);
+  EXPECT_EQ(sidecar["shape"], nlohmann::json({6, 12, 12, 16}));
+  EXPECT_EQ(sidecar["spacing"], nlohmann::json({0.25, 0.25, 0.25}));
+  EXPECT_EQ(sidecar["origin"], nlohmann::json({0.0, 0.0, 0.0}));
+  EXPECT_EQ(sidecar["mode"], "conservative");
+  // NPY 1.0: 10 bytes, the header (its length at bytes 8–9), then one byte per voxel.
+  std::ifstream npy_in(dir + "/model.npy", std::ios::binary);
+  std::stringstream npy_text;
+  npy_text << npy_in.rdbuf();
+  const std::string npy = npy_text.str();
+  ASSERT_GT(npy.size(), 10u);
+  const std::size_t header =
+      static_cast<unsigned char>(npy[8]) | (static_cast<unsigned char>(npy[9]) << 8);
+  const std::string data = npy.substr(10 + header);
+  ASSERT_EQ(data.size(), 6u * 16u * 12u * 12u);
   for (std::size_t i = 0; i < 6; ++i) {
-    const std::string bits = voxels["states"][i]["model"];
-    ASSERT_EQ(bits.size(), 16u * 12u * 12u);
-    const double volume = std::count(bits.begin(), bits.end(), '1') * 0.25 * 0.25 * 0.25;
+    const std::string model = data.substr(i * 2304, 2304);
+    const double volume = std::count(model.begin(), model.end(), '\1') * 0.25 * 0.25 * 0.25;
     EXPECT_NEAR(volume, report["states"][i]["model_volume"].get<double>(), 1e-9) << i;
+    EXPECT_EQ(sidecar["states"][i]["time_step"], report["states"][i]["time_step"]);
+    EXPECT_EQ(sidecar["states"][i]["event"], report["states"][i]["event"]);
   }
 }
 
@@ -106,6 +121,8 @@ TEST(EvaluateCommand, BadInputsExitOneNamingFileEntryAndReason) {
       dir + "/weight.json", replace_first(scene, "\"weight\": 0.3", "\"weight\": 1.7e308"));
   const std::string basic =
       "evaluate " + kData + "paper_basic.json --cameras " + kData + "paper_basic_corners.json";
+  const std::string npy_dir = dir + "/d.npy";
+  std::filesystem::create_directories(npy_dir);
   const std::string compare =
       "compare " + kData + "paper_basic.json --cameras " + kData + "paper_basic_corners.json";
   struct Case {
@@ -127,8 +144,9 @@ TEST(EvaluateCommand, BadInputsExitOneNamingFileEntryAndReason) {
        "/time_steps/0/events/1/weight: weight 1.7e+308 is too large"},
       {basic + " --export-mesh " + dir, "--export-mesh: needs --pipeline exact"},
       {basic + " --exact-fractions", "--exact-fractions: needs --pipeline exact"},
-      {basic + " --voxels-out " + dir, "--voxels-out: " + dir + ": is a directory"},
-      {basic + " --voxels-out ''", "--voxels-out: needs a file name"},
+      {basic + " --voxels-out " + dir, "--voxels-out: needs a file name ending in .npy"},
+      {basic + " --voxels-out ''", "--voxels-out: needs a file name ending in .npy"},
+      {basic + " --voxels-out " + npy_dir, "--voxels-out: " + npy_dir + ": is a directory"},
       {basic + " --bogus", "command line"},
       {"evaluat " + kData + "paper_basic.json", "unknown command \"evaluat\""},
       {compare + " --resolutions 16x12x12, --out " + dir + "/c", "--resolutions: empty entry"},

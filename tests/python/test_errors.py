@@ -90,8 +90,8 @@ def test_bad_arguments_name_the_keyword(paper):
     ]
     for call, args, kwargs, expected in cases:
         assert message(call, *args, **kwargs) == expected, kwargs
-    assert message(camplace.evaluate, paper, CORNERS, voxels_out="/proc/none/v.json") == (
-        cli_error("evaluate", SCENE, "--cameras", CORNERS, "--voxels-out", "/proc/none/v.json")
+    assert message(camplace.evaluate, paper, CORNERS, voxels_out="/proc/none/v.npy") == (
+        cli_error("evaluate", SCENE, "--cameras", CORNERS, "--voxels-out", "/proc/none/v.npy")
         .replace("command line: --voxels-out:", "option: voxels_out:"))
     assert message(camplace.evaluate, paper, CORNERS, pipeline="exact",
                    export_mesh="/proc/none") == (

@@ -72,12 +72,17 @@ def test_exact_fractions_are_fractions(tiny_files):
     assert plain == {k: v for k, v in expected["states"][0].items() if k not in keys}
 
 
-def test_voxels_out_writes_the_command_lines_file(paper, tmp_path):
-    cli_file, py_file = tmp_path / "cli.json", tmp_path / "py.json"
+def test_voxels_out_writes_the_command_lines_files(paper, tmp_path):
+    cli_file, py_file = tmp_path / "cli.npy", tmp_path / "py.npy"
     cli_json("evaluate", SCENE, "--cameras", CORNERS, "--json", "--voxels-out", cli_file)
     camplace.evaluate(paper, CORNERS, voxels_out=py_file)
-    assert py_file.read_text() == cli_file.read_text()
-    assert json.loads(py_file.read_text())["resolution"] == [16, 12, 12]
+    assert py_file.read_bytes() == cli_file.read_bytes()
+    assert py_file.with_suffix(".vtk").read_bytes() == cli_file.with_suffix(".vtk").read_bytes()
+    py_doc = json.loads(py_file.with_suffix(".json").read_text())
+    cli_doc = json.loads(cli_file.with_suffix(".json").read_text())
+    assert py_doc.pop("data") == "py.npy" and cli_doc.pop("data") == "cli.npy"
+    assert py_doc == cli_doc
+    assert py_doc["dimensions"] == [16, 12, 12]
 
 
 def test_export_mesh_writes_the_command_lines_files(tiny_files, tmp_path):

@@ -10,21 +10,16 @@ from conftest import CORNERS, SCENE, TINY_CAMERAS, run_cli
 
 
 def cli_models(tmp_path, scene_file, cameras_file, *options):
-    """The --voxels-out document's models as bool arrays (states, nz, ny, nx), by the documented
-    index order i + nx*(j + ny*k), read character by character."""
-    path = tmp_path / "voxels.json"
+    """The --voxels-out files' models as bool arrays (states, nz, ny, nx): the .npy array and
+    its JSON sidecar (which lists the states), as docs/files.md describes them."""
+    path = tmp_path / "voxels.npy"
     result = run_cli("evaluate", scene_file, "--cameras", cameras_file, "--voxels-out", path,
                      *options)
     assert result.returncode == 0, result.stderr
-    doc = json.loads(path.read_text())
-    nx, ny, nz = doc["resolution"]
-    models = np.zeros((len(doc["states"]), nz, ny, nx), dtype=bool)
-    for s, state in enumerate(doc["states"]):
-        bits = state["model"]
-        for k in range(nz):
-            for j in range(ny):
-                for i in range(nx):
-                    models[s, k, j, i] = bits[i + nx * (j + ny * k)] == "1"
+    doc = json.loads(path.with_suffix(".json").read_text())
+    models = np.load(path).astype(bool)
+    nx, ny, nz = doc["dimensions"]
+    assert models.shape == (len(doc["states"]), nz, ny, nx)
     return doc, models
 
 

@@ -3,12 +3,15 @@
 /// configuration evaluated by the voxel pipeline, the exact pipeline or both, as one JSON object.
 /// The command-line tool and the Python module (python/) both print or return this object.
 #include <array>
+#include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "camplace/core/camera.hpp"
 #include "camplace/core/names.hpp"
 #include "camplace/core/scene.hpp"
+#include "camplace/voxel/grid.hpp"
 
 namespace camplace::compare {
 
@@ -37,10 +40,15 @@ struct EvaluationJson {
   /// {"pipeline": "both", "voxel", "exact", "differences"}; always with "scene" (the scene's
   /// path as loaded) and "cameras_file". Every number is finite.
   nlohmann::json result;
-  /// With EvaluationOptions::voxel_models and a voxel pipeline: the `--voxels-out` document
-  /// {"resolution", "index_order", "states": [{"time_step", "event", "model"}]}, where "model"
-  /// has one character per voxel ('1' = in M) in index order i + nx·(j + ny·k). Null otherwise.
-  nlohmann::json voxel_models;
+  /// With EvaluationOptions::voxel_models and a voxel pipeline: the voxel grid and each state's
+  /// filtered model (1 = in M, index i + nx·(j + ny·k)), what `--voxels-out` writes
+  /// (view::write_voxel_files); empty otherwise.
+  struct StateModel {
+    int time_step = 0, event = 0;
+    std::vector<std::uint8_t> model;
+  };
+  voxel::Grid grid;
+  std::vector<StateModel> voxel_models;
 };
 
 /// Evaluates `config` (one setting per camera of `scene`) as `camplace evaluate` does: with
@@ -50,5 +58,15 @@ struct EvaluationJson {
 /// std::runtime_error when an export file cannot be written.
 EvaluationJson evaluate_json(const core::Scene& scene, const core::CameraConfig& config,
                              const EvaluationOptions& options);
+
+/// Why `npy_path` cannot receive the voxel models ("needs a file name ending in .npy, got ..."),
+/// or "" when it can (the check `evaluate --voxels-out` and the Python module make first).
+std::string voxel_models_path_problem(const std::string& npy_path);
+
+/// Writes the voxel models of `evaluation` (EvaluationOptions::voxel_models) as `npy_path`
+/// (ending in ".npy") with its ".json" sidecar and ".vtk" twin (view::write_voxel_files; the
+/// sidecar names the pipeline, mode and FOV), each file atomically: `evaluate --voxels-out`.
+/// Throws std::runtime_error naming a path that cannot be written.
+void write_voxel_models(const EvaluationJson& evaluation, const std::string& npy_path);
 
 }  // namespace camplace::compare

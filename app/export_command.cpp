@@ -1,0 +1,104 @@
+// `camplace export`: glTF files, a viewer page and camera poses of one camera configuration
+// (docs/export.md).
+#include <algorithm>
+#include <cstdio>
+#include <iostream>
+#include <string>
+#include <thread>
+
+#include "camplace/core/camera.hpp"
+#include "camplace/core/error.hpp"
+#include "camplace/core/files.hpp"
+#include "camplace/core/scene.hpp"
+#include "camplace/view/export.hpp"
+#include "cli_checks.hpp"
+#include "commands.hpp"
+
+namespace camplace::app {
+
+namespace {
+
+struct ExportArgs {
+  std::string scene, cameras, out, mode = "conservative", resolution, pipeline = "voxel";
+  std::vector<std::string> states;
+  std::string three_dir = view::kDefaultThreeDir;
+  int threads = 0;  // 0 = one per core
+};
+
+/// "H,L" → the state; InputError naming --state otherwise.
+core::StateIndex parse_state(const std::string& text) {
+  const std::size_t comma = text.find(',');
+  auto number = [&](const std::string& part, int* value) {
+    if (part.empty() || part.size() > 9 ||
+        !std::all_of(part.begin(), part.end(), [](char c) { return c >= '0' && c <= '9'; }))
+      return false;
+    *value = std::stoi(part);
+    return true;
+  };
+  core::StateIndex state;
+  if (comma == std::string::npos || !number(text.substr(0, comma), &state.time_step) ||
+      !number(text.substr(comma + 1), &state.event)) {
+    throw core::InputError("command line", "--state",
+                           "expected H,L (time step and event, e.g. 0,1), got \"" + text + "\"");
+  }
+  return state;
+}
+
+void run_export(const ExportArgs& args) {
+  const core::Scene scene = core::load_scene(args.scene);
+  const core::CameraConfig config = core::load_camera_config(args.cameras, scene);
+  view::ExportOptions options;
+  options.pipeline = parse_enum<core::Pipeline>(args.pipeline);
+  options.voxel.mode = parse_enum<core::LabelMode>(args.mode);
+  if (!args.resolution.empty()) {
+    options.voxel.resolution = core::parse_resolution(args.resolution, "--resolution");
+  }
+  const unsigned cores = std::clamp(std::thread::hardware_concurrency(), 1u, 256u);
+  options.voxel.threads = args.threads > 0 ? args.threads : static_cast<int>(cores);
+  options.threads = args.threads;
+  for (const std::string& s : args.states) options.states.push_back(parse_state(s));
+  options.three_dir = args.three_dir;
+  options.scene_file = args.scene;
+  options.cameras_file = args.cameras;
+  // Every check before the output folder is created or anything is computed.
+  view::check_export_options(scene, options);
+  core::create_output_directory(args.out, "--out");
+  const view::ExportResult result = view::export_scene(scene, config, options, args.out);
+  std::printf("%4s %5s %7s %9s %10s  %s\n", "step", "event", "weight", "d_true[m]", "d_model[m]",
+              "file");
+  for (const view::ExportedState& s : result.states) {
+    std::printf("%4d %5d %7.3f %9.4f %10.4f  %s\n", s.state.time_step, s.state.event,
+                s.result.weight, s.result.d_true, s.result.d_model, s.glb.c_str());
+  }
+  std::printf("Err = %.6f m^2 (%s pipeline)\n%zu files in %s; open %s/index.html in a browser\n",
+              result.err, args.pipeline.c_str(), result.files.size(), args.out.c_str(),
+              args.out.c_str());
+}
+
+}  // namespace
+
+void register_export_command(CLI::App& app) {
+  auto args = std::make_shared<ExportArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "export", "glTF scene per state, a 3D viewer page and camera poses, written to DIR");
+  cmd->add_option("scene", args->scene, "scene JSON file")->required();
+  cmd->add_option("--cameras", args->cameras,
+                  "camera configuration JSON file (or an optimize run file)")
+      ->required();
+  cmd->add_option("--out", args->out, "output directory")->required();
+  cmd->add_option("--pipeline", args->pipeline, "voxel or exact")
+      ->check(CLI::IsMember(
+          {core::name_of(core::Pipeline::voxel), core::name_of(core::Pipeline::exact)}));
+  cmd->add_option("--mode", args->mode, "voxel labelling mode")->check(one_of<core::LabelMode>());
+  cmd->add_option("--resolution", args->resolution,
+                  "voxel resolution NXxNYxNZ (default: the scene's)");
+  cmd->add_option("--state", args->states,
+                  "export only state H,L (time step, event); repeatable (default: every state)");
+  cmd->add_option("--threads", args->threads, "threads (default: one per core)")
+      ->check(in_range(1, voxel::kMaxThreads));
+  cmd->add_option("--three-dir", args->three_dir,
+                  "directory of three.js (Debian's libjs-three) copied beside index.html");
+  cmd->callback([args] { run_export(*args); });
+}
+
+}  // namespace camplace::app

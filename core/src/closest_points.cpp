@@ -1,0 +1,226 @@
+// Closest point pairs for drawing distances (SPEC §4): the same case analysis as geometry.cpp's
+// distance routines, keeping the points.
+#include "camplace/core/closest_points.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include "camplace/core/error.hpp"
+
+namespace camplace::core {
+
+namespace {
+
+/// Keeps the nearer of the pairs offered.
+struct Nearest {
+  ClosestPoints best{Vec3::Zero(), Vec3::Zero(), std::numeric_limits<double>::infinity()};
+  void offer(const Vec3& a, const Vec3& b) {
+    const double d = (a - b).squaredNorm();
+    if (d < best.sq_distance) best = {a, b, d};
+  }
+};
+
+/// Closest points of segments [p0, p1] and [q0, q1] (Ericson 5.1.9, as
+/// segment_segment_sq_distance).
+std::pair<Vec3, Vec3> closest_points_of_segments(const Vec3& p0, const Vec3& p1, const Vec3& q0,
+                                                 const Vec3& q1) {
+  const Vec3 d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  constexpr double kEps = 1e-300;
+  double s = 0.0, t = 0.0;
+  if (a <= kEps && e <= kEps) return {p0, q0};
+  if (a <= kEps) {
+    t = std::clamp(f / e, 0.0, 1.0);
+  } else {
+    const double c = d1.dot(r);
+    if (e <= kEps) {
+      s = std::clamp(-c / a, 0.0, 1.0);
+    } else {
+      const double b = d1.dot(d2);
+      const double denom = a * e - b * b;
+      s = denom > 0.0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+      t = (b * s + f) / e;
+      if (t < 0.0) {
+        t = 0.0;
+        s = std::clamp(-c / a, 0.0, 1.0);
+      } else if (t > 1.0) {
+        t = 1.0;
+        s = std::clamp((b - c) / a, 0.0, 1.0);
+      }
+    }
+  }
+  return {p0 + d1 * s, q0 + d2 * t};
+}
+
+/// The point where the closed segment [p0, p1] crosses triangle (a, b, c), if it does and is
+/// not parallel to it (Möller–Trumbore; parallel contacts show up as edge–edge or
+/// vertex–triangle pairs).
+bool segment_crosses_triangle(const Vec3& p0, const Vec3& p1, const Vec3& a, const Vec3& b,
+                              const Vec3& c, Vec3* at) {
+  const Vec3 dir = p1 - p0;
+  const Vec3 e1 = b - a, e2 = c - a;
+  const Vec3 pvec = dir.cross(e2);
+  const double det = e1.dot(pvec);
+  if (std::abs(det) <= 1e-12 * dir.norm() * e1.norm() * e2.norm()) return false;
+  const double inv = 1.0 / det;
+  const Vec3 tvec = p0 - a;
+  const double u = tvec.dot(pvec) * inv;
+  if (u < 0.0 || u > 1.0) return false;
+  const Vec3 qvec = tvec.cross(e1);
+  const double v = dir.dot(qvec) * inv;
+  if (v < 0.0 || u + v > 1.0) return false;
+  const double t = e2.dot(qvec) * inv;
+  if (t < 0.0 || t > 1.0) return false;
+  *at = p0 + t * dir;
+  return true;
+}
+
+Box3 triangle_bounds(const Vec3& a, const Vec3& b, const Vec3& c) {
+  return {a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c)};
+}
+
+double box_gap_sq(const Box3& a, const Box3& b) {
+  const Vec3 gap = (a.min - b.max).cwiseMax(b.min - a.max).cwiseMax(0.0);
+  return gap.squaredNorm();
+}
+
+}  // namespace
+
+Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  // Voronoi regions (Ericson, Real-Time Collision Detection 5.1.5), as
+  // point_triangle_sq_distance.
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Vec3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
+  const Vec3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+  }
+  const double denom = 1.0 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+ClosestPoints closest_points_of_triangles(const Vec3& a0, const Vec3& a1, const Vec3& a2,
+                                          const Vec3& b0, const Vec3& b1, const Vec3& b2) {
+  const std::array<Vec3, 3> a{a0, a1, a2}, b{b0, b1, b2};
+  // Crossing triangles: an edge of one passes through the other (coplanar overlaps show up
+  // below as a vertex–triangle or edge–edge pair at distance 0).
+  Vec3 at;
+  for (int i = 0; i < 3; ++i) {
+    if (segment_crosses_triangle(a[i], a[(i + 1) % 3], b0, b1, b2, &at)) return {at, at, 0.0};
+    if (segment_crosses_triangle(b[i], b[(i + 1) % 3], a0, a1, a2, &at)) return {at, at, 0.0};
+  }
+  // Disjoint: the closest pair is vertex–triangle or edge–edge.
+  Nearest nearest;
+  for (int i = 0; i < 3; ++i) {
+    nearest.offer(a[i], closest_point_on_triangle(a[i], b0, b1, b2));
+    nearest.offer(closest_point_on_triangle(b[i], a0, a1, a2), b[i]);
+  }
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      const auto [p, q] = closest_points_of_segments(a[i], a[(i + 1) % 3], b[j], b[(j + 1) % 3]);
+      nearest.offer(p, q);
+    }
+  }
+  return nearest.best;
+}
+
+ClosestPoints closest_points(const std::vector<const TriangleMesh*>& a,
+                             const std::vector<const TriangleMesh*>& b) {
+  CAMPLACE_ASSERT(!a.empty() && !b.empty());
+  Nearest nearest;
+  for (const TriangleMesh* ma : a) {
+    for (const TriangleMesh* mb : b) {
+      CAMPLACE_ASSERT(!ma->triangles.empty() && !mb->triangles.empty());
+      std::vector<Box3> b_bounds;
+      for (const auto& t : mb->triangles) {
+        b_bounds.push_back(
+            triangle_bounds(mb->vertices[t[0]], mb->vertices[t[1]], mb->vertices[t[2]]));
+      }
+      for (const auto& ta : ma->triangles) {
+        const Vec3 &p0 = ma->vertices[ta[0]], &p1 = ma->vertices[ta[1]], &p2 = ma->vertices[ta[2]];
+        const Box3 a_bounds = triangle_bounds(p0, p1, p2);
+        for (std::size_t j = 0; j < mb->triangles.size(); ++j) {
+          // The gap between bounding boxes bounds the pair's distance from below.
+          if (box_gap_sq(a_bounds, b_bounds[j]) > nearest.best.sq_distance) continue;
+          const auto& tb = mb->triangles[j];
+          const ClosestPoints pair = closest_points_of_triangles(
+              p0, p1, p2, mb->vertices[tb[0]], mb->vertices[tb[1]], mb->vertices[tb[2]]);
+          nearest.offer(pair.a, pair.b);
+          if (nearest.best.sq_distance == 0.0) return nearest.best;
+        }
+      }
+    }
+  }
+  // Surfaces apart: one solid may still hold another whole (then any of its vertices is a
+  // common point).
+  for (const TriangleMesh* ma : a) {
+    for (const TriangleMesh* mb : b) {
+      const Vec3& va = ma->vertices[ma->triangles.front()[0]];
+      const Vec3& vb = mb->vertices[mb->triangles.front()[0]];
+      if (inside_mesh(*mb, va)) return {va, va, 0.0};
+      if (inside_mesh(*ma, vb)) return {vb, vb, 0.0};
+    }
+  }
+  return nearest.best;
+}
+
+ClosestPoints closest_points(const std::vector<const TriangleMesh*>& a, const Box3& b) {
+  const TriangleMesh box = box_mesh(b);
+  return closest_points(a, std::vector<const TriangleMesh*>{&box});
+}
+
+ClosestPoints closest_points(const std::vector<const TriangleMesh*>& a, const Vec3& b) {
+  CAMPLACE_ASSERT(!a.empty());
+  Nearest nearest;
+  for (const TriangleMesh* mesh : a) {
+    if (inside_mesh(*mesh, b)) return {b, b, 0.0};
+    for (const auto& t : mesh->triangles) {
+      nearest.offer(closest_point_on_triangle(b, mesh->vertices[t[0]], mesh->vertices[t[1]],
+                                              mesh->vertices[t[2]]),
+                    b);
+    }
+  }
+  return nearest.best;
+}
+
+TriangleMesh box_mesh(const Box3& box) {
+  TriangleMesh mesh;
+  const auto corners = box.corners();
+  mesh.vertices.assign(corners.begin(), corners.end());
+  // Two triangles per face: the face of axis `axis` at its min (side 0) or max (side 1) holds
+  // the corners whose bit `axis` equals `side`.
+  const Vec3 center = box.center();
+  for (int axis = 0; axis < 3; ++axis) {
+    for (int side = 0; side < 2; ++side) {
+      const int u = 1 << ((axis + 1) % 3), v = 1 << ((axis + 2) % 3);
+      const int base = side << axis;
+      const int quad[4] = {base, base | u, base | u | v, base | v};
+      for (const auto& tri : {std::array<int, 3>{quad[0], quad[1], quad[2]},
+                              std::array<int, 3>{quad[0], quad[2], quad[3]}}) {
+        const Vec3 n = (corners[tri[1]] - corners[tri[0]]).cross(corners[tri[2]] - corners[tri[0]]);
+        const Vec3 outward = corners[tri[0]] - center;
+        if (n.dot(outward) >= 0) {
+          mesh.triangles.push_back(tri);
+        } else {
+          mesh.triangles.push_back({tri[0], tri[2], tri[1]});
+        }
+      }
+    }
+  }
+  return mesh;
+}
+
+}  // namespace camplace::core
