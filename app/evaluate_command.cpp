@@ -36,19 +36,28 @@ void print_table(const nlohmann::json& r) {
                 r["resolution"][2].get<int>());
   }
   std::printf("\n%4s %5s %7s %9s %9s %11s %6s %7s\n", "step", "event", "weight", "d_true[m]",
-              "d_model[m]", "volume[m3]", "comps", "removed");
+              "d_model[m]", "volume[m³]", "comps", "removed");
   for (const auto& s : r["states"]) {
     std::printf("%4d %5d %7.3f %9.4f %10.4f %11.4f %6d %7d\n", s["time_step"].get<int>(),
                 s["event"].get<int>(), s["weight"].get<double>(), s["d_true"].get<double>(),
                 s["d_model"].get<double>(), s["model_volume"].get<double>(),
                 s["components"].get<int>(), s["components_removed"].get<int>());
   }
-  std::printf("Err = %.6f m^2", r["err"].get<double>());
-  if (r.contains("tolerance")) std::printf("   (tolerance %.4f m^2)", r["tolerance"].get<double>());
+  // --exact-fractions: the exact values below the table (long; --json has them per state).
+  for (const auto& s : r["states"]) {
+    if (!s.contains("d_model_sq_exact")) continue;
+    std::printf("step %d event %d: d_true² = %s m², d_model² = %s m², volume = %s m³\n",
+                s["time_step"].get<int>(), s["event"].get<int>(),
+                s["d_true_sq_exact"].get<std::string>().c_str(),
+                s["d_model_sq_exact"].get<std::string>().c_str(),
+                s["model_volume_exact"].get<std::string>().c_str());
+  }
+  std::printf("Err = %.6f m²", r["err"].get<double>());
+  if (r.contains("tolerance")) std::printf("   (tolerance %.4f m²)", r["tolerance"].get<double>());
   if (r.value("err_lower_bound", 0.0) > 0.0) {
     std::printf(
-        "\nno configuration has Err below %.4f m^2 in this mode and resolution (voxels touching a "
-        "target are always in M)",
+        "\nno configuration has Err below %.4f m² in this mode and resolution (voxels an occupying "
+        "object reaches into stay in M: voxel/evaluator.hpp, err_lower_bound)",
         r["err_lower_bound"].get<double>());
   }
   const auto& t = r["timing_ms"];
@@ -103,10 +112,16 @@ void run_evaluate(const EvaluateArgs& args) {
     return;
   }
   if (want_voxel && want_exact) {
+    if (scene.cameras.fov == core::FovShape::cone) {
+      std::printf(
+          "note: the scene's FOV is a cone; both pipelines use its inscribed %d-sided pyramid "
+          "here so that they compare like with like (--pipeline voxel uses the cone)\n\n",
+          scene.cameras.sides);
+    }
     print_table(out["voxel"]);
     std::printf("\n");
     print_table(out["exact"]);
-    std::printf("\nErr voxel - exact = %.6f m^2\n",
+    std::printf("\nErr voxel - exact = %.6f m²\n",
                 out["differences"]["err_voxel_minus_exact"].get<double>());
   } else {
     print_table(out);
