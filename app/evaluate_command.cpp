@@ -52,6 +52,28 @@ void print_table(const nlohmann::json& r) {
                 s["d_model_sq_exact"].get<std::string>().c_str(),
                 s["model_volume_exact"].get<std::string>().c_str());
   }
+  if (r.contains("diagnostics")) {
+    const auto& d = r["diagnostics"];
+    for (const auto& s : d["states"]) {
+      const auto& c = s["nearest_component"];
+      if (c.is_null()) continue;
+      std::printf(
+          "step %d event %d: nearest component %d (%ld voxels) at %.4f m, observed by %d "
+          "of %zu cameras\n",
+          s["time_step"].get<int>(), s["event"].get<int>(), c["index"].get<int>(),
+          c["voxels"].get<long>(), c["distance"].get<double>(), c["cameras_observing"].get<int>(),
+          d["cameras"].size());
+    }
+    for (const auto& c : d["cameras"]) {
+      std::printf("camera %d: %.1f%% of S in its FOV", c["index"].get<int>(),
+                  100.0 * c["fov_fraction"].get<double>());
+      if (!c["target_seen_fraction"].is_null())
+        std::printf(", sees %.1f%% of the targets",
+                    100.0 * c["target_seen_fraction"].get<double>());
+      std::printf("\n");
+    }
+    for (const auto& w : d["warnings"]) std::printf("warning: %s\n", w.get<std::string>().c_str());
+  }
   std::printf("Err = %.6f m²", r["err"].get<double>());
   if (r.contains("tolerance")) std::printf("   (tolerance %.4f m²)", r["tolerance"].get<double>());
   if (r.value("err_lower_bound", 0.0) > 0.0) {

@@ -5,13 +5,18 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <thread>
 
+#include "camplace/core/camera.hpp"
 #include "camplace/core/err.hpp"
 #include "camplace/core/error.hpp"
+#include "camplace/core/geometry.hpp"
+#include "camplace/core/sensor_model.hpp"
 #include "camplace/view/voxel_files.hpp"
+#include "camplace/voxel/components.hpp"
 #include "camplace/voxel/evaluator.hpp"
 #ifdef CAMPLACE_HAVE_EXACT
 #include "camplace/exact/evaluator.hpp"
@@ -46,6 +51,101 @@ nlohmann::json voxel_json(const voxel::VoxelEvaluator& evaluator, const voxel::E
             {"clustering", e.timing.clustering_ms},
             {"distance", e.timing.distance_ms},
             {"total", e.timing.total_ms}}}};
+}
+
+/// Why the model sits where it does (issue 12): per state the kept component nearest to the
+/// critical objects and how many cameras observe it (label `occupied` on at least one of its
+/// voxels: 0 = no camera sees that region, the usual reason for d = 0), per camera the fraction
+/// of S's voxel centres inside its FOV and of the targets' voxel centres it labels occupied,
+/// and warnings for d(C, M) = 0 in every state and for empty models.
+nlohmann::json voxel_diagnostics(const voxel::VoxelEvaluator& evaluator,
+                                 const core::CameraConfig& config) {
+  const core::Scene& scene = evaluator.scene();
+  const voxel::Grid& grid = evaluator.grid();
+  const bool boxes = evaluator.options().mode == core::LabelMode::conservative;
+  const auto all = core::states(scene);
+  std::vector<long> target_voxels(config.size(), 0), target_seen(config.size(), 0);
+  long targets_total = 0;
+  nlohmann::json states = nlohmann::json::array();
+  int zero_distance = 0, empty = 0;
+  for (std::size_t s = 0; s < all.size(); ++s) {
+    const std::vector<std::uint8_t> model = evaluator.model(config, static_cast<int>(s));
+    const std::vector<int> component = voxel::component_labels(model, grid);
+    std::vector<std::vector<voxel::Label>> labels;
+    for (const auto& camera : config) labels.push_back(evaluator.labels(camera, int(s)));
+    // The targets' voxels (centre inside a target of the state).
+    for (int v = 0; v < grid.count(); ++v) {
+      const core::Vec3 c = grid.voxel_center(v);
+      bool in_target = false;
+      for (const auto& t : scene.time_steps[all[s].time_step].events[all[s].event].targets)
+        in_target = in_target || core::inside_mesh(t.mesh, c);
+      if (!in_target) continue;
+      ++targets_total;
+      for (std::size_t c2 = 0; c2 < config.size(); ++c2)
+        target_seen[c2] += labels[c2][v] == voxel::Label::occupied;
+    }
+    // The model voxel nearest to the critical objects (as d(C, M) measures: box or centre).
+    int nearest = -1;
+    double best = 0.0;
+    for (int v = 0; v < grid.count(); ++v) {
+      if (!model[v]) continue;
+      double d = std::numeric_limits<double>::infinity();
+      for (const auto& o : scene.time_steps[all[s].time_step].critical) {
+        d = std::min(d, boxes ? core::box_solid_sq_distance(o.mesh, grid.voxel_box(v))
+                              : core::point_solid_sq_distance(o.mesh, grid.voxel_center(v)));
+      }
+      if (nearest < 0 || d < best) nearest = v, best = d;
+    }
+    nlohmann::json entry = {{"time_step", all[s].time_step}, {"event", all[s].event}};
+    if (nearest < 0) {
+      ++empty;
+      entry["nearest_component"] = nullptr;
+    } else {
+      const int id = component[nearest];
+      long voxels = 0;
+      std::vector<char> observing(config.size(), 0);
+      for (int v = 0; v < grid.count(); ++v) {
+        if (component[v] != id) continue;
+        ++voxels;
+        for (std::size_t c2 = 0; c2 < config.size(); ++c2)
+          observing[c2] |= labels[c2][v] == voxel::Label::occupied;
+      }
+      const double distance = std::sqrt(best);
+      zero_distance += distance == 0.0;
+      entry["nearest_component"] = {
+          {"index", id},
+          {"voxels", voxels},
+          {"volume", static_cast<double>(voxels) * grid.voxel_volume()},
+          {"distance", distance},
+          {"cameras_observing", std::count(observing.begin(), observing.end(), 1)}};
+    }
+    states.push_back(entry);
+  }
+  nlohmann::json cameras = nlohmann::json::array();
+  for (std::size_t c = 0; c < config.size(); ++c) {
+    const core::Fov fov(config[c], scene.cameras);
+    long inside = 0;
+    for (int v = 0; v < grid.count(); ++v) inside += fov.contains(grid.voxel_center(v));
+    cameras.push_back(
+        {{"index", c},
+         {"fov_fraction", static_cast<double>(inside) / grid.count()},
+         {"target_seen_fraction",
+          targets_total > 0 ? nlohmann::json(static_cast<double>(target_seen[c]) / targets_total)
+                            : nlohmann::json(nullptr)}});
+  }
+  nlohmann::json warnings = nlohmann::json::array();
+  if (!all.empty() && zero_distance == static_cast<int>(all.size())) {
+    warnings.push_back(
+        "d(C, M) = 0 in every state: the model touches the critical objects everywhere; a "
+        "nearest component with cameras_observing 0 lies where no camera sees");
+  }
+  if (empty > 0) {
+    warnings.push_back("the model is empty in " + std::to_string(empty) + " of " +
+                       std::to_string(all.size()) +
+                       " states (d(C, M) is then S's diagonal): the filter removed every "
+                       "component, or the cameras see all of S free");
+  }
+  return {{"states", states}, {"cameras", cameras}, {"warnings", warnings}};
 }
 
 /// Every number in `j` is finite. nlohmann::json prints NaN and ±inf as null; the scene loader
@@ -128,7 +228,9 @@ EvaluationJson evaluate_json(const core::Scene& scene, const core::CameraConfig&
     core::Scene voxel_scene = scene;
     if (want_exact) voxel_scene.cameras.fov = core::FovShape::pyramid;
     const voxel::VoxelEvaluator evaluator(voxel_scene, voxel_options);
-    vox = voxel_json(evaluator, evaluator.evaluate(config));
+    const voxel::Evaluation evaluation = evaluator.evaluate(config);
+    vox = voxel_json(evaluator, evaluation);
+    vox["diagnostics"] = voxel_diagnostics(evaluator, config);
     vox["fov"] = core::name_of(voxel_scene.cameras.fov);
     if (options.voxel_models) {
       out.grid = evaluator.grid();

@@ -29,6 +29,24 @@ TEST(Components, EdgeAndCornerContactDoNotConnectFaceContactDoes) {
   EXPECT_EQ(std::count(model.begin(), model.end(), 1), 4);
 }
 
+TEST(Components, LabelsNumberComponentsInTheOrderOfTheirFirstVoxel) {
+  const voxel::Grid grid = unit_grid();
+  std::vector<std::uint8_t> model(grid.count(), 0);
+  model[at(2, 0, 0)] = 1;  // component 0 (first voxel by index)
+  model[at(2, 1, 0)] = 1;  // face neighbour of (2,0,0): component 0
+  model[at(0, 2, 0)] = 1;  // component 1
+  model[at(3, 2, 0)] = 1;  // shares only an edge with (2,1,0): component 2
+  model[at(0, 2, 1)] = 1;  // above (0,2,0): component 1
+  const std::vector<int> labels = voxel::component_labels(model, grid);
+  ASSERT_EQ(labels.size(), model.size());
+  EXPECT_EQ(labels[at(2, 0, 0)], 0);
+  EXPECT_EQ(labels[at(2, 1, 0)], 0);
+  EXPECT_EQ(labels[at(0, 2, 0)], 1);
+  EXPECT_EQ(labels[at(3, 2, 0)], 2);
+  EXPECT_EQ(labels[at(0, 2, 1)], 1);
+  EXPECT_EQ(std::count(labels.begin(), labels.end(), -1), grid.count() - 5);
+}
+
 TEST(Components, FilterRemovesComponentsBelowVolumeOrHeightAndKeepsTheRest) {
   const voxel::Grid grid = unit_grid();
   std::vector<std::uint8_t> model(grid.count(), 0);

@@ -30,14 +30,17 @@ void unite(std::vector<int>& parent, int a, int b) {
   if (a != b) parent[std::max(a, b)] = std::min(a, b);
 }
 
-}  // namespace
+/// The model's runs and their union–find forest (parent[n]: run n's component is find(n)).
+struct RunForest {
+  std::vector<Run> runs;
+  std::vector<int> parent;
+};
 
-ComponentCount filter_components(std::vector<std::uint8_t>& model, const Grid& grid,
-                                 const core::Plausibility& plausibility) {
+RunForest run_forest(const std::uint8_t* m, const Grid& grid) {
   const int nx = grid.n[0], ny = grid.n[1], nz = grid.n[2];
   const int rows = ny * nz;
-  std::uint8_t* m = model.data();
-  std::vector<Run> runs;
+  RunForest forest;
+  std::vector<Run>& runs = forest.runs;
   std::vector<int> row_start(rows + 1, 0);
   for (int r = 0; r < rows; ++r) {
     row_start[r] = static_cast<int>(runs.size());
@@ -53,7 +56,8 @@ ComponentCount filter_components(std::vector<std::uint8_t>& model, const Grid& g
     }
   }
   row_start[rows] = static_cast<int>(runs.size());
-  std::vector<int> parent(runs.size());
+  std::vector<int>& parent = forest.parent;
+  parent.resize(runs.size());
   std::iota(parent.begin(), parent.end(), 0);
   // Face neighbours only: voxels meeting at an edge or a corner do not connect (SPEC §4); so
   // runs connect only through a shared x index in the row before (j − 1) or below (k − 1).
@@ -74,6 +78,33 @@ ComponentCount filter_components(std::vector<std::uint8_t>& model, const Grid& g
     if (j > 0) connect(r, r - 1);
     if (r >= ny) connect(r, r - ny);
   }
+  return forest;
+}
+
+}  // namespace
+
+std::vector<int> component_labels(const std::vector<std::uint8_t>& model, const Grid& grid) {
+  RunForest forest = run_forest(model.data(), grid);
+  std::vector<int> id(forest.runs.size(), -1);
+  std::vector<int> labels(model.size(), -1);
+  int next = 0;
+  for (std::size_t n = 0; n < forest.runs.size(); ++n) {
+    const int root = find(forest.parent, static_cast<int>(n));
+    if (id[root] < 0) id[root] = next++;
+    const Run& run = forest.runs[n];
+    std::fill_n(labels.begin() + static_cast<std::ptrdiff_t>(run.row) * grid.n[0] + run.i0,
+                run.i1 - run.i0 + 1, id[root]);
+  }
+  return labels;
+}
+
+ComponentCount filter_components(std::vector<std::uint8_t>& model, const Grid& grid,
+                                 const core::Plausibility& plausibility) {
+  const int nx = grid.n[0], ny = grid.n[1];
+  std::uint8_t* m = model.data();
+  RunForest forest = run_forest(m, grid);
+  const std::vector<Run>& runs = forest.runs;
+  std::vector<int>& parent = forest.parent;
   // Volume (voxel count) and z-extent per component.
   struct Extent {
     long voxels = 0;

@@ -20,4 +20,8 @@ struct ComponentCount {
 ComponentCount filter_components(std::vector<std::uint8_t>& model, const Grid& grid,
                                  const core::Plausibility& plausibility);
 
+/// The 6-connected component of each voxel of `model` (as filter_components forms them):
+/// 0, 1, ... in the order of each component's first voxel by index, −1 outside the model.
+std::vector<int> component_labels(const std::vector<std::uint8_t>& model, const Grid& grid);
+
 }  // namespace camplace::voxel
