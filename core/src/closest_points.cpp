@@ -22,38 +22,6 @@ struct Nearest {
   }
 };
 
-/// Closest points of segments [p0, p1] and [q0, q1] (Ericson 5.1.9, as
-/// segment_segment_sq_distance).
-std::pair<Vec3, Vec3> closest_points_of_segments(const Vec3& p0, const Vec3& p1, const Vec3& q0,
-                                                 const Vec3& q1) {
-  const Vec3 d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
-  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
-  constexpr double kEps = 1e-300;
-  double s = 0.0, t = 0.0;
-  if (a <= kEps && e <= kEps) return {p0, q0};
-  if (a <= kEps) {
-    t = std::clamp(f / e, 0.0, 1.0);
-  } else {
-    const double c = d1.dot(r);
-    if (e <= kEps) {
-      s = std::clamp(-c / a, 0.0, 1.0);
-    } else {
-      const double b = d1.dot(d2);
-      const double denom = a * e - b * b;
-      s = denom > 0.0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
-      t = (b * s + f) / e;
-      if (t < 0.0) {
-        t = 0.0;
-        s = std::clamp(-c / a, 0.0, 1.0);
-      } else if (t > 1.0) {
-        t = 1.0;
-        s = std::clamp((b - c) / a, 0.0, 1.0);
-      }
-    }
-  }
-  return {p0 + d1 * s, q0 + d2 * t};
-}
-
 /// The point where the closed segment [p0, p1] crosses triangle (a, b, c), if it does and is
 /// not parallel to it (Möller–Trumbore; parallel contacts show up as edge–edge or
 /// vertex–triangle pairs).

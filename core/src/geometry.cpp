@@ -72,13 +72,14 @@ double point_triangle_sq_distance(const Vec3& p, const Vec3& a, const Vec3& b, c
   return (p - (a + ab * v + ac * w)).squaredNorm();
 }
 
-double segment_segment_sq_distance(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1) {
+std::pair<Vec3, Vec3> closest_points_of_segments(const Vec3& p0, const Vec3& p1, const Vec3& q0,
+                                                 const Vec3& q1) {
   // Ericson 5.1.9, with the degenerate cases handled.
   const Vec3 d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
   const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
   constexpr double kEps = 1e-300;
   double s = 0.0, t = 0.0;
-  if (a <= kEps && e <= kEps) return r.squaredNorm();
+  if (a <= kEps && e <= kEps) return {p0, q0};
   if (a <= kEps) {
     t = std::clamp(f / e, 0.0, 1.0);
   } else {
@@ -99,7 +100,12 @@ double segment_segment_sq_distance(const Vec3& p0, const Vec3& p1, const Vec3& q
       }
     }
   }
-  return ((p0 + d1 * s) - (q0 + d2 * t)).squaredNorm();
+  return {p0 + d1 * s, q0 + d2 * t};
+}
+
+double segment_segment_sq_distance(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1) {
+  const auto [p, q] = closest_points_of_segments(p0, p1, q0, q1);
+  return (p - q).squaredNorm();
 }
 
 double point_box_sq_distance(const Vec3& p, const Box3& box) {

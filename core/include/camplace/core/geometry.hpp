@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
+#include <utility>
 #include <vector>
 
 namespace camplace::core {
@@ -52,6 +53,9 @@ bool inside_mesh(const TriangleMesh& mesh, const Vec3& p);
 
 /// Squared distance from p to triangle (a, b, c).
 double point_triangle_sq_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+/// The closest points of segments [p0, p1] and [q0, q1] (first on [p0, p1]).
+std::pair<Vec3, Vec3> closest_points_of_segments(const Vec3& p0, const Vec3& p1, const Vec3& q0,
+                                                 const Vec3& q1);
 /// Squared distance between segments [p0, p1] and [q0, q1].
 double segment_segment_sq_distance(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1);
 /// Squared distance from p to the closed box.
