@@ -31,6 +31,7 @@ struct EvaluateArgs {
   bool voxels_out_given = false, export_given = false;
   bool json = false, exact_fractions = false;
   int threads = 0;  // 0 = one per core (both pipelines)
+  int refine = 0;   // voxel::VoxelOptions::refine
 };
 
 /// The per-state fields both pipelines report (voxel::StateResult, core::StateResult).
@@ -49,6 +50,7 @@ nlohmann::json voxel_json(const voxel::VoxelEvaluator& evaluator, const voxel::E
   return {{"pipeline", core::name_of(core::Pipeline::voxel)},
           {"mode", core::name_of(evaluator.options().mode)},
           {"resolution", {n[0], n[1], n[2]}},
+          {"refine", evaluator.options().refine},
           {"voxel_diagonal", evaluator.grid().step.norm()},
           {"tolerance", core::default_tolerance(evaluator.scene().area, n)},
           {"err_lower_bound", evaluator.err_lower_bound()},
@@ -85,6 +87,7 @@ void print_table(const nlohmann::json& r) {
     std::printf(", mode %s, resolution %dx%dx%d", r["mode"].get<std::string>().c_str(),
                 r["resolution"][0].get<int>(), r["resolution"][1].get<int>(),
                 r["resolution"][2].get<int>());
+    if (r.value("refine", 0) > 0) std::printf(", refine %d", r["refine"].get<int>());
   }
   std::printf("\n%4s %5s %7s %9s %9s %11s %6s %7s\n", "step", "event", "weight", "d_true[m]",
               "d_model[m]", "volume[m3]", "comps", "removed");
@@ -181,6 +184,7 @@ void run_evaluate(const EvaluateArgs& args) {
     options.resolution = core::parse_resolution(args.resolution, "--resolution");
   const unsigned cores = std::thread::hardware_concurrency();
   options.threads = args.threads > 0 ? args.threads : static_cast<int>(std::clamp(cores, 1u, 256u));
+  options.refine = args.refine;
   const core::Pipeline pipeline = parse_enum<core::Pipeline>(args.pipeline);
   const bool want_voxel = pipeline != core::Pipeline::exact;
   const bool want_exact = pipeline != core::Pipeline::voxel;
@@ -258,6 +262,10 @@ void register_evaluate_command(CLI::App& app) {
   cmd->add_option("--mode", args->mode, "voxel labelling mode")->check(one_of<core::LabelMode>());
   cmd->add_option("--resolution", args->resolution,
                   "voxel resolution NXxNYxNZ (default: the scene's)");
+  cmd->add_option("--refine", args->refine,
+                  "conservative mode: refine the model's voxels L levels (cells of 1/2^L of the "
+                  "voxel's edge; default 0 = none)")
+      ->check(in_range(0, voxel::kMaxRefine));
   cmd->add_option("--pipeline", args->pipeline, "voxel, exact or both")
       ->check(one_of<core::Pipeline>());
   cmd->add_flag("--json", args->json, "print one JSON object on stdout");
