@@ -7,8 +7,9 @@
 //    conservative lower bound);
 //  - BM_EvaluateRefine/corners/<L> and BM_EvaluateRefine/random/<L>: conservative mode at
 //    16×12×12 with `refine` = L levels (issue 11 part 2), the corners configuration / the corners
-//    and the seven random ones in turn; the evaluator is built and warmed (one evaluation of each configuration) first, as
-//    an optimizer's is after its first evaluations (node distances are cached lazily);
+//    and the seven random ones in turn; the evaluator is built and warmed first (one evaluation
+//    of each configuration), as an optimizer's is after its first evaluations (node distances
+//    are cached lazily);
 //  - BM_ConstructRefine/<L>: building that evaluator (octree obstacle tables, refined bound);
 //  - BM_LegacyLabelling/<mode>/<r>: the labelling stage of the labeller issue 11 replaced
 //    (tests/support/legacy_labeller.cpp), same configuration;

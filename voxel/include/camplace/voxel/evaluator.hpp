@@ -36,8 +36,8 @@ constexpr int kMaxRefine = 10;
 constexpr double kRefineMemoryLimit = 2.0 * 1024 * 1024 * 1024;
 
 /// Worst-case memory (bytes) of refinement to `levels` levels on an n[0]·n[1]·n[2] grid with
-/// `time_steps` time steps and `states` states: every base voxel in M, so n[0]·n[1]·n[2]·8^levels
-/// finest cells, each with a state mask (8 bytes), union–find and component labels (8 bytes,
+/// `time_steps` time steps and `states` states: every base voxel in M, so
+/// n[0]·n[1]·n[2]·8^levels finest cells, each with a state mask (8 bytes), union–find and component labels (8 bytes,
 /// per evaluating thread), one byte per state, and per time step a cached distance and an
 /// obstacle-interior flag per octree node (≤ 8/7 nodes per cell: 10 bytes). 0 when levels ≤ 0.
 double refine_memory_estimate(const std::array<int, 3>& n, int levels, int time_steps,
