@@ -69,21 +69,13 @@ Evaluation VoxelEvaluator::evaluate(const core::CameraConfig& config) const {
   if (m.levels > 0) {
     // Refinement of the kept base components (a cell component lies in one base component and
     // is not larger, so base components the filter removes hold none that it would keep).
+    std::vector<ComponentCount> cells;
+    m.refined_states(cameras, models, leaf_buffers, cells, distances, result.timing);
     t0 = Clock::now();
-    std::vector<detail::LeafSet>& leaves = leaf_buffers;
-    m.refine_models(cameras, models, leaves);
-    result.timing.labelling_ms += ms_since(t0);
-    t0 = Clock::now();
-    detail::parallel_for(state_count, m.options.threads, [&](int s) {
-      const ComponentCount cells = m.filter_leaves(leaves[s]);
-      filtered[s].kept = cells.kept;
-      filtered[s].removed += cells.removed;
-    });
-    result.timing.clustering_ms += ms_since(t0);
-    t0 = Clock::now();
-    detail::parallel_for(state_count, m.options.threads, [&](int s) {
-      distances[s] = m.leaf_distance(leaves[s], m.states[s].time_step);
-    });
+    for (int s = 0; s < state_count; ++s) {
+      filtered[s].kept = cells[s].kept;
+      filtered[s].removed += cells[s].removed;
+    }
   } else {
     t0 = Clock::now();
     detail::parallel_for(state_count, m.options.threads, [&](int s) {
@@ -103,7 +95,7 @@ Evaluation VoxelEvaluator::evaluate(const core::CameraConfig& config) const {
     out.components_removed = filtered[s].removed;
     result.states.push_back(out);
   }
-  result.timing.distance_ms = ms_since(t0);
+  result.timing.distance_ms += ms_since(t0);
   result.err = core::error_of(result.states);
   result.timing.total_ms = ms_since(start);
   return result;
@@ -126,8 +118,10 @@ std::vector<std::uint8_t> VoxelEvaluator::model(const core::CameraConfig& config
   for (auto& model : models) filter_components(model, m.grid, m.scene.plausibility);
   if (m.levels == 0) return std::move(models[state]);
   std::vector<detail::LeafSet> leaves;
-  m.refine_models(cameras, models, leaves);
-  m.filter_leaves(leaves[state]);
+  std::vector<ComponentCount> cells;
+  std::vector<Impl::ModelDistance> distances;
+  core::Timing timing;
+  m.refined_states(cameras, models, leaves, cells, distances, timing);
   std::vector<std::uint8_t> out(m.grid.count(), 0);
   const detail::LeafSet& set = leaves[state];
   for (std::size_t slot = 0; slot < set.voxels.size(); ++slot) {
@@ -153,8 +147,10 @@ std::vector<std::uint8_t> VoxelEvaluator::leaf_model(const core::CameraConfig& c
   m.all_raw_models(config, models, &cameras);
   for (auto& model : models) filter_components(model, m.grid, m.scene.plausibility);
   std::vector<detail::LeafSet> leaves;
-  m.refine_models(cameras, models, leaves);
-  m.filter_leaves(leaves[state]);
+  std::vector<ComponentCount> cells;
+  std::vector<Impl::ModelDistance> distances;
+  core::Timing timing;
+  m.refined_states(cameras, models, leaves, cells, distances, timing);
   const Grid fine = leaf_grid();
   std::vector<std::uint8_t> out(static_cast<std::size_t>(fine.count()), 0);
   const detail::LeafSet& set = leaves[state];

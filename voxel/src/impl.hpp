@@ -191,6 +191,9 @@ struct Octree {
 struct LeafSet {
   std::vector<int> voxels;
   std::vector<std::uint8_t> cells;
+  /// Per slot: 1 when every cell is in the set and the slot may be taken as a whole (a kept
+  /// base voxel left unrefined); 0 says nothing.
+  std::vector<std::uint8_t> whole;
 };
 
 /// How many deciding triangles refinement remembers per node and camera (judge()'s witnesses):
@@ -277,6 +280,12 @@ struct VoxelEvaluator::Impl {
   std::vector<std::vector<std::uint8_t>> inside_tables;
   std::vector<std::unique_ptr<detail::NodeDistanceCache>> node_sq_by_step;
 
+  /// d(C_h, M) and the model's volume for one state.
+  struct ModelDistance {
+    double d_model = 0.0;  ///< m; core::empty_model_distance when M is empty
+    double volume = 0.0;   ///< m³
+  };
+
   // Set-up (setup.cpp): everything that does not depend on the cameras.
   void build();
   int add_object(const core::SceneObject& object, core::ObjectRole role);
@@ -297,12 +306,20 @@ struct VoxelEvaluator::Impl {
   // Refinement (refine.cpp).
   /// Set-up: octree tables, cell sizes, obstacle-interior tables, distance caches.
   void build_refinement();
-  /// The refined models of all states: the finest cells below the base voxels of the filtered
-  /// base models `models` that no camera proves free and no obstacle holds (unfiltered), into
-  /// `leaves` (one LeafSet per state).
-  void refine_models(const std::vector<detail::CameraSetup>& cameras,
-                     const std::vector<std::vector<std::uint8_t>>& models,
-                     std::vector<detail::LeafSet>& leaves) const;
+  /// The refined model of every state from the filtered base models `models` (refine.cpp):
+  /// kept base voxels near C_h are refined (within a radius that starts at the unrefined
+  /// d(C_h, M) plus a voxel diagonal and grows until the nearest kept cell lies within it), the
+  /// others stay whole; then components and filter on the finest cells, and d(C_h, M). Into
+  /// `leaves` (filtered), `counts` (cell components kept and removed), `distances`; adds the
+  /// stages' times to `timing`.
+  void refined_states(const std::vector<detail::CameraSetup>& cameras,
+                      const std::vector<std::vector<std::uint8_t>>& models,
+                      std::vector<detail::LeafSet>& leaves, std::vector<ComponentCount>& counts,
+                      std::vector<ModelDistance>& distances, core::Timing& timing) const;
+  /// ORs into `out` (the voxel's finest cells) the states of `pending` where each cell of base
+  /// voxel v is in M before the filter: no camera proves it free, no obstacle holds it wholly.
+  void refine_voxel(detail::RefineContext& ctx, const detail::StateMask* step_states, int v,
+                    detail::StateMask pending, detail::StateMask* out) const;
   /// Refines the children of node (level, morton) at global cell coordinates (I, J, K) of its
   /// level, for the states `pending` (where the node is in M), into ctx.out.
   /// `fixed`: states where every cell below the node is in M without tests (it lies wholly
@@ -356,10 +373,6 @@ struct VoxelEvaluator::Impl {
   std::vector<Label> labels(const detail::CameraSetup& camera, int state) const;
 
   // Distance (distance.cpp): d(C_h, M) and the model's volume for one state.
-  struct ModelDistance {
-    double d_model = 0.0;  ///< m; core::empty_model_distance when M is empty
-    double volume = 0.0;   ///< m³
-  };
   ModelDistance model_distance(const std::vector<std::uint8_t>& model, int time_step) const;
   /// d(C_h, M) and volume of the finest cells of `leaves` (refine.cpp): min over the cells of
   /// node_sq, found by branch and bound down the octrees.

@@ -364,123 +364,205 @@ double VoxelEvaluator::Impl::node_sq(int time_step, int v, int level, int morton
   return value;
 }
 
-void VoxelEvaluator::Impl::refine_models(const std::vector<CameraSetup>& cameras,
-                                         const std::vector<std::vector<std::uint8_t>>& models,
-                                         std::vector<LeafSet>& leaves) const {
-  const int state_count = static_cast<int>(states.size());
+void VoxelEvaluator::Impl::refine_voxel(detail::RefineContext& ctx, const StateMask* step_states,
+                                        int v, StateMask pending, StateMask* out) const {
+  const std::vector<CameraSetup>& cameras = *ctx.cameras;
   const int cells = octree.cells;
   const int nx = grid.n[0], ny = grid.n[1];
+  ctx.removal.clear();
+  for (std::size_t h = 0; h < removal_index.size(); ++h) {
+    const int table = removal_index[h][v];
+    if (table >= 0 && (pending & step_states[h])) {
+      ctx.removal.push_back({step_states[h], removal_tables[table].data()});
+    }
+  }
+  ctx.inside.clear();
+  for (const auto& [o, table] : inside_by_voxel[v]) {
+    const StateMask mask = ctx.object_states[o];
+    if (pending & mask) ctx.inside.push_back({mask, inside_tables[table].data()});
+  }
+  ctx.out = out;
+  ctx.witness.assign((levels + 1) * cameras.size() * detail::kWitnesses, -1);
+  ctx.sure.assign((levels + 1) * cameras.size(), 0);
+  // The base voxel itself: states where it lies wholly inside an occupying object, or outside
+  // every seeing camera's FOV, need no refinement; cameras whose FOV holds it.
+  StateMask fixed = 0, open = pending;
+  for (const auto& [mask, table] : ctx.inside) {
+    if (table[0]) {
+      fixed |= open & mask;
+      open &= ~mask;
+    }
+  }
+  std::uint64_t in_view = 0;
+  if (open) {
+    const Box3 box = node_box(v, 0, 0);
+    const Vec3 center = 0.5 * (box.min + box.max);
+    StateMask maybe_seen = 0;
+    for (std::size_t c = 0; c < cameras.size(); ++c) {
+      if (!(open & ctx.seeing[c])) continue;
+      const Vec3 w = center - cameras[c].c;
+      const double d = w.norm();
+      if (ball_outside_fov(cameras[c], w, d, cell_sizes[0].radius)) continue;
+      maybe_seen |= ctx.seeing[c];
+      if (c < 64 && box_in_fov(cameras[c], box.min, box.max, cell_sizes[0].radius, w, d)) {
+        in_view |= std::uint64_t(1) << c;
+      }
+    }
+    fixed |= open & ~maybe_seen;
+    open &= maybe_seen;
+  }
+  if (open) {
+    const int i = v % nx, j = (v / nx) % ny, k = v / (nx * ny);
+    refine_node(ctx, 0, 0, i, j, k, fixed, open, in_view);
+  } else {
+    for (int c = 0; c < cells; ++c) out[c] |= fixed;
+  }
+  // Obstacle interiors below cells filled without descending (the descent skipped the others
+  // already; bits of the step's states set in an earlier call were cleared then).
+  for (const auto& [mask, table] : ctx.removal) {
+    for (int l = 1; l <= levels; ++l) {
+      const int span = 1 << (3 * (levels - l));
+      for (int m = 0; m < (1 << (3 * l)); ++m) {
+        if (!table[octree.offset[l] + m]) continue;
+        for (int c = m * span; c < (m + 1) * span; ++c) out[c] &= ~mask;
+      }
+    }
+  }
+}
+
+void VoxelEvaluator::Impl::refined_states(const std::vector<CameraSetup>& cameras,
+                                          const std::vector<std::vector<std::uint8_t>>& models,
+                                          std::vector<LeafSet>& leaves,
+                                          std::vector<ComponentCount>& counts,
+                                          std::vector<ModelDistance>& distances,
+                                          core::Timing& timing) const {
+  using detail::Clock;
+  using detail::ms_since;
+  const int state_count = static_cast<int>(states.size());
+  const int cells = octree.cells;
   leaves.resize(state_count);
-  // Per calling thread, reused; a reference, so that the worker threads below see this
-  // thread's buffer (a thread_local named in the lambda would be each worker's own).
-  thread_local std::vector<StateMask> buffer;
-  std::vector<StateMask>& cell_masks = buffer;
-  std::vector<int> slots;
-  std::vector<StateMask> slot_masks;
+  counts.assign(state_count, {});
+  distances.assign(state_count, {});
+  // Per calling thread, reused; references, so that the worker threads below see this
+  // thread's buffers (a thread_local named in a lambda would be each worker's own).
+  thread_local std::vector<StateMask> mask_buffer, refined_buffer;
+  thread_local std::vector<int> slot_buffer;
+  std::vector<StateMask>& cell_masks = mask_buffer;  // per slot: its cells' states
+  std::vector<StateMask>& refined = refined_buffer;  // per base voxel: states refined
+  std::vector<int>& slot_of = slot_buffer;           // per base voxel: its slot, or −1
+  const double diagonal = grid.step.norm();
   for (int chunk = 0; chunk * detail::kChunk < state_count; ++chunk) {
     const int first = chunk * detail::kChunk;
     const int count = std::min(detail::kChunk, state_count - first);
     const std::vector<StateMask> seeing = seeing_states(cameras, chunk);
     const StateMask* step_states = chunk_step_states[chunk].data();
-    slots.clear();
-    slot_masks.clear();
-    for (int v = 0; v < grid.count(); ++v) {
-      StateMask mask = 0;
-      for (int s = 0; s < count; ++s) mask |= StateMask(models[first + s][v] != 0) << s;
-      if (!mask) continue;
-      slots.push_back(v);
-      slot_masks.push_back(mask);
-    }
-    cell_masks.assign(slots.size() * cells, 0);
-    const int slot_count = static_cast<int>(slots.size());
-    const int pieces = options.threads <= 1 ? 1 : std::min(slot_count, 4 * options.threads);
-    detail::parallel_for(pieces, options.threads, [&](int piece) {
-      detail::Scratch scratch;
-      scratch.stamp.assign(triangles.size(), 0);
-      detail::RefineContext ctx;
-      ctx.cameras = &cameras;
-      ctx.seeing = seeing.data();
-      ctx.object_states = chunk_object_states[chunk].data();
-      ctx.scratch = &scratch;
-      for (int slot = slot_count * piece / pieces; slot < slot_count * (piece + 1) / pieces;
-           ++slot) {
-        const int v = slots[slot];
-        const StateMask pending = slot_masks[slot];
-        ctx.removal.clear();
-        for (std::size_t h = 0; h < removal_index.size(); ++h) {
-          const int table = removal_index[h][v];
-          if (table >= 0 && (pending & step_states[h])) {
-            ctx.removal.push_back({step_states[h], removal_tables[table].data()});
-          }
-        }
-        ctx.inside.clear();
-        for (const auto& [o, table] : inside_by_voxel[v]) {
-          const StateMask mask = ctx.object_states[o];
-          if (pending & mask) ctx.inside.push_back({mask, inside_tables[table].data()});
-        }
-        StateMask* out = cell_masks.data() + static_cast<std::size_t>(slot) * cells;
-        ctx.out = out;
-        ctx.witness.assign((levels + 1) * cameras.size() * detail::kWitnesses, -1);
-        ctx.sure.assign((levels + 1) * cameras.size(), 0);
-        // The base voxel itself: states where it lies wholly inside an occupying object, or
-        // outside every seeing camera's FOV, need no refinement; cameras whose FOV holds it.
-        StateMask fixed = 0, open = pending;
-        for (const auto& [mask, table] : ctx.inside) {
-          if (table[0]) {
-            fixed |= open & mask;
-            open &= ~mask;
-          }
-        }
-        std::uint64_t in_view = 0;
-        if (open) {
-          const Box3 box = node_box(v, 0, 0);
-          const Vec3 center = 0.5 * (box.min + box.max);
-          StateMask maybe_seen = 0;
-          for (std::size_t c = 0; c < cameras.size(); ++c) {
-            if (!(open & seeing[c])) continue;
-            const Vec3 w = center - cameras[c].c;
-            const double d = w.norm();
-            if (ball_outside_fov(cameras[c], w, d, cell_sizes[0].radius)) continue;
-            maybe_seen |= seeing[c];
-            if (c < 64 && box_in_fov(cameras[c], box.min, box.max, cell_sizes[0].radius, w, d)) {
-              in_view |= std::uint64_t(1) << c;
-            }
-          }
-          fixed |= open & ~maybe_seen;
-          open &= maybe_seen;
-        }
-        if (open) {
-          const int i = v % nx, j = (v / nx) % ny, k = v / (nx * ny);
-          refine_node(ctx, 0, 0, i, j, k, fixed, open, in_view);
-        } else {
-          std::fill(out, out + cells, fixed);
-        }
-        // Obstacle interiors below cells filled without descending (the descent skipped the
-        // others already).
-        for (const auto& [mask, table] : ctx.removal) {
-          for (int l = 1; l <= levels; ++l) {
-            const int span = 1 << (3 * (levels - l));
-            for (int m = 0; m < (1 << (3 * l)); ++m) {
-              if (!table[octree.offset[l] + m]) continue;
-              for (int c = m * span; c < (m + 1) * span; ++c) out[c] &= ~mask;
-            }
-          }
-        }
-      }
-    });
+    refined.assign(grid.count(), 0);
+    slot_of.assign(grid.count(), -1);
+    cell_masks.clear();
+    int slot_count = 0;
+    // The radius per state: kept base voxels nearer than it to C_h are refined. It starts at
+    // the unrefined d(C_h, M) plus a voxel diagonal and grows until the nearest kept cell lies
+    // within it, so that every voxel that could hold a nearer cell is refined.
+    std::vector<double> radius(count, 0.0);
+    std::vector<int> active;
+    auto t0 = Clock::now();
     for (int s = 0; s < count; ++s) {
+      const std::vector<std::uint8_t>& model = models[first + s];
+      const ModelDistance base = model_distance(model, states[first + s].time_step);
       LeafSet& set = leaves[first + s];
       set.voxels.clear();
       set.cells.clear();
-      const StateMask bit = StateMask(1) << s;
-      for (int slot = 0; slot < slot_count; ++slot) {
-        if (!(slot_masks[slot] & bit)) continue;
-        const StateMask* masks = cell_masks.data() + static_cast<std::size_t>(slot) * cells;
-        set.voxels.push_back(slots[slot]);
-        const std::size_t at = set.cells.size();
-        set.cells.resize(at + cells);
-        for (int c = 0; c < cells; ++c) set.cells[at + c] = (masks[c] & bit) != 0;
+      set.whole.clear();
+      if (base.volume == 0.0) {
+        distances[first + s] = base;  // empty: nothing to refine
+        continue;
       }
+      radius[s] = base.d_model + diagonal;
+      active.push_back(s);
+    }
+    timing.distance_ms += ms_since(t0);
+    std::vector<std::pair<int, StateMask>> work;  // (slot, states to refine)
+    while (!active.empty()) {
+      t0 = Clock::now();
+      work.clear();
+      for (int v = 0; v < grid.count(); ++v) {
+        StateMask add = 0;
+        for (int s : active) {
+          const StateMask bit = StateMask(1) << s;
+          if (!models[first + s][v] || (refined[v] & bit)) continue;
+          const int h = states[first + s].time_step;
+          const double r2 = radius[s] * radius[s];
+          if (critical_lb_by_step[h][v] >= r2 || !(critical_sq(h, v) < r2)) continue;
+          add |= bit;
+        }
+        if (!add) continue;
+        if (slot_of[v] < 0) {
+          slot_of[v] = slot_count++;
+          cell_masks.resize(static_cast<std::size_t>(slot_count) * cells, 0);
+        }
+        refined[v] |= add;
+        work.push_back({v, add});
+      }
+      const int items = static_cast<int>(work.size());
+      const int pieces =
+          options.threads <= 1 ? std::min(items, 1) : std::min(items, 4 * options.threads);
+      detail::parallel_for(pieces, options.threads, [&](int piece) {
+        detail::Scratch scratch;
+        scratch.stamp.assign(triangles.size(), 0);
+        detail::RefineContext ctx;
+        ctx.cameras = &cameras;
+        ctx.seeing = seeing.data();
+        ctx.object_states = chunk_object_states[chunk].data();
+        ctx.scratch = &scratch;
+        for (int n = items * piece / pieces; n < items * (piece + 1) / pieces; ++n) {
+          const auto [v, add] = work[n];
+          refine_voxel(ctx, step_states, v, add,
+                       cell_masks.data() + static_cast<std::size_t>(slot_of[v]) * cells);
+        }
+      });
+      timing.labelling_ms += ms_since(t0);
+      // Per active state: the model (refined cells, the other kept voxels whole), its
+      // components and filter, and d(C_h, M).
+      t0 = Clock::now();
+      const int n_active = static_cast<int>(active.size());
+      detail::parallel_for(n_active, options.threads, [&](int a) {
+        const int s = active[a];
+        const StateMask bit = StateMask(1) << s;
+        LeafSet& set = leaves[first + s];
+        set.voxels.clear();
+        set.cells.clear();
+        set.whole.clear();
+        const std::vector<std::uint8_t>& model = models[first + s];
+        for (int v = 0; v < grid.count(); ++v) {
+          if (model[v]) set.voxels.push_back(v);
+        }
+        set.cells.resize(set.voxels.size() * cells, 1);
+        set.whole.resize(set.voxels.size(), 1);
+        for (std::size_t slot = 0; slot < set.voxels.size(); ++slot) {
+          const int v = set.voxels[slot];
+          if (!(refined[v] & bit)) continue;
+          set.whole[slot] = 0;
+          const std::size_t at = slot * cells;
+          const StateMask* masks = cell_masks.data() + static_cast<std::size_t>(slot_of[v]) * cells;
+          for (int c = 0; c < cells; ++c) set.cells[at + c] = (masks[c] & bit) != 0;
+        }
+        counts[first + s] = filter_leaves(set);
+      });
+      timing.clustering_ms += ms_since(t0);
+      t0 = Clock::now();
+      detail::parallel_for(n_active, options.threads, [&](int a) {
+        const int s = active[a];
+        distances[first + s] = leaf_distance(leaves[first + s], states[first + s].time_step);
+      });
+      timing.distance_ms += ms_since(t0);
+      std::vector<int> next;
+      for (int s : active) {
+        const double d = distances[first + s].d_model;
+        if (!(d > radius[s])) continue;
+        radius[s] = d + diagonal;
+        next.push_back(s);
+      }
+      active.swap(next);
     }
   }
 }
@@ -573,10 +655,10 @@ void VoxelEvaluator::Impl::refine_node(detail::RefineContext& ctx, int level, in
     }
     if (!(f | o)) continue;
     if (child_level == levels) {
-      ctx.out[child] = f | o;
+      ctx.out[child] |= f | o;
     } else if (!o) {
       const int span = 1 << (3 * (levels - child_level));
-      std::fill(ctx.out + child * span, ctx.out + (child + 1) * span, f);
+      for (int c = child * span; c < (child + 1) * span; ++c) ctx.out[c] |= f;
     } else {
       refine_node(ctx, child_level, child, CI, CJ, CK, f, o, child_in_view);
     }
@@ -628,7 +710,8 @@ ComponentCount VoxelEvaluator::Impl::filter_leaves(LeafSet& set) const {
   full.assign(slots, 0);
   for (int slot = 0; slot < slots; ++slot) {
     const std::uint8_t* c = in + static_cast<std::size_t>(slot) * cells;
-    full[slot] = std::find(c, c + cells, std::uint8_t(0)) == c + cells;
+    full[slot] = (slot < static_cast<int>(set.whole.size()) && set.whole[slot]) ||
+                 std::find(c, c + cells, std::uint8_t(0)) == c + cells;
     const int base = slot * cells;
     if (full[slot]) {
       parent[base] = base;
@@ -636,10 +719,11 @@ ComponentCount VoxelEvaluator::Impl::filter_leaves(LeafSet& set) const {
       for (int m = 0; m < cells; ++m) parent[base + m] = base + m;
     }
   }
-  auto slot_of = [&](int v) {
-    const auto it = std::lower_bound(set.voxels.begin(), set.voxels.end(), v);
-    return it != set.voxels.end() && *it == v ? static_cast<int>(it - set.voxels.begin()) : -1;
-  };
+  // Base voxel → slot (−1: none), reset to −1 before returning.
+  thread_local std::vector<int> slot_map;
+  if (slot_map.size() != static_cast<std::size_t>(grid.count())) slot_map.assign(grid.count(), -1);
+  for (int slot = 0; slot < slots; ++slot) slot_map[set.voxels[slot]] = slot;
+  auto slot_of = [&](int v) { return slot_map[v]; };
   auto rep = [&](int slot, int m) { return full[slot] ? slot * cells : slot * cells + m; };
   // Face neighbours at +x, +y, +z only (each pair once): 6-connectivity of the finest cells.
   for (int slot = 0; slot < slots; ++slot) {
@@ -714,6 +798,7 @@ ComponentCount VoxelEvaluator::Impl::filter_leaves(LeafSet& set) const {
       }
     }
   }
+  for (int slot = 0; slot < slots; ++slot) slot_map[set.voxels[slot]] = -1;
   const double cell_volume = voxel_volume * std::ldexp(1.0, -3 * levels);
   const double cell_height = grid.step.z() * cell_sizes[levels].factor;
   ComponentCount result;
@@ -728,6 +813,7 @@ ComponentCount VoxelEvaluator::Impl::filter_leaves(LeafSet& set) const {
     const int base = slot * cells;
     if (full[slot]) {
       std::fill_n(set.cells.begin() + base, cells, keep[label[base]]);
+      if (slot < static_cast<int>(set.whole.size())) set.whole[slot] &= keep[label[base]];
       continue;
     }
     for (int m = 0; m < cells; ++m) {
@@ -744,12 +830,22 @@ VoxelEvaluator::Impl::ModelDistance VoxelEvaluator::Impl::leaf_distance(const Le
   // Base voxels holding cells, nearest (by their box, a lower bound for their cells) first.
   std::vector<std::pair<double, int>> order;
   long count = 0;
+  // Slots by the lower bounds first (as model_distance): the exact voxel distances only for
+  // slots whose bound is not beyond the smallest voxel distance found so far.
+  const auto& lb = critical_lb_by_step[time_step];
+  double cutoff = kInf;
   for (int slot = 0; slot < slots; ++slot) {
+    const bool whole = slot < static_cast<int>(set.whole.size()) && set.whole[slot];
     const auto begin = set.cells.begin() + static_cast<std::ptrdiff_t>(slot) * cells;
-    const long here = std::count(begin, begin + cells, std::uint8_t(1));
+    const long here = whole ? cells : std::count(begin, begin + cells, std::uint8_t(1));
     if (!here) continue;
     count += here;
-    order.push_back({critical_sq(time_step, set.voxels[slot]), slot});
+    const int v = set.voxels[slot];
+    if (detail::beyond(lb[v], cutoff)) continue;
+    const double sq = critical_sq(time_step, v);
+    // A whole slot holds a cell as near as the voxel (up to rounding, within beyond's margin).
+    if (whole) cutoff = std::min(cutoff, sq);
+    order.push_back({sq, slot});
   }
   ModelDistance out;
   out.volume = static_cast<double>(count) * voxel_volume * std::ldexp(1.0, -3 * levels);
@@ -772,7 +868,7 @@ VoxelEvaluator::Impl::ModelDistance VoxelEvaluator::Impl::leaf_distance(const Le
     const int v = set.voxels[slot];
     const std::uint8_t* leaf = set.cells.data() + static_cast<std::size_t>(slot) * cells;
     std::copy(leaf, leaf + cells, filled.begin() + octree.offset[levels]);
-    for (int l = levels - 1; l >= 0; --l) {
+    for (int l = levels - 1; l >= 0; --l) {  // (all ones for a whole slot: cheap enough)
       const int n = 1 << (3 * l);
       const std::uint8_t* below = filled.data() + octree.offset[l + 1];
       for (int m = 0; m < n; ++m) {

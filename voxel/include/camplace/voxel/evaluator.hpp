@@ -36,10 +36,10 @@ constexpr int kMaxRefine = 10;
 constexpr double kRefineMemoryLimit = 2.0 * 1024 * 1024 * 1024;
 
 /// Worst-case memory (bytes) of refinement to `levels` levels on an n[0]·n[1]·n[2] grid with
-/// `time_steps` time steps and `states` states: every base voxel in M, so
-/// n[0]·n[1]·n[2]·8^levels finest cells, each with a state mask (8 bytes), union–find and component labels (8 bytes,
+/// `time_steps` time steps and `states` states: every base voxel refined, so n[0]·n[1]·n[2]·8^L
+/// finest cells, each with a state mask (8 bytes), union–find and component labels (8 bytes,
 /// per evaluating thread), one byte per state, and per time step a cached distance and an
-/// obstacle-interior flag per octree node (≤ 8/7 nodes per cell: 10 bytes). 0 when levels ≤ 0.
+/// obstacle-interior flag per octree node (≤ 8/7 nodes per cell: 10 bytes). 0 when L ≤ 0.
 double refine_memory_estimate(const std::array<int, 3>& n, int levels, int time_steps,
                               int states);
 
@@ -50,12 +50,15 @@ struct VoxelOptions {
   /// distances by state), 1..kMaxThreads. Keep 1 when the caller runs evaluations in parallel
   /// itself (the optimizer).
   int threads = 1;
-  /// Adaptive refinement, conservative mode only: levels L ≥ 0 (0 = none). Every base voxel of
-  /// a component the filter keeps is split into 8 cells, and every cell no camera proves free
-  /// and no obstacle holds wholly is split again, down to cells of 1/2^L of the voxel's edge;
-  /// M is the union of those finest cells, components (6-connectivity of the finest cells, across
-  /// base voxels) and the filter work on them, d(C, M) uses their boxes. Refined M ⊆ unrefined M
-  /// and still ⊇ the exact model. See refine_problem() for the limits.
+  /// Adaptive refinement, conservative mode only: levels L ≥ 0 (0 = none). A base voxel of a
+  /// component the filter keeps is split into 8 cells when it lies near the critical objects
+  /// (nearer than the state's d(C, M) so far plus a voxel diagonal, a radius that grows until
+  /// the nearest kept cell lies within it), and every cell no camera proves free and no obstacle
+  /// holds wholly is split again, down to cells of 1/2^L of the voxel's edge; the other kept
+  /// voxels stay whole. M is the union of those finest cells and whole voxels; components
+  /// (6-connectivity of the finest cells, across base voxels) and the filter work on them, and
+  /// d(C, M) uses their boxes. Refined M ⊆ unrefined M and still ⊇ the exact model. See
+  /// refine_problem() for the limits.
   int refine = 0;
 };
 
