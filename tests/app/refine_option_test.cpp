@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -85,6 +86,28 @@ TEST(RefineOption, BadValuesExitOneNamingTheOption) {
   // Refused before anything started: optimize made no output folder, study ran nothing.
   EXPECT_FALSE(std::filesystem::exists(dir + "/never"));
   EXPECT_FALSE(std::filesystem::exists(dir + "/study/runs"));
+}
+
+// The run files record the levels ("context": {"refine": L}, omitted for 0), and resuming a
+// folder with other levels is refused like any other changed setting (issue 13).
+TEST(RefineOption, OptimizeRecordsTheLevelsAndResumesOnlyWithTheSame) {
+  const std::string dir = temp_dir("refine_resume");
+  const std::string base = "optimize " + kData + "paper_basic.json --max-evals 3 --threads 1 " +
+                           "--quiet --out " + dir + "/runs";
+  const CommandResult first = run(base + " --refine 1");
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  std::ifstream in(dir + "/runs/run-1.json");
+  const auto file = nlohmann::json::parse(in);
+  EXPECT_EQ(file["context"]["refine"], 1);
+  EXPECT_EQ(file["context"]["mode"], "conservative");
+  const CommandResult other = run(base + " --refine 2 --seed 2");
+  EXPECT_EQ(other.exit_code, 1) << other.output;
+  EXPECT_NE(other.output.find("refine: 1 → 2"), std::string::npos) << other.output;
+  const CommandResult none = run(base + " --seed 2");
+  EXPECT_EQ(none.exit_code, 1) << none.output;
+  EXPECT_NE(none.output.find("refine: 1 → 0"), std::string::npos) << none.output;
+  const CommandResult same = run(base + " --refine 1 --seed 2");
+  EXPECT_EQ(same.exit_code, 0) << same.output;
 }
 
 }  // namespace
