@@ -1,11 +1,23 @@
 // Adaptive refinement of the conservative voxel model (issue 11, `refine` = L levels).
 //
-// After the base evaluation (labels, model, components and filter on the base grid), every base
-// voxel of a component the filter keeps is split into 8 cells, and every cell that no camera
-// proves free and no obstacle holds wholly is split again, down to level L (cells of 1/2^L of
-// the voxel's edge). The model M is the union of the finest cells reached; components connect
-// finest cells through shared faces (within and across base voxels), the filter judges them by
-// their cells' volume and z-extent, and d(C, M) is the distance to the nearest kept cell's box.
+// After the base evaluation (labels, model, components and filter on the base grid), a base
+// voxel of a component the filter keeps is split into 8 cells when it lies near the critical
+// objects C_h, and every cell that no camera proves free and no obstacle holds wholly is split
+// again, down to level L (cells of 1/2^L of the voxel's edge). "Near": the voxel's box is nearer
+// to C_h than a radius that starts at the unrefined d(C_h, M) plus one voxel diagonal and grows
+// to the refined d(C_h, M) plus a diagonal until the nearest kept cell lies within it (so every
+// voxel that could hold a nearer kept cell is refined); the other kept voxels stay whole. The
+// model M is the union of the finest cells reached and the whole voxels; components connect
+// cells through shared faces (within and across base voxels, whole voxels as all their cells),
+// the filter judges them by their cells' volume and z-extent, and d(C, M) is the distance to the
+// nearest kept cell's box. Optimizers spend their first evaluations on configurations whose
+// model fills much of S; leaving the far voxels whole keeps those evaluations cheap.
+//
+// Shortcuts that do not change M (each gives the labels the tests would give): states where a
+// cell lies wholly inside an occupying object of the state (SPEC §3: never free), or outside the
+// FOV of every camera that sees the state, or where every such camera is known not to free any
+// cell below (a deciding occupying triangle's cone holds the cell, a blocking triangle lies
+// nearer than all of it) keep the whole cell without further tests.
 //
 // Why it stays conservative (refined M ⊇ exact model, so d_voxel ≤ d_exact):
 //  - a cell is labelled with the base labeller's own tests (judge(), box_in_fov()) on the cell's
@@ -14,12 +26,13 @@
 //    voxel's test, obstacle_interiors, on the cell's box);
 //  - so every point of the exact model before the filter lies in a finest cell that is kept
 //    before the filter (all its ancestors contain the point too, so none of them was dropped);
+//  - whole voxels hold all their cells, so the same holds for them;
 //  - a component of the exact model that passes the filter lies in one cell component (it is
-//    connected, and its points lie in cells that touch or share faces), which is at least as
-//    large and as tall, so it passes too; and it lies in one base component that passes, so that
-//    base component was refined. Base components the filter removes hold no cell component it
-//    would keep (a cell component lies in one base component and is not larger), which is why
-//    only kept base components are refined: the result is that of refining everything.
+//    connected through interiors, and its points lie in cells that share faces), which is at
+//    least as large and as tall, so it passes too; and it lies in one base component that
+//    passes. Base components the filter removes hold no cell component it would keep (a cell
+//    component lies in one base component and is not larger), which is why only kept base
+//    components are refined.
 // Cells are boxes [area.min + I·s_l, area.min + (I + 1)·s_l] per axis with s_l = step·2^−l (a
 // power-of-two scaling, exact), so children tile their parent exactly and neighbours share
 // faces exactly; the labeller sees the same box as centre ± half extents (cell_sizes), within
