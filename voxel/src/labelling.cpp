@@ -3,6 +3,9 @@
 // voxel's centre) or conservative mode (free only when every point of the voxel is free); the
 // unfiltered models.
 //
+// Refinement (refine.cpp) labels octree cells with these same tests: judge() and box_in_fov()
+// take the cell's size (detail::CellSize, the voxel's scaled by a power of two).
+//
 // Issue 11 made this fast without changing an answer. The exact tests are the ones of the
 // previous labeller (tests/support/legacy_labeller.cpp keeps it): Möller–Trumbore on the ray
 // to the voxel centre, the separating-axis test of a triangle's cone against the voxel box, the
@@ -405,8 +408,7 @@ void judge_candidates(const CameraSetup& cam, const BinRange& bins, double vx0, 
 /// conservative mode, a refined cell's; the camera's box extents scale with size.factor.
 /// `witness` (conservative mode, optional): detail::kWitnesses triangles to test first (those
 /// ≥ 0; the ones that decided the cell's parent), updated with the triangles that decided states
-/// here, most recent first. The verdict does not
-/// depend on the order of the tests. `sure` (conservative mode, optional): adds the states whose
+/// here, most recent first; the verdict does not depend on the order of the tests. `sure` (conservative mode, optional): adds the states whose
 /// deciding triangle decides them for every box inside this one as well — its cone holds the
 /// whole box (by a margin) and it is occupying, or it lies nearer to the camera than every
 /// point of the box (blocking).
