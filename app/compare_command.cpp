@@ -37,8 +37,8 @@ std::vector<int> parse_level_list(const std::string& text) {
     }
     if (item.empty() || used != item.size() || level < 0 || level > voxel::kMaxRefine) {
       throw core::InputError("command line", "--refine",
-                             "bad entry \"" + item + "\" in \"" + text +
-                                 "\" (expected levels 0.." + std::to_string(voxel::kMaxRefine) +
+                             "bad entry \"" + item + "\" in \"" + text + "\" (expected levels 0.." +
+                                 std::to_string(voxel::kMaxRefine) +
                                  " separated by commas, e.g. 0,1,2,3)");
     }
     out.push_back(level);

@@ -199,9 +199,7 @@ BENCHMARK_CAPTURE(BM_Construct, center, LabelMode::center)
 BENCHMARK_CAPTURE(BM_EvaluateRefine, corners, false)
     ->DenseRange(0, 4)
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_EvaluateRefine, random, true)
-    ->DenseRange(0, 4)
-    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EvaluateRefine, random, true)->DenseRange(0, 4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ConstructRefine)->DenseRange(1, 4)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_LegacyLabelling, conservative, LabelMode::conservative)
     ->DenseRange(0, 3)

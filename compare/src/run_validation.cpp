@@ -94,9 +94,9 @@ class SceneCache {
   std::shared_ptr<const voxel::VoxelEvaluator> evaluator(const std::string& path,
                                                          const LoadedScene& scene,
                                                          const voxel::VoxelOptions& options) {
-    const std::string key =
-        path + "|" + core::name_of(options.mode) + "|" + resolution_text(options.resolution) +
-        "|" + std::to_string(options.refine);
+    const std::string key = path + "|" + core::name_of(options.mode) + "|" +
+                            resolution_text(options.resolution) + "|" +
+                            std::to_string(options.refine);
     {
       std::lock_guard<std::mutex> lock(mutex_);
       auto found = evaluators_.find(key);

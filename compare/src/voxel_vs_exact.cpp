@@ -233,7 +233,8 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
       dir + "/error_vs_resolution.png",
       "set title 'Voxelisation error of d(C, M) against the exact pipeline'\n"
       "set xlabel '" +
-          std::string(refined ? "voxel diagonal, refined: finest cell diagonal" : "voxel diagonal") +
+          std::string(refined ? "voxel diagonal, refined: finest cell diagonal"
+                              : "voxel diagonal") +
           " [m]'\nset ylabel '|d_{voxel} - d_{exact}| [m] (log scale; 0 not "
           "shown)'\n"
           "set key top left box opaque\nset grid\nset logscale y\n"
@@ -286,8 +287,9 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
           continue;
         }
         times << (e.resolution[0] << e.refine) << " "
-              << num(scene.area.size().cwiseQuotient(core::Vec3(e.resolution[0], e.resolution[1],
-                                                                e.resolution[2]))
+              << num(scene.area.size()
+                         .cwiseQuotient(
+                             core::Vec3(e.resolution[0], e.resolution[1], e.resolution[2]))
                          .norm() /
                      (1 << e.refine))
               << " " << num(e.ms, 3) << " " << e.refine << "\n";
@@ -359,7 +361,8 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
      << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : result.rows) {
     md << "| " << r.time_step << " | " << r.event << " | " << num(r.weight, 3) << " | "
-       << (r.refine > 0 ? r.mode + ", refine " + std::to_string(r.refine) : r.mode) << " | " << resolution_text(r.resolution) << " | " << num(r.voxel_diagonal, 4) << " | "
+       << (r.refine > 0 ? r.mode + ", refine " + std::to_string(r.refine) : r.mode) << " | "
+       << resolution_text(r.resolution) << " | " << num(r.voxel_diagonal, 4) << " | "
        << num(r.d_true, 4) << " | " << num(r.d_exact, 4) << " | " << num(r.d_voxel, 4) << " | "
        << num((r.d_voxel - r.d_exact) / r.voxel_diagonal, 3) << " | " << num(r.volume_exact, 4)
        << " | " << num(r.volume_voxel, 4) << " | " << r.exact_outside << " | "

@@ -30,8 +30,8 @@ nlohmann::ordered_json cameras_json(const core::CameraConfig& config) {
 }
 
 nlohmann::ordered_json context_json(const RunContext& context) {
-  nlohmann::ordered_json j = {{"scene", context.scene_file}, {"mode", context.mode},
-                              {"resolution", context.resolution}};
+  nlohmann::ordered_json j = {
+      {"scene", context.scene_file}, {"mode", context.mode}, {"resolution", context.resolution}};
   if (context.refine > 0) j["refine"] = context.refine;
   j["start"] = context.start;
   j["time_limit_s"] = context.time_limit;

@@ -172,8 +172,8 @@ struct CellSize {
 /// L) below node (l, m) are the Morton range [m·8^(L−l), (m + 1)·8^(L−l)).
 struct Octree {
   int levels = 0;
-  int side = 1;   ///< 2^L
-  int cells = 1;  ///< 8^L
+  int side = 1;                            ///< 2^L
+  int cells = 1;                           ///< 8^L
   std::vector<std::array<int, 3>> coords;  ///< per finest Morton index: (a, b, c)
   /// Per axis and finest Morton index: the Morton index of the face neighbour at +1 along the
   /// axis, wrapped to coordinate 0 in the next base voxel when `crosses`.
@@ -203,7 +203,7 @@ constexpr int kWitnesses = 4;
 /// What refinement of one base voxel needs besides the Impl (refine.cpp).
 struct RefineContext {
   const std::vector<CameraSetup>* cameras = nullptr;
-  const StateMask* seeing = nullptr;        ///< per camera: states it is not blind in
+  const StateMask* seeing = nullptr;         ///< per camera: states it is not blind in
   const StateMask* object_states = nullptr;  ///< the chunk's
   /// Obstacle-interior tables of the voxel's steps: the states of the step, the table.
   std::vector<std::pair<StateMask, const std::uint8_t*>> removal;

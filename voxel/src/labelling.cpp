@@ -408,10 +408,10 @@ void judge_candidates(const CameraSetup& cam, const BinRange& bins, double vx0, 
 /// conservative mode, a refined cell's; the camera's box extents scale with size.factor.
 /// `witness` (conservative mode, optional): detail::kWitnesses triangles to test first (those
 /// ≥ 0; the ones that decided the cell's parent), updated with the triangles that decided states
-/// here, most recent first; the verdict does not depend on the order of the tests. `sure` (conservative mode, optional): adds the states whose
-/// deciding triangle decides them for every box inside this one as well — its cone holds the
-/// whole box (by a margin) and it is occupying, or it lies nearer to the camera than every
-/// point of the box (blocking).
+/// here, most recent first; the verdict does not depend on the order of the tests. `sure`
+/// (conservative mode, optional): adds the states whose deciding triangle decides them for every
+/// box inside this one as well — its cone holds the whole box (by a margin) and it is occupying, or
+/// it lies nearer to the camera than every point of the box (blocking).
 void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d,
                                  StateMask interest, const StateMask* object_states,
                                  Scratch& scratch, Verdict& out, bool free_only,
@@ -616,8 +616,7 @@ VoxelEvaluator::Impl::Cone VoxelEvaluator::Impl::cone_test(const TriangleCone& t
   for (int i = 0; i < 3; ++i) {
     if (!(s[i] > inside)) toward += tc.normal[i];
   }
-  const Vec3 corner = w + Vec3(toward.x() >= 0 ? h.x() : -h.x(),
-                               toward.y() >= 0 ? h.y() : -h.y(),
+  const Vec3 corner = w + Vec3(toward.x() >= 0 ? h.x() : -h.x(), toward.y() >= 0 ? h.y() : -h.y(),
                                toward.z() >= 0 ? h.z() : -h.z());
   if (tc.normal[0].dot(corner) > inside && tc.normal[1].dot(corner) > inside &&
       tc.normal[2].dot(corner) > inside) {
@@ -814,7 +813,7 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
 }
 
 std::vector<StateMask> VoxelEvaluator::Impl::seeing_states(const std::vector<CameraSetup>& cameras,
-                                                          int chunk) const {
+                                                           int chunk) const {
   // A camera inside an object of a state sees nothing in that state (SPEC §3.3).
   const int first = chunk * detail::kChunk;
   const int count = std::min(detail::kChunk, static_cast<int>(states.size()) - first);

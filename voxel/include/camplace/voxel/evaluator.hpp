@@ -40,8 +40,7 @@ constexpr double kRefineMemoryLimit = 2.0 * 1024 * 1024 * 1024;
 /// finest cells, each with a state mask (8 bytes), union–find and component labels (8 bytes,
 /// per evaluating thread), one byte per state, and per time step a cached distance and an
 /// obstacle-interior flag per octree node (≤ 8/7 nodes per cell: 10 bytes). 0 when L ≤ 0.
-double refine_memory_estimate(const std::array<int, 3>& n, int levels, int time_steps,
-                              int states);
+double refine_memory_estimate(const std::array<int, 3>& n, int levels, int time_steps, int states);
 
 struct VoxelOptions {
   LabelMode mode = LabelMode::conservative;
