@@ -8,6 +8,7 @@
 #include "camplace/core/error.hpp"
 #include "camplace/core/files.hpp"
 #include "camplace/core/scene.hpp"
+#include "camplace/voxel/evaluator.hpp"
 #include "cli_checks.hpp"
 #include "commands.hpp"
 
@@ -16,9 +17,35 @@ namespace camplace::app {
 namespace {
 
 struct CompareArgs {
-  std::string scene, cameras, resolutions, out;
+  std::string scene, cameras, resolutions, refine, out;
   bool resolutions_given = false;
 };
+
+/// "0,1,3" → refinement levels, each 0..voxel::kMaxRefine; an empty list or item is an error.
+std::vector<int> parse_level_list(const std::string& text) {
+  std::vector<int> out;
+  std::size_t begin = 0;
+  while (true) {
+    const std::size_t end = std::min(text.find(',', begin), text.size());
+    const std::string item = text.substr(begin, end - begin);
+    int level = -1;
+    std::size_t used = 0;
+    try {
+      level = std::stoi(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (item.empty() || used != item.size() || level < 0 || level > voxel::kMaxRefine) {
+      throw core::InputError("command line", "--refine",
+                             "bad entry \"" + item + "\" in \"" + text + "\" (expected levels 0.." +
+                                 std::to_string(voxel::kMaxRefine) +
+                                 " separated by commas, e.g. 0,1,2,3)");
+    }
+    out.push_back(level);
+    if (end == text.size()) return out;
+    begin = end + 1;
+  }
+}
 
 /// "16x12x12,24x18x18" → the resolutions; an empty list or item is an error.
 std::vector<std::array<int, 3>> parse_resolution_list(const std::string& text) {
@@ -42,6 +69,7 @@ void run_compare(const CompareArgs& args, const std::string& command) {
   const core::CameraConfig config = core::load_camera_config(args.cameras, scene);
   compare::CompareOptions options;
   if (args.resolutions_given) options.resolutions = parse_resolution_list(args.resolutions);
+  if (!args.refine.empty()) options.refine_levels = parse_level_list(args.refine);
   options.command = command;
   core::create_output_directory(args.out, "--out");
   const compare::CompareResult result = compare::compare_voxel_exact(scene, config, options);
@@ -63,11 +91,17 @@ void register_compare_command(CLI::App& app) {
   CLI::Option* resolutions = cmd->add_option(
       "--resolutions", args->resolutions,
       "comma-separated voxel resolutions, e.g. 16x12x12,24x18x18 (default: the scene's)");
+  CLI::Option* refine = cmd->add_option(
+      "--refine", args->refine,
+      "comma-separated refinement levels of conservative mode at every resolution, e.g. "
+      "0,1,2,3 (default: 0)");
   cmd->add_option("--out", args->out, "output directory")->required();
-  cmd->callback([args, resolutions] {
+  cmd->callback([args, resolutions, refine] {
     args->resolutions_given = resolutions->count() > 0;
+    if (refine->count() > 0 && args->refine.empty()) args->refine = ",";  // an empty list: refused
     std::string command = "camplace compare " + args->scene + " --cameras " + args->cameras;
     if (!args->resolutions.empty()) command += " --resolutions " + args->resolutions;
+    if (!args->refine.empty()) command += " --refine " + args->refine;
     run_compare(*args, command + " --out " + args->out);
   });
 }

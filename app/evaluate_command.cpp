@@ -25,6 +25,7 @@ struct EvaluateArgs {
   bool voxels_out_given = false, export_given = false;
   bool json = false, exact_fractions = false;
   int threads = 0;  // 0 = one per core (both pipelines)
+  int refine = 0;   // voxel::VoxelOptions::refine
 };
 
 void print_table(const nlohmann::json& r) {
@@ -34,6 +35,7 @@ void print_table(const nlohmann::json& r) {
     std::printf(", mode %s, resolution %dx%dx%d", r["mode"].get<std::string>().c_str(),
                 r["resolution"][0].get<int>(), r["resolution"][1].get<int>(),
                 r["resolution"][2].get<int>());
+    if (r.value("refine", 0) > 0) std::printf(", refine %d", r["refine"].get<int>());
   }
   std::printf("\n%4s %5s %7s %9s %9s %11s %6s %7s\n", "step", "event", "weight", "d_true[m]",
               "d_model[m]", "volume[m³]", "comps", "removed");
@@ -111,6 +113,7 @@ void run_evaluate(const EvaluateArgs& args) {
   options.pipeline = parse_enum<core::Pipeline>(args.pipeline);
   const bool want_voxel = options.pipeline != core::Pipeline::exact;
   const bool want_exact = options.pipeline != core::Pipeline::voxel;
+  options.refine = args.refine;
   if (!want_exact && (args.export_given || args.exact_fractions)) {
     throw core::InputError("command line",
                            args.export_given ? "--export-mesh" : "--exact-fractions",
@@ -160,6 +163,10 @@ void register_evaluate_command(CLI::App& app) {
   cmd->add_option("--mode", args->mode, "voxel labelling mode")->check(one_of<core::LabelMode>());
   cmd->add_option("--resolution", args->resolution,
                   "voxel resolution NXxNYxNZ (default: the scene's)");
+  cmd->add_option("--refine", args->refine,
+                  "conservative mode: refine the model's voxels L levels (cells of 1/2^L of the "
+                  "voxel's edge; default 0 = none)")
+      ->check(in_range(0, voxel::kMaxRefine));
   cmd->add_option("--pipeline", args->pipeline, "voxel, exact or both")
       ->check(one_of<core::Pipeline>());
   cmd->add_flag("--json", args->json, "print one JSON object on stdout");

@@ -35,7 +35,7 @@ namespace {
 struct OptimizeArgs {
   std::string scene, algorithm = "gaco", start = "random", mode = "conservative", resolution, out;
   unsigned seed = 1;
-  int runs = 1, threads = 0, population = 0;
+  int runs = 1, threads = 0, population = 0, refine = 0;
   double time_limit = 300.0;
   long long max_evals = 0;
   double tolerance = 0.0;
@@ -107,6 +107,7 @@ void run_optimize(const OptimizeArgs& args) {
   if (!args.resolution.empty()) {
     voxel_options.resolution = core::parse_resolution(args.resolution, "--resolution");
   }
+  voxel_options.refine = args.refine;
 
   optimize::OptimizeOptions options;
   options.algorithm = args.algorithm;
@@ -135,6 +136,7 @@ void run_optimize(const OptimizeArgs& args) {
   context.scene_file = args.scene;
   context.mode = args.mode;
   context.resolution = objective.evaluator().grid().n;
+  context.refine = args.refine;
   context.start = args.start;
   context.time_limit = args.time_limit;
   context.max_evaluations = static_cast<std::uint64_t>(args.max_evals);
@@ -150,6 +152,7 @@ void run_optimize(const OptimizeArgs& args) {
     now.scene = context.provenance->scene;
     now.mode = context.mode;
     now.resolution = context.resolution;
+    now.refine = context.refine;
     now.algorithm = args.algorithm;
     now.start = args.start;
     now.time_limit = args.time_limit;
@@ -230,6 +233,10 @@ void register_optimize_command(CLI::App& app) {
   cmd->add_option("--mode", args->mode, "voxel labelling mode")->check(one_of<core::LabelMode>());
   cmd->add_option("--resolution", args->resolution,
                   "voxel resolution NXxNYxNZ (default: the scene's)");
+  cmd->add_option("--refine", args->refine,
+                  "conservative mode: refine the model's voxels L levels (cells of 1/2^L of the "
+                  "voxel's edge; default 0 = none); the tolerance stays the voxels'")
+      ->check(in_range(0, voxel::kMaxRefine));
   cmd->add_flag("--quiet", args->quiet, "no progress on stderr");
   cmd->add_flag("--restart", args->restart,
                 "discard the run files and summaries already in --out (and validate's results) "

@@ -5,6 +5,12 @@
 //    (seed 1), closer to what an optimizer asks;
 //  - BM_Construct/<mode>/<r>: building the evaluator (obstacle interiors, critical distances,
 //    conservative lower bound);
+//  - BM_EvaluateRefine/corners/<L> and BM_EvaluateRefine/random/<L>: conservative mode at
+//    16×12×12 with `refine` = L levels (issue 11 part 2), the corners configuration / the corners
+//    and the seven random ones in turn; the evaluator is built and warmed first (one evaluation
+//    of each configuration), as an optimizer's is after its first evaluations (node distances
+//    are cached lazily);
+//  - BM_ConstructRefine/<L>: building that evaluator (octree obstacle tables, refined bound);
 //  - BM_LegacyLabelling/<mode>/<r>: the labelling stage of the labeller issue 11 replaced
 //    (tests/support/legacy_labeller.cpp), same configuration;
 //  - BM_ReferenceLabelling/<r>: the brute-force reference (tests/support/reference.cpp: every
@@ -111,6 +117,34 @@ void BM_Construct(benchmark::State& state, voxel::LabelMode mode) {
   }
 }
 
+voxel::VoxelOptions refine_options(std::int64_t levels) {
+  voxel::VoxelOptions o = options(voxel::LabelMode::conservative, 0);
+  o.refine = static_cast<int>(levels);
+  return o;
+}
+
+void BM_EvaluateRefine(benchmark::State& state, bool random) {
+  const voxel::VoxelEvaluator evaluator(paper_scene(), refine_options(state.range(0)));
+  for (const auto& config : configs()) benchmark::DoNotOptimize(evaluator.err(config));
+  std::size_t k = 0;
+  voxel::Timing sum;
+  for (auto _ : state) {
+    const auto e = evaluator.evaluate(random ? configs()[k++ % configs().size()] : corners());
+    benchmark::DoNotOptimize(e.err);
+    sum.labelling_ms += e.timing.labelling_ms;
+    sum.clustering_ms += e.timing.clustering_ms;
+    sum.distance_ms += e.timing.distance_ms;
+  }
+  report_timing(state, sum, evaluator.grid().count());
+}
+
+void BM_ConstructRefine(benchmark::State& state) {
+  for (auto _ : state) {
+    const voxel::VoxelEvaluator evaluator(paper_scene(), refine_options(state.range(0)));
+    benchmark::DoNotOptimize(evaluator.err_lower_bound());
+  }
+}
+
 void BM_LegacyLabelling(benchmark::State& state, voxel::LabelMode mode) {
   const testing::LegacyLabeller legacy(paper_scene(), options(mode, state.range(0)));
   for (auto _ : state) {
@@ -162,6 +196,11 @@ BENCHMARK_CAPTURE(BM_Construct, conservative, LabelMode::conservative)
 BENCHMARK_CAPTURE(BM_Construct, center, LabelMode::center)
     ->DenseRange(0, 3)
     ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EvaluateRefine, corners, false)
+    ->DenseRange(0, 4)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EvaluateRefine, random, true)->DenseRange(0, 4)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ConstructRefine)->DenseRange(1, 4)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_LegacyLabelling, conservative, LabelMode::conservative)
     ->DenseRange(0, 3)
     ->Unit(benchmark::kMillisecond);

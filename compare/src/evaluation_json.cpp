@@ -41,6 +41,7 @@ nlohmann::json voxel_json(const voxel::VoxelEvaluator& evaluator, const voxel::E
   return {{"pipeline", core::name_of(core::Pipeline::voxel)},
           {"mode", core::name_of(evaluator.options().mode)},
           {"resolution", {n[0], n[1], n[2]}},
+          {"refine", evaluator.options().refine},
           {"voxel_diagonal", evaluator.grid().step.norm()},
           {"tolerance", core::default_tolerance(evaluator.scene().area, n)},
           {"err_lower_bound", evaluator.err_lower_bound()},
@@ -220,6 +221,7 @@ EvaluationJson evaluate_json(const core::Scene& scene, const core::CameraConfig&
     voxel::VoxelOptions voxel_options;
     voxel_options.mode = options.mode;
     voxel_options.resolution = options.resolution;
+    voxel_options.refine = options.refine;
     const unsigned cores = std::thread::hardware_concurrency();
     voxel_options.threads =
         options.threads > 0 ? options.threads : static_cast<int>(std::clamp(cores, 1u, 256u));

@@ -90,12 +90,13 @@ class SceneCache {
     return loaded;
   }
 
-  /// The voxel evaluator for (scene, mode, resolution) with the pyramid FOV.
+  /// The voxel evaluator for (scene, mode, resolution, refinement) with the pyramid FOV.
   std::shared_ptr<const voxel::VoxelEvaluator> evaluator(const std::string& path,
                                                          const LoadedScene& scene,
                                                          const voxel::VoxelOptions& options) {
-    const std::string key =
-        path + "|" + core::name_of(options.mode) + "|" + resolution_text(options.resolution);
+    const std::string key = path + "|" + core::name_of(options.mode) + "|" +
+                            resolution_text(options.resolution) + "|" +
+                            std::to_string(options.refine);
     {
       std::lock_guard<std::mutex> lock(mutex_);
       auto found = evaluators_.find(key);
@@ -190,7 +191,11 @@ void check_run(const fs::path& dir, const fs::path& file, SceneCache& scenes, Ru
                                  ".json");
     row.cached = read_cache(cache_file, row);
     if (!row.cached) {
-      const auto evaluator = scenes.evaluator(*scene_path, *scene, {*mode, context.resolution});
+      voxel::VoxelOptions options;
+      options.mode = *mode;
+      options.resolution = context.resolution;
+      options.refine = context.refine;  // the run's model: refined as the run was
+      const auto evaluator = scenes.evaluator(*scene_path, *scene, options);
       const core::Evaluation voxel = evaluator->evaluate(run.run.best);
       exact::ExactOptions exact_options;
       exact_options.threads = 1;  // the runs are checked in parallel already

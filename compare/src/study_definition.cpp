@@ -3,19 +3,22 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 
 #include "camplace/compare/scene_generator.hpp"
 #include "camplace/core/error.hpp"
 #include "camplace/core/json_reader.hpp"
+#include "camplace/core/scene.hpp"
 #include "camplace/optimize/optimizer.hpp"
+#include "camplace/voxel/evaluator.hpp"
 
 namespace camplace::compare::detail {
 
 StudySpec parse_study(const std::string& path) {
   const nlohmann::json doc = core::read_json_file(path);
   const core::JsonNode root(doc, path, "");
-  root.only_keys({"description", "algorithm", "mode", "runs_per_group", "threads", "first_seed",
-                  "scene_seed", "time_limit_s", "max_evaluations", "examinations"});
+  root.only_keys({"description", "algorithm", "mode", "refine", "runs_per_group", "threads",
+                  "first_seed", "scene_seed", "time_limit_s", "max_evaluations", "examinations"});
   StudySpec s;
   s.name = std::filesystem::path(path).stem().string();
   if (root.has("description")) s.description = root.at("description").string();
@@ -34,6 +37,12 @@ StudySpec parse_study(const std::string& path) {
     const auto parsed = core::from_name<core::LabelMode>(mode);
     if (!parsed) root.at("mode").fail("expected " + core::names_listed<core::LabelMode>());
     s.mode = *parsed;
+  }
+  if (root.has("refine")) {
+    s.refine = root.at("refine").integer_in(0, voxel::kMaxRefine);
+    if (s.refine > 0 && s.mode != core::LabelMode::conservative) {
+      root.at("refine").fail("refinement needs \"mode\": \"conservative\"");
+    }
   }
   s.runs_per_group = root.at("runs_per_group").integer_in(1, 1000);
   if (root.has("threads")) s.threads = root.at("threads").integer_in(1, 256);
@@ -56,10 +65,27 @@ StudySpec parse_study(const std::string& path) {
     }
     if (ex.params.empty()) ex.params.push_back(std::nullopt);
     for (const std::optional<int>& param : ex.params) {
+      std::string text;
       try {
-        generate_scene_json(ex.family, param, s.scene_seed);  // validates family and param
+        text = generate_scene_json(ex.family, param, s.scene_seed);  // validates family, param
       } catch (const core::InputError& err) {
         e.fail(err.reason());
+      }
+      if (s.refine > 0) {
+        // The memory estimate at the group's resolution, before any run starts.
+        // refine_problem() reads the resolution and the counts of time steps and events.
+        const nlohmann::json generated = nlohmann::json::parse(text);
+        core::Scene scene;
+        for (int a = 0; a < 3; ++a) scene.voxels[a] = generated.at("voxels").at(a).get<int>();
+        for (const auto& step : generated.at("time_steps")) {
+          scene.time_steps.emplace_back();
+          scene.time_steps.back().events.resize(step.at("events").size());
+        }
+        voxel::VoxelOptions options;
+        options.mode = s.mode;
+        options.refine = s.refine;
+        const std::string problem = voxel::refine_problem(scene, options);
+        if (!problem.empty()) root.at("refine").fail(group_name(ex, param) + ": " + problem);
       }
     }
     s.examinations.push_back(ex);

@@ -19,6 +19,7 @@ struct StudySpec {
   std::string name;  ///< the study file's name without its extension (the report's title)
   std::string description, algorithm = "gaco";
   core::LabelMode mode = core::LabelMode::conservative;
+  int refine = 0;  ///< voxel::VoxelOptions::refine of every run (conservative mode)
   int runs_per_group = 3, threads = 2;
   unsigned first_seed = 1, scene_seed = 1;
   double time_limit = 600.0;  ///< seconds per run
@@ -26,8 +27,9 @@ struct StudySpec {
   std::vector<Examination> examinations;
 };
 
-/// Reads the study file `path`; the algorithm must be one of optimize::algorithm_names() and
-/// every (family, param) one the scene generator makes. Throws core::InputError.
+/// Reads the study file `path`; the algorithm must be one of optimize::algorithm_names(), every
+/// (family, param) one the scene generator makes, and `refine` one voxel::refine_problem()
+/// accepts for every group's scene. Throws core::InputError.
 StudySpec parse_study(const std::string& path);
 
 /// The group's name: "<family>-<param>", or the family alone.

@@ -400,7 +400,9 @@ void write_study_report(const StudySpec& spec, const std::vector<RunRow>& rows,
      << " s | tolerance 0.046 m², or 3 h |\n"
      << "| solver | pagmo `" << spec.algorithm << "`, " << spec.threads << " threads | MIDACO |\n"
      << "| machine (writing this report) | " << machine_text() << " | 2.8 GHz Opteron |\n"
-     << "| voxel labelling | " << core::name_of(spec.mode) << " | centre of voxel |\n\n"
+     << "| voxel labelling | " << core::name_of(spec.mode)
+     << (spec.refine > 0 ? ", refined " + std::to_string(spec.refine) + " levels (`refine`)" : "")
+     << " | centre of voxel |\n\n"
      << clock_note(rows);
   md << "## Groups\n\n| examination | param | scene | runs | "
      << (spec.mode == core::LabelMode::conservative ? "reached max(tolerance, lower bound)"

@@ -85,15 +85,21 @@ std::string time_limit_arg(const detail::StudySpec& spec) {
 /// starting with '-', say) a value.
 std::vector<std::string> optimize_args(const detail::StudySpec& spec, const std::string& scene,
                                        unsigned seed, const std::string& run_dir) {
-  return {"--algorithm",  spec.algorithm,
-          "--seed",       std::to_string(seed),
-          "--runs",       "1",
-          "--threads",    std::to_string(spec.threads),
-          "--time-limit", time_limit_arg(spec),
-          "--max-evals",  std::to_string(spec.max_evaluations),
-          "--mode",       core::name_of(spec.mode),
-          "--quiet",      "--out=" + run_dir,
-          "--",           scene};
+  std::vector<std::string> args = {"--algorithm",  spec.algorithm,
+                                   "--seed",       std::to_string(seed),
+                                   "--runs",       "1",
+                                   "--threads",    std::to_string(spec.threads),
+                                   "--time-limit", time_limit_arg(spec),
+                                   "--max-evals",  std::to_string(spec.max_evaluations),
+                                   "--mode",       core::name_of(spec.mode)};
+  if (spec.refine > 0) {
+    args.push_back("--refine");
+    args.push_back(std::to_string(spec.refine));
+  }
+  for (std::string a : {std::string("--quiet"), "--out=" + run_dir, std::string("--"), scene}) {
+    args.push_back(std::move(a));
+  }
+  return args;
 }
 
 /// One group of the study: its generated scene (not yet written) and its folders.
@@ -172,6 +178,7 @@ void check_resume(const detail::StudySpec& spec, const std::vector<Group>& group
     now.scene_file = group.scene_path;
     now.scene = core::combine_scene_hashes(core::sha256_hex(group.scene_text), {});
     now.mode = core::name_of(spec.mode);
+    now.refine = spec.refine;
     now.algorithm = spec.algorithm;
     now.start = "random";
     now.time_limit = std::stod(time_limit_arg(spec));

@@ -4,10 +4,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <sstream>
 
 #include "camplace/core/err.hpp"
+#include "camplace/core/error.hpp"
 #include "camplace/core/files.hpp"
 #include "camplace/core/geometry.hpp"
 #include "camplace/exact/evaluator.hpp"
@@ -64,8 +66,26 @@ int exact_outside_voxel_model(const exact::ExactModel& model, const voxel::Grid&
       }
     }
   }
-  for (int v = 0; v < grid.count(); ++v) {
-    if (!voxel_model[v] && !violated[v] && model.contains(grid.voxel_center(v))) violated[v] = 1;
+  // The closed model lies within its boundary's bounding box: only centres there can be inside
+  // (on fine grids, with refinement, that saves most of the point locations).
+  core::Box3 bounds{Vec3::Constant(std::numeric_limits<double>::infinity()),
+                    Vec3::Constant(-std::numeric_limits<double>::infinity())};
+  for (const Vec3& p : boundary.vertices) {
+    bounds.min = bounds.min.cwiseMin(p);
+    bounds.max = bounds.max.cwiseMax(p);
+  }
+  const auto [i0, i1] = index_range(bounds.min.x(), bounds.max.x(), 0);
+  const auto [j0, j1] = index_range(bounds.min.y(), bounds.max.y(), 1);
+  const auto [k0, k1] = index_range(bounds.min.z(), bounds.max.z(), 2);
+  for (int k = k0; k <= k1; ++k) {
+    for (int j = j0; j <= j1; ++j) {
+      for (int i = i0; i <= i1; ++i) {
+        const long v = i + static_cast<long>(grid.n[0]) * (j + static_cast<long>(grid.n[1]) * k);
+        if (voxel_model[v] || violated[v]) continue;
+        const Vec3 centre = grid.voxel_center(static_cast<int>(v));
+        if (bounds.contains(centre) && model.contains(centre)) violated[v] = 1;
+      }
+    }
   }
   return static_cast<int>(std::count(violated.begin(), violated.end(), 1));
 }
@@ -82,19 +102,44 @@ core::Scene with_pyramid_fov(const core::Scene& scene) {
 CompareResult compare_voxel_exact(const core::Scene& original, const core::CameraConfig& config,
                                   const CompareOptions& options) {
   const core::Scene scene = with_pyramid_fov(original);
+  std::vector<std::array<int, 3>> resolutions = options.resolutions;
+  if (resolutions.empty()) resolutions.push_back(scene.voxels);
+  std::vector<int> levels = options.refine_levels;
+  if (levels.empty()) levels.push_back(0);
+  // Refuse a refinement the memory estimate (or the mode) rules out before the exact pipeline
+  // spends its seconds.
+  for (const auto& n : resolutions) {
+    for (int level : levels) {
+      voxel::VoxelOptions o;
+      o.mode = voxel::LabelMode::conservative;
+      o.resolution = n;
+      o.refine = level;
+      const std::string problem = voxel::refine_problem(scene, o);
+      if (!problem.empty()) {
+        throw core::OptionError("refine", problem + " (at " + resolution_text(n) + ")");
+      }
+    }
+  }
   CompareResult result;
   exact::ExactOptions exact_options;
   exact_options.keep_models = true;
   const exact::ExactEvaluation ex = exact::evaluate_exact(scene, config, exact_options);
-  result.errs.push_back({"exact", {0, 0, 0}, ex.err, ex.timing.total_ms});
-  std::vector<std::array<int, 3>> resolutions = options.resolutions;
-  if (resolutions.empty()) resolutions.push_back(scene.voxels);
+  result.errs.push_back({"exact", {0, 0, 0}, 0, ex.err, ex.timing.total_ms});
+  // Center mode once per resolution, conservative mode at every refinement level.
+  std::vector<std::pair<voxel::LabelMode, int>> runs{{voxel::LabelMode::center, 0}};
+  for (int level : levels) runs.push_back({voxel::LabelMode::conservative, level});
   for (const auto& n : resolutions) {
-    for (voxel::LabelMode mode : {voxel::LabelMode::center, voxel::LabelMode::conservative}) {
+    for (const auto& [mode, level] : runs) {
       const bool conservative = mode == voxel::LabelMode::conservative;
-      const voxel::VoxelEvaluator evaluator(scene, {mode, n});
+      voxel::VoxelOptions voxel_options;
+      voxel_options.mode = mode;
+      voxel_options.resolution = n;
+      voxel_options.refine = level;
+      const voxel::VoxelEvaluator evaluator(scene, voxel_options);
       const voxel::Evaluation ev = evaluator.evaluate(config);
-      result.errs.push_back({"voxel-" + core::name_of(mode), n, ev.err, ev.timing.total_ms});
+      const std::string pipeline =
+          "voxel-" + core::name_of(mode) + (level > 0 ? "-refine" + std::to_string(level) : "");
+      result.errs.push_back({pipeline, n, level, ev.err, ev.timing.total_ms});
       for (std::size_t s = 0; s < ev.states.size(); ++s) {
         const auto& vs = ev.states[s];
         const auto& es = ex.states[s];
@@ -105,13 +150,16 @@ CompareResult compare_voxel_exact(const core::Scene& original, const core::Camer
         row.mode = core::name_of(mode);
         row.resolution = n;
         row.voxel_diagonal = evaluator.grid().step.norm();
+        row.refine = level;
+        row.cell_diagonal = evaluator.leaf_grid().step.norm();
         row.d_true = es.d_true;
         row.d_exact = es.d_model;
         row.d_voxel = vs.d_model;
         row.volume_exact = es.model_volume;
         row.volume_voxel = vs.model_volume;
-        row.exact_outside = exact_outside_voxel_model(ex.models[s], evaluator.grid(),
-                                                      evaluator.model(config, static_cast<int>(s)));
+        // With refinement: against the finest cells (leaf_grid() is grid() without).
+        row.exact_outside = exact_outside_voxel_model(
+            ex.models[s], evaluator.leaf_grid(), evaluator.leaf_model(config, static_cast<int>(s)));
         row.distance_over_estimated = row.d_voxel > row.d_exact + kDistanceSlack;
         const bool violation = row.exact_outside > 0 || row.distance_over_estimated;
         (conservative ? result.conservative_violations : result.center_violations) += violation;
@@ -128,7 +176,7 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
   std::ostringstream csv;
   csv << "time_step,event,weight,mode,resolution,voxel_diagonal_m,d_true_m,d_exact_m,d_voxel_m,"
          "d_voxel_minus_exact_m,abs_error_over_diagonal,volume_exact_m3,volume_voxel_m3,"
-         "exact_voxels_outside_voxel_model,d_voxel_over_estimates\n";
+         "exact_voxels_outside_voxel_model,d_voxel_over_estimates,refine,cell_diagonal_m\n";
   for (const auto& r : result.rows) {
     csv << r.time_step << "," << r.event << "," << num(r.weight) << "," << r.mode << ","
         << resolution_text(r.resolution) << "," << num(r.voxel_diagonal) << "," << num(r.d_true, 9)
@@ -136,7 +184,8 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
         << num(r.d_voxel - r.d_exact, 9) << ","
         << num(std::abs(r.d_voxel - r.d_exact) / r.voxel_diagonal) << "," << num(r.volume_exact, 9)
         << "," << num(r.volume_voxel, 9) << "," << r.exact_outside << ","
-        << (r.distance_over_estimated ? "yes" : "no") << "\n";
+        << (r.distance_over_estimated ? "yes" : "no") << "," << r.refine << ","
+        << num(r.cell_diagonal) << "\n";
   }
   core::write_file_atomically(dir + "/compare.csv", csv.str());
   std::ostringstream err_csv;
@@ -147,22 +196,33 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
   }
   core::write_file_atomically(dir + "/err.csv", err_csv.str());
 
-  // Plot 1: mean and max |d_voxel − d_exact| against the voxel diagonal, per mode.
+  // The plots' series: center, conservative, and conservative with refinement (against the
+  // finest cell's diagonal, the effective resolution), the last only when it was run.
+  const bool refined = std::any_of(result.rows.begin(), result.rows.end(),
+                                   [](const CompareRow& r) { return r.refine > 0; });
+  std::vector<std::string> series{"center", "conservative"};
+  if (refined) series.push_back("conservative-refined");
+  auto series_of = [](const CompareRow& r) {
+    return r.refine > 0 ? std::string("conservative-refined") : r.mode;
+  };
+
+  // Plot 1: mean and max |d_voxel − d_exact| against the voxel (cell) diagonal, per series.
   std::map<std::pair<std::string, double>, std::pair<double, double>>
-      stats;  // (mode, diag) → (sum, max)
+      stats;  // (series, diag) → (sum, max)
   std::map<std::pair<std::string, double>, int> counts;
   for (const auto& r : result.rows) {
-    auto& s = stats[{r.mode, r.voxel_diagonal}];
+    auto& s = stats[{series_of(r), r.cell_diagonal}];
     const double e = std::abs(r.d_voxel - r.d_exact);
     s.first += e;
     s.second = std::max(s.second, e);
-    ++counts[{r.mode, r.voxel_diagonal}];
+    ++counts[{series_of(r), r.cell_diagonal}];
   }
   std::ostringstream dat;
-  for (const char* mode : {"center", "conservative"}) {
-    dat << "# " << mode << ": voxel_diagonal_m mean_abs_error_m max_abs_error_m\n";
+  for (const std::string& name : series) {
+    dat << "# " << name << ": " << (name == "conservative-refined" ? "cell" : "voxel")
+        << "_diagonal_m mean_abs_error_m max_abs_error_m\n";
     for (const auto& [key, s] : stats) {
-      if (key.first != mode) continue;
+      if (key.first != name) continue;
       dat << num(key.second) << " " << num(s.first / counts[key], 9) << " " << num(s.second, 9)
           << "\n";
     }
@@ -172,23 +232,31 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
   detail::gnuplot_png(
       dir + "/error_vs_resolution.png",
       "set title 'Voxelisation error of d(C, M) against the exact pipeline'\n"
-      "set xlabel 'voxel diagonal [m]'\nset ylabel '|d_{voxel} - d_{exact}| [m] (log scale; 0 not "
-      "shown)'\n"
-      "set key top left box opaque\nset grid\nset logscale y\n"
-      "plot '" +
+      "set xlabel '" +
+          std::string(refined ? "voxel diagonal, refined: finest cell diagonal"
+                              : "voxel diagonal") +
+          " [m]'\nset ylabel '|d_{voxel} - d_{exact}| [m] (log scale; 0 not "
+          "shown)'\n"
+          "set key top left box opaque\nset grid\nset logscale y\n"
+          "plot '" +
           dir +
           "/error_vs_resolution.dat' index 0 using 1:2 with linespoints title 'center: mean', "
           "'' index 0 using 1:3 with linespoints title 'center: max', "
           "'' index 1 using 1:2 with linespoints title 'conservative: mean', "
-          "'' index 1 using 1:3 with linespoints title 'conservative: max', "
+          "'' index 1 using 1:3 with linespoints title 'conservative: max', " +
+          (refined ? "'' index 2 using 1:2 with linespoints title 'conservative, refined: mean', "
+                     "'' index 2 using 1:3 with linespoints title 'conservative, refined: max', "
+                   : "") +
           "x with lines dashtype 2 title 'one voxel diagonal'\n");
 
-  // Plot 2: d_voxel against d_exact per state, every resolution, both modes.
+  // Plot 2: d_voxel against d_exact per state, every resolution, per series.
   std::ostringstream scatter;
-  for (const char* mode : {"center", "conservative"}) {
-    scatter << "# " << mode << ": d_exact_m d_voxel_m\n";
+  for (const std::string& name : series) {
+    scatter << "# " << name << ": d_exact_m d_voxel_m\n";
     for (const auto& r : result.rows) {
-      if (r.mode == mode) scatter << num(r.d_exact, 9) << " " << num(r.d_voxel, 9) << "\n";
+      if (series_of(r) == name) {
+        scatter << num(r.d_exact, 9) << " " << num(r.d_voxel, 9) << "\n";
+      }
     }
     scatter << "\n\n";
   }
@@ -202,9 +270,44 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
       "plot '" +
           dir +
           "/d_voxel_vs_d_exact.dat' index 0 using 1:2 with points pt 7 title 'center', "
-          "'' index 1 using 1:2 with points pt 6 ps 1.5 title 'conservative', "
+          "'' index 1 using 1:2 with points pt 6 ps 1.5 title 'conservative', " +
+          (refined ? "'' index 2 using 1:2 with points pt 2 title 'conservative, refined', " : "") +
           "x with lines dashtype 2 title 'd_{voxel} = d_{exact}'\n",
       640, 640);
+
+  // Plot 3 (refinement only): time per evaluation against the effective resolution (finest
+  // cells per axis over S: n·2^L), unrefined and refined conservative mode. Timing: varies.
+  if (refined) {
+    std::ostringstream times;
+    for (int with : {0, 1}) {
+      times << "# conservative" << (with ? ", refined" : "")
+            << ": effective_cells_along_x cell_diagonal_m ms refine\n";
+      for (const auto& e : result.errs) {
+        if (e.pipeline.rfind("voxel-conservative", 0) != 0 || (e.refine > 0) != (with == 1)) {
+          continue;
+        }
+        times << (e.resolution[0] << e.refine) << " "
+              << num(scene.area.size()
+                         .cwiseQuotient(
+                             core::Vec3(e.resolution[0], e.resolution[1], e.resolution[2]))
+                         .norm() /
+                     (1 << e.refine))
+              << " " << num(e.ms, 3) << " " << e.refine << "\n";
+      }
+      times << "\n\n";
+    }
+    core::write_file_atomically(dir + "/time_vs_effective_resolution.dat", times.str());
+    detail::gnuplot_png(dir + "/time_vs_effective_resolution.png",
+                        "set title 'Time per evaluation against the effective resolution'\n"
+                        "set xlabel 'finest cells along x (n_x 2^L)'\nset ylabel 'ms per "
+                        "evaluation (log scale)'\n"
+                        "set key top left box opaque\nset grid\nset logscale xy\n"
+                        "plot '" +
+                            dir +
+                            "/time_vs_effective_resolution.dat' index 0 using 1:3 with "
+                            "linespoints title 'conservative', '' index 1 using 1:3 with points "
+                            "pt 7 title 'conservative, refined'\n");
+  }
 
   // report.md
   std::ostringstream md;
@@ -237,18 +340,29 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
         "into it, or its centre inside the exact model). Center mode is not conservative by design "
         "(SPEC §5); its violations are reported as found.\n\n"
      << "## Err\n\n| pipeline | resolution | Err [m²] |\n|---|---|---|\n";
+  // A refined pipeline's resolution with its effective one (the finest cells').
+  auto resolution_cell = [](const ErrRow& e) {
+    if (e.pipeline == "exact") return std::string("exact");
+    std::string text = resolution_text(e.resolution);
+    if (e.refine > 0) {
+      const int f = 1 << e.refine;
+      text += " (cells " +
+              resolution_text({e.resolution[0] * f, e.resolution[1] * f, e.resolution[2] * f}) +
+              ")";
+    }
+    return text;
+  };
   for (const auto& e : result.errs) {
-    md << "| " << e.pipeline << " | "
-       << (e.pipeline == "exact" ? "exact" : resolution_text(e.resolution)) << " | " << num(e.err)
-       << " |\n";
+    md << "| " << e.pipeline << " | " << resolution_cell(e) << " | " << num(e.err) << " |\n";
   }
   md << "\n## Per state\n\n"
      << "| h | l | ω | mode | resolution | diagonal [m] | d_true [m] | d_exact [m] | d_voxel [m] | "
         "(d_voxel − d_exact)/diagonal | V_exact [m³] | V_voxel [m³] | outside | over |\n"
      << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : result.rows) {
-    md << "| " << r.time_step << " | " << r.event << " | " << num(r.weight, 3) << " | " << r.mode
-       << " | " << resolution_text(r.resolution) << " | " << num(r.voxel_diagonal, 4) << " | "
+    md << "| " << r.time_step << " | " << r.event << " | " << num(r.weight, 3) << " | "
+       << (r.refine > 0 ? r.mode + ", refine " + std::to_string(r.refine) : r.mode) << " | "
+       << resolution_text(r.resolution) << " | " << num(r.voxel_diagonal, 4) << " | "
        << num(r.d_true, 4) << " | " << num(r.d_exact, 4) << " | " << num(r.d_voxel, 4) << " | "
        << num((r.d_voxel - r.d_exact) / r.voxel_diagonal, 3) << " | " << num(r.volume_exact, 4)
        << " | " << num(r.volume_voxel, 4) << " | " << r.exact_outside << " | "
@@ -256,14 +370,17 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
   }
   md << "\n## Plots\n\n![error vs resolution](error_vs_resolution.png)\n\n"
      << "![d_voxel vs d_exact](d_voxel_vs_d_exact.png)\n\n"
+     << (refined ? "![time vs effective resolution](time_vs_effective_resolution.png) (timing: "
+                   "varies between runs)\n\nWith refinement (`refine` L levels) the voxels are "
+                   "cut into cells of 1/2^L of their edge: the error plot puts those rows at the "
+                   "finest cell's diagonal, the effective resolution.\n\n"
+                 : "")
      << "Data: `compare.csv` (per state), `err.csv` (Err and time per pipeline); plot data and "
         "gnuplot scripts beside each PNG.\n\n"
      << "## Timing (varies between runs)\n\n| pipeline | resolution | ms per evaluation "
         "|\n|---|---|---|\n";
   for (const auto& e : result.errs) {
-    md << "| " << e.pipeline << " | "
-       << (e.pipeline == "exact" ? "exact" : resolution_text(e.resolution)) << " | " << num(e.ms, 1)
-       << " |\n";
+    md << "| " << e.pipeline << " | " << resolution_cell(e) << " | " << num(e.ms, 1) << " |\n";
   }
   core::write_file_atomically(dir + "/report.md", md.str());
 }

@@ -30,9 +30,13 @@ nlohmann::ordered_json cameras_json(const core::CameraConfig& config) {
 }
 
 nlohmann::ordered_json context_json(const RunContext& context) {
-  return {{"scene", context.scene_file},        {"mode", context.mode},
-          {"resolution", context.resolution},   {"start", context.start},
-          {"time_limit_s", context.time_limit}, {"max_evaluations", context.max_evaluations}};
+  nlohmann::ordered_json j = {
+      {"scene", context.scene_file}, {"mode", context.mode}, {"resolution", context.resolution}};
+  if (context.refine > 0) j["refine"] = context.refine;
+  j["start"] = context.start;
+  j["time_limit_s"] = context.time_limit;
+  j["max_evaluations"] = context.max_evaluations;
+  return j;
 }
 
 // Readers of run files: each value as run_json writes it, else InputError naming the entry.
@@ -81,13 +85,15 @@ core::CameraConfig read_cameras(const core::JsonNode& node) {
 }
 
 RunContext read_context(const core::JsonNode& node) {
-  node.only_keys({"scene", "mode", "resolution", "start", "time_limit_s", "max_evaluations"});
+  node.only_keys(
+      {"scene", "mode", "resolution", "refine", "start", "time_limit_s", "max_evaluations"});
   RunContext c;
   c.scene_file = node.at("scene").string();
   c.mode = node.at("mode").string();
   const core::JsonNode resolution = node.at("resolution");
   if (resolution.array_size() != 3) resolution.fail("expected [nx, ny, nz] (3 integers)");
   for (std::size_t k = 0; k < 3; ++k) c.resolution[k] = resolution.at(k).integer_in(0, kIntMax);
+  if (node.has("refine")) c.refine = node.at("refine").integer_in(1, kIntMax);
   c.start = node.at("start").string();
   c.time_limit = node.at("time_limit_s").number();
   c.max_evaluations = read_count(node.at("max_evaluations"));
@@ -232,6 +238,7 @@ RunSettings recorded_settings(const RunFile& file) {
   if (file.context.provenance) s.scene = file.context.provenance->scene;
   s.mode = file.context.mode;
   s.resolution = file.context.resolution;
+  s.refine = file.context.refine;
   s.algorithm = file.run.algorithm;
   s.start = file.context.start;
   s.time_limit = file.context.time_limit;
@@ -260,6 +267,7 @@ std::vector<std::string> settings_changes(const RunSettings& recorded, const Run
   if (recorded.resolution && now.resolution) {
     compare("resolution", resolution(*recorded.resolution), resolution(*now.resolution));
   }
+  compare("refine", std::to_string(recorded.refine), std::to_string(now.refine));
   compare("algorithm", recorded.algorithm, now.algorithm);
   compare("start", recorded.start, now.start);
   // Exact comparisons: both sides hold what the run file's JSON round trip keeps exactly.

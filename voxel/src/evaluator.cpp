@@ -2,6 +2,7 @@
 // labelling.cpp, components.cpp and distance.cpp around the private Impl (impl.hpp).
 #include "camplace/voxel/evaluator.hpp"
 
+#include <algorithm>
 #include <string>
 
 #include "camplace/core/err.hpp"
@@ -29,11 +30,14 @@ VoxelEvaluator::VoxelEvaluator(const core::Scene& scene, const VoxelOptions& opt
         "must be 1.." + std::to_string(kMaxThreads) + ", got " + std::to_string(options.threads));
   }
   m.options.resolution = n;
+  const std::string refine = refine_problem(scene, m.options);
+  if (!refine.empty()) throw core::OptionError("refine", refine);
   m.conservative = options.mode == LabelMode::conservative;
   m.grid = make_grid(scene.area, n);
   m.half_step = 0.5 * m.grid.step;
   m.voxel_radius = m.half_step.norm();
   m.voxel_volume = m.grid.voxel_volume();
+  m.levels = options.refine;
   m.build();
 }
 
@@ -50,8 +54,10 @@ Evaluation VoxelEvaluator::evaluate(const core::CameraConfig& config) const {
   // Per calling thread, reused: the optimizer evaluates thousands of configurations per
   // thread. (A reference, so that the worker threads below see this thread's buffers.)
   thread_local std::vector<std::vector<std::uint8_t>> buffers;
+  thread_local std::vector<detail::LeafSet> leaf_buffers;
   std::vector<std::vector<std::uint8_t>>& models = buffers;
-  m.all_raw_models(config, models);
+  std::vector<detail::CameraSetup> cameras;
+  m.all_raw_models(config, models, &cameras);
   result.timing.labelling_ms = ms_since(t0);
   std::vector<ComponentCount> filtered(state_count);
   t0 = Clock::now();
@@ -59,11 +65,23 @@ Evaluation VoxelEvaluator::evaluate(const core::CameraConfig& config) const {
     filtered[s] = filter_components(models[s], m.grid, m.scene.plausibility);
   });
   result.timing.clustering_ms = ms_since(t0);
-  t0 = Clock::now();
   std::vector<Impl::ModelDistance> distances(state_count);
-  detail::parallel_for(state_count, m.options.threads, [&](int s) {
-    distances[s] = m.model_distance(models[s], m.states[s].time_step);
-  });
+  if (m.levels > 0) {
+    // Refinement of the kept base components (a cell component lies in one base component and
+    // is not larger, so base components the filter removes hold none that it would keep).
+    std::vector<ComponentCount> cells;
+    m.refined_states(cameras, models, leaf_buffers, cells, distances, result.timing);
+    t0 = Clock::now();
+    for (int s = 0; s < state_count; ++s) {
+      filtered[s].kept = cells[s].kept;
+      filtered[s].removed += cells[s].removed;
+    }
+  } else {
+    t0 = Clock::now();
+    detail::parallel_for(state_count, m.options.threads, [&](int s) {
+      distances[s] = m.model_distance(models[s], m.states[s].time_step);
+    });
+  }
   for (int s = 0; s < state_count; ++s) {
     const detail::StateInfo& state = m.states[s];
     StateResult out;
@@ -77,7 +95,7 @@ Evaluation VoxelEvaluator::evaluate(const core::CameraConfig& config) const {
     out.components_removed = filtered[s].removed;
     result.states.push_back(out);
   }
-  result.timing.distance_ms = ms_since(t0);
+  result.timing.distance_ms += ms_since(t0);
   result.err = core::error_of(result.states);
   result.timing.total_ms = ms_since(start);
   return result;
@@ -95,9 +113,59 @@ std::vector<std::uint8_t> VoxelEvaluator::model(const core::CameraConfig& config
   const Impl& m = *impl_;
   m.states.at(state);
   std::vector<std::vector<std::uint8_t>> models;
-  m.all_raw_models(config, models);
-  std::vector<std::uint8_t> out = std::move(models[state]);
-  filter_components(out, m.grid, m.scene.plausibility);
+  std::vector<detail::CameraSetup> cameras;
+  m.all_raw_models(config, models, &cameras);
+  for (auto& model : models) filter_components(model, m.grid, m.scene.plausibility);
+  if (m.levels == 0) return std::move(models[state]);
+  std::vector<detail::LeafSet> leaves;
+  std::vector<ComponentCount> cells;
+  std::vector<Impl::ModelDistance> distances;
+  core::Timing timing;
+  m.refined_states(cameras, models, leaves, cells, distances, timing);
+  std::vector<std::uint8_t> out(m.grid.count(), 0);
+  const detail::LeafSet& set = leaves[state];
+  for (std::size_t slot = 0; slot < set.voxels.size(); ++slot) {
+    const auto begin = set.cells.begin() + slot * m.octree.cells;
+    out[set.voxels[slot]] = std::find(begin, begin + m.octree.cells, 1) != begin + m.octree.cells;
+  }
+  return out;
+}
+
+Grid VoxelEvaluator::leaf_grid() const {
+  const Impl& m = *impl_;
+  const int side = m.octree.side;
+  return make_grid(m.grid.area, {m.grid.n[0] * side, m.grid.n[1] * side, m.grid.n[2] * side});
+}
+
+std::vector<std::uint8_t> VoxelEvaluator::leaf_model(const core::CameraConfig& config,
+                                                     int state) const {
+  const Impl& m = *impl_;
+  if (m.levels == 0) return model(config, state);
+  m.states.at(state);
+  std::vector<std::vector<std::uint8_t>> models;
+  std::vector<detail::CameraSetup> cameras;
+  m.all_raw_models(config, models, &cameras);
+  for (auto& model : models) filter_components(model, m.grid, m.scene.plausibility);
+  std::vector<detail::LeafSet> leaves;
+  std::vector<ComponentCount> cells;
+  std::vector<Impl::ModelDistance> distances;
+  core::Timing timing;
+  m.refined_states(cameras, models, leaves, cells, distances, timing);
+  const Grid fine = leaf_grid();
+  std::vector<std::uint8_t> out(static_cast<std::size_t>(fine.count()), 0);
+  const detail::LeafSet& set = leaves[state];
+  const int side = m.octree.side, nx = m.grid.n[0], ny = m.grid.n[1];
+  for (std::size_t slot = 0; slot < set.voxels.size(); ++slot) {
+    const int v = set.voxels[slot];
+    const int i = v % nx, j = (v / nx) % ny, k = v / (nx * ny);
+    for (int cell = 0; cell < m.octree.cells; ++cell) {
+      if (!set.cells[slot * m.octree.cells + cell]) continue;
+      const auto& c = m.octree.coords[cell];
+      const long I = static_cast<long>(i) * side + c[0], J = static_cast<long>(j) * side + c[1],
+                 K = static_cast<long>(k) * side + c[2];
+      out[I + fine.n[0] * (J + fine.n[1] * K)] = 1;
+    }
+  }
   return out;
 }
 

@@ -17,6 +17,7 @@
 #include "camplace/core/geometry.hpp"
 #include "camplace/core/scene.hpp"
 #include "camplace/core/sensor_model.hpp"
+#include "camplace/voxel/components.hpp"
 #include "camplace/voxel/evaluator.hpp"
 #include "solid_distance.hpp"
 
@@ -156,6 +157,85 @@ struct Verdict {
   StateMask blocked = 0;
 };
 
+/// The size of a cell at one refinement level l (0 = the base voxel): half extents and radius
+/// are the base voxel's times factor = 2^−l, exactly (powers of two scale without rounding), so
+/// level 0 computes with the very numbers the unrefined labeller uses.
+struct CellSize {
+  core::Vec3 half = core::Vec3::Zero();  ///< half extents (m)
+  double radius = 0.0;                   ///< |half| (m)
+  double factor = 1.0;                   ///< 2^−l
+};
+
+/// The cells of the octree below one base voxel (refine.cpp). A node is (level l, Morton index
+/// m < 8^l of its local coordinates (a, b, c) ∈ [0, 2^l)³ with bit t of a, b, c at bits 3t,
+/// 3t + 1, 3t + 2 of m); its children are 8m + q, q = qa + 2qb + 4qc; the finest cells (level
+/// L) below node (l, m) are the Morton range [m·8^(L−l), (m + 1)·8^(L−l)).
+struct Octree {
+  int levels = 0;
+  int side = 1;                            ///< 2^L
+  int cells = 1;                           ///< 8^L
+  std::vector<std::array<int, 3>> coords;  ///< per finest Morton index: (a, b, c)
+  /// Per axis and finest Morton index: the Morton index of the face neighbour at +1 along the
+  /// axis, wrapped to coordinate 0 in the next base voxel when `crosses`.
+  std::array<std::vector<int>, 3> next;
+  std::array<std::vector<std::uint8_t>, 3> crosses;
+  /// Per axis: the finest cells with coordinate 0 along it (the voxel's low face).
+  std::array<std::vector<int>, 3> low_face;
+  std::vector<int> offset;  ///< node (l, m) has index offset[l] + m, l = 0..L
+  int nodes = 1;            ///< Σ 8^l, l = 0..L
+};
+
+/// Finest cells of some base voxels for one state (a refined model before or after the filter,
+/// or the cells the lower bound proves): `voxels` ascending, `cells` one byte per finest cell
+/// of each, slot s's at [s·8^L, (s + 1)·8^L), Morton order.
+struct LeafSet {
+  std::vector<int> voxels;
+  std::vector<std::uint8_t> cells;
+  /// Per slot: 1 when every cell is in the set and the slot may be taken as a whole (a kept
+  /// base voxel left unrefined); 0 says nothing.
+  std::vector<std::uint8_t> whole;
+};
+
+/// How many deciding triangles refinement remembers per node and camera (judge()'s witnesses):
+/// one per copy of a target in each time step, say.
+constexpr int kWitnesses = 4;
+
+/// What refinement of one base voxel needs besides the Impl (refine.cpp).
+struct RefineContext {
+  const std::vector<CameraSetup>* cameras = nullptr;
+  const StateMask* seeing = nullptr;         ///< per camera: states it is not blind in
+  const StateMask* object_states = nullptr;  ///< the chunk's
+  /// Obstacle-interior tables of the voxel's steps: the states of the step, the table.
+  std::vector<std::pair<StateMask, const std::uint8_t*>> removal;
+  /// Interior tables of the occupying objects near the voxel: the object's states, the table.
+  std::vector<std::pair<StateMask, const std::uint8_t*>> inside;
+  StateMask* out = nullptr;  ///< per finest cell (Morton order): states where it is in M
+  Scratch* scratch = nullptr;
+  std::size_t hint = 0;  ///< the camera that last freed a cell (tried first)
+  /// Per level and camera: kWitnesses triangles that decided states of the node being refined
+  /// at that level (judge()'s witnesses, most recent first), −1 for none.
+  std::vector<int> witness;
+  /// Per level and camera: states where every cell below the node at that level is non-free
+  /// for the camera (judge()'s `sure`; all bits when the node lies outside the camera's FOV).
+  std::vector<StateMask> sure;
+};
+
+/// Lazily filled cache of box–critical distances² of the octree nodes below each base voxel for
+/// one time step (blocks allocated on first use; racing threads store the same doubles).
+class NodeDistanceCache {
+ public:
+  NodeDistanceCache(int voxels, int block_size);
+  ~NodeDistanceCache();
+  NodeDistanceCache(const NodeDistanceCache&) = delete;
+  NodeDistanceCache& operator=(const NodeDistanceCache&) = delete;
+  /// The block of voxel v: block_size slots, NaN until computed.
+  std::atomic<double>* block(int v);
+
+ private:
+  int voxels_ = 0, block_size_ = 0;
+  std::unique_ptr<std::atomic<std::atomic<double>*>[]> blocks_;
+};
+
 }  // namespace detail
 
 struct VoxelEvaluator::Impl {
@@ -185,6 +265,27 @@ struct VoxelEvaluator::Impl {
   std::vector<std::vector<detail::IndexedSolid>> critical_solids_by_step;
   double err_lower_bound = 0.0;  ///< conservative mode only
 
+  // Refinement (refine.cpp; conservative mode, options.refine = L > 0 levels).
+  int levels = 0;
+  std::vector<detail::CellSize> cell_sizes;  ///< per level 0..L
+  detail::Octree octree;
+  /// Per step: per base voxel the index of its table in removal_tables, or −1 when no node
+  /// below it lies wholly inside an obstacle of the step. A table has one byte per octree node
+  /// (levels 1..L; 1 = wholly inside, as obstacle_interiors tests a voxel).
+  std::vector<std::vector<int>> removal_index;
+  std::vector<std::vector<std::uint8_t>> removal_tables;
+  /// Per base voxel: (occupying object, index into inside_tables) for the objects with octree
+  /// nodes (levels 0..L) wholly inside them below the voxel; a table has one byte per node.
+  std::vector<std::vector<std::pair<int, int>>> inside_by_voxel;
+  std::vector<std::vector<std::uint8_t>> inside_tables;
+  std::vector<std::unique_ptr<detail::NodeDistanceCache>> node_sq_by_step;
+
+  /// d(C_h, M) and the model's volume for one state.
+  struct ModelDistance {
+    double d_model = 0.0;  ///< m; core::empty_model_distance when M is empty
+    double volume = 0.0;   ///< m³
+  };
+
   // Set-up (setup.cpp): everything that does not depend on the cameras.
   void build();
   int add_object(const core::SceneObject& object, core::ObjectRole role);
@@ -202,6 +303,53 @@ struct VoxelEvaluator::Impl {
   /// core::point_solid_sq_distance (center) gives it, min over C_h.
   double critical_sq(int time_step, int v) const;
 
+  // Refinement (refine.cpp).
+  /// Set-up: octree tables, cell sizes, obstacle-interior tables, distance caches.
+  void build_refinement();
+  /// The refined model of every state from the filtered base models `models` (refine.cpp):
+  /// kept base voxels near C_h are refined (within a radius that starts at the unrefined
+  /// d(C_h, M) plus a voxel diagonal and grows until the nearest kept cell lies within it), the
+  /// others stay whole; then components and filter on the finest cells, and d(C_h, M). Into
+  /// `leaves` (filtered), `counts` (cell components kept and removed), `distances`; adds the
+  /// stages' times to `timing`.
+  void refined_states(const std::vector<detail::CameraSetup>& cameras,
+                      const std::vector<std::vector<std::uint8_t>>& models,
+                      std::vector<detail::LeafSet>& leaves, std::vector<ComponentCount>& counts,
+                      std::vector<ModelDistance>& distances, core::Timing& timing) const;
+  /// ORs into `out` (the voxel's finest cells) the states of `pending` where each cell of base
+  /// voxel v is in M before the filter: no camera proves it free, no obstacle holds it wholly.
+  void refine_voxel(detail::RefineContext& ctx, const detail::StateMask* step_states, int v,
+                    detail::StateMask pending, detail::StateMask* out) const;
+  /// Refines the children of node (level, morton) at global cell coordinates (I, J, K) of its
+  /// level, for the states `pending` (where the node is in M), into ctx.out.
+  /// `fixed`: states where every cell below the node is in M without tests (it lies wholly
+  /// inside an occupying object, or outside every camera's FOV); `open`: states where the node
+  /// is in M and its children need labels; `in_view`: cameras (bits 0..63) whose FOV holds the
+  /// node's box.
+  void refine_node(detail::RefineContext& ctx, int level, int morton, long I, long J, long K,
+                   detail::StateMask fixed, detail::StateMask open, std::uint64_t in_view) const;
+  /// Whether the FOV of `cam` surely misses the ball of radius r about the point at w from the
+  /// camera (d = |w|): outside the cone (which holds the pyramid) or beyond the far plane, by
+  /// a margin.
+  /// The states of `interest` holding triangle t's object when t is occupying and its cone
+  /// holds the whole cell of size `size` at w from the camera (d = |w|) by judge()'s `sure`
+  /// margin (judge() would find the cell, and every cell inside it, occupied there); else 0.
+  detail::StateMask contained(const detail::CameraSetup& cam, int t, const core::Vec3& w, double d,
+                              const detail::CellSize& size, detail::StateMask interest,
+                              const detail::StateMask* object_states) const;
+  bool ball_outside_fov(const detail::CameraSetup& cam, const core::Vec3& w, double d,
+                        double r) const;
+  /// Components of the finest cells (6-connectivity across base voxels) and the plausibility
+  /// filter (core::Plausibility::keeps on cell count × cell volume and the z-extent of the
+  /// cells' boxes); clears the cells of removed components.
+  ComponentCount filter_leaves(detail::LeafSet& leaves) const;
+  /// The conservative lower bound of Err on the refined cells (refine.cpp has the proof).
+  double refined_lower_bound() const;
+  /// The box of octree node (l, m) below base voxel v (m, world frame).
+  core::Box3 node_box(int v, int level, int morton) const;
+  /// d(C_h, node box)² (core::box_solid_sq_distance, min over C_h), cached.
+  double node_sq(int time_step, int v, int level, int morton) const;
+
   // Labelling (labelling.cpp): SPEC §3 per camera, voxel and state.
   detail::CameraSetup camera_setup(const core::CameraSetting& camera) const;
   /// Unfiltered models of all states (1 = no camera sees the voxel free, minus obstacle
@@ -211,16 +359,24 @@ struct VoxelEvaluator::Impl {
   /// The unfiltered models of all states for a configuration (checked against the scene), into
   /// `models` (resized; its memory is reused from call to call).
   void all_raw_models(const core::CameraConfig& config,
-                      std::vector<std::vector<std::uint8_t>>& models) const;
+                      std::vector<std::vector<std::uint8_t>>& models,
+                      std::vector<detail::CameraSetup>* cameras_out = nullptr) const;
+  /// Per camera: the states of chunk `chunk` (bits) it is not blind in (SPEC §3.3).
+  std::vector<detail::StateMask> seeing_states(const std::vector<detail::CameraSetup>& cameras,
+                                               int chunk) const;
+  /// The conservative FOV test (in_fov) for a box [lo, hi] of radius r, centre at w from the
+  /// camera (d = |w|).
+  bool box_in_fov(const detail::CameraSetup& cam, const core::Vec3& lo, const core::Vec3& hi,
+                  double r, const core::Vec3& w, double d) const;
+
   /// κ of every voxel for one camera in one state.
   std::vector<Label> labels(const detail::CameraSetup& camera, int state) const;
 
   // Distance (distance.cpp): d(C_h, M) and the model's volume for one state.
-  struct ModelDistance {
-    double d_model = 0.0;  ///< m; core::empty_model_distance when M is empty
-    double volume = 0.0;   ///< m³
-  };
   ModelDistance model_distance(const std::vector<std::uint8_t>& model, int time_step) const;
+  /// d(C_h, M) and volume of the finest cells of `leaves` (refine.cpp): min over the cells of
+  /// node_sq, found by branch and bound down the octrees.
+  ModelDistance leaf_distance(const detail::LeafSet& leaves, int time_step) const;
 
  private:
   void row_interval(const detail::CameraSetup& cam, int j, int k, int& lo, int& hi, int& in_lo,
@@ -229,9 +385,12 @@ struct VoxelEvaluator::Impl {
               double d) const;
   void judge(const detail::CameraSetup& cam, const core::Vec3& w, double d,
              detail::StateMask interest, const detail::StateMask* object_states,
-             detail::Scratch& scratch, detail::Verdict& out, bool free_only) const;
+             detail::Scratch& scratch, detail::Verdict& out, bool free_only,
+             const detail::CellSize& size, int* witness = nullptr,
+             detail::StateMask* sure = nullptr) const;
   enum class Cone { meet, miss, near_miss };
-  Cone cone_test(const detail::TriangleCone& tc, const core::Vec3& w) const;
+  Cone cone_test(const detail::TriangleCone& tc, const core::Vec3& w,
+                 const detail::CellSize& size) const;
 };
 
 }  // namespace camplace::voxel

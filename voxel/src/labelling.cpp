@@ -3,6 +3,9 @@
 // voxel's centre) or conservative mode (free only when every point of the voxel is free); the
 // unfiltered models.
 //
+// Refinement (refine.cpp) labels octree cells with these same tests: judge() and box_in_fov()
+// take the cell's size (detail::CellSize, the voxel's scaled by a power of two).
+//
 // Issue 11 made this fast without changing an answer. The exact tests are the ones of the
 // previous labeller (tests/support/legacy_labeller.cpp keeps it): Möller–Trumbore on the ray
 // to the voxel centre, the separating-axis test of a triangle's cone against the voxel box, the
@@ -327,8 +330,15 @@ bool VoxelEvaluator::Impl::in_fov(const CameraSetup& cam, int i, int j, int k, c
     }
     return true;
   }
-  if (d <= voxel_radius) return false;  // camera in or at the voxel: never provably free
-  const double r = voxel_radius;
+  return box_in_fov(cam, Vec3(box_min[0][i], box_min[1][j], box_min[2][k]),
+                    Vec3(box_max[0][i], box_max[1][j], box_max[2][k]), voxel_radius, w, d);
+}
+
+/// in_fov's conservative test for any box [lo, hi] (a voxel, or a refined cell) with radius r
+/// (half its diagonal) and centre at w from the camera, d = |w|.
+bool VoxelEvaluator::Impl::box_in_fov(const CameraSetup& cam, const Vec3& lo, const Vec3& hi,
+                                      double r, const Vec3& w, double d) const {
+  if (d <= r) return false;  // camera in or at the box: never provably free
   const double tol = kMargin * (d + r);
   const double axial = w.dot(cam.axis);
   // Decided without the corners when the centre is clearly outside (then so is a corner: the
@@ -357,21 +367,62 @@ bool VoxelEvaluator::Impl::in_fov(const CameraSetup& cam, int i, int j, int k, c
   }
   const core::Fov& fov = *cam.fov;
   for (int q = 0; q < 8; ++q) {
-    const Vec3 corner((q & 1) ? box_max[0][i] : box_min[0][i],
-                      (q & 2) ? box_max[1][j] : box_min[1][j],
-                      (q & 4) ? box_max[2][k] : box_min[2][k]);
+    const Vec3 corner((q & 1) ? hi.x() : lo.x(), (q & 2) ? hi.y() : lo.y(),
+                      (q & 4) ? hi.z() : lo.z());
     if (!fov.contains(corner)) return false;
   }
   return true;
 }
 
+namespace {
+
+/// The candidate triangles of judge() (conservative mode) in order, until `done`.
+template <class Test, class Done>
+void judge_candidates(const CameraSetup& cam, const BinRange& bins, double vx0, double vx1,
+                      double vy0, double vy1, double z_lo, Test& test, const Done& done) {
+  if (z_lo > 0.0 && vx1 - vx0 <= 2.0 * cam.widen && vy1 - vy0 <= 2.0 * cam.widen) {
+    // A triangle whose rectangle overlaps the voxel's has its widened rectangle around the
+    // voxel rectangle's centre: one wide bin holds every candidate, once.
+    const int b = wide_of(cam, 0.5 * (vy0 + vy1)) * cam.wide_bins + wide_of(cam, 0.5 * (vx0 + vx1));
+    for (int n = cam.wide_start[b]; n < cam.wide_start[b + 1]; ++n) {
+      if (test(cam.wide_items[n], true) && done()) return;
+    }
+    for (int t : cam.everywhere) {
+      if (test(t, true) && done()) return;
+    }
+    return;
+  }
+  for (int by = bins.y0; by <= bins.y1; ++by) {
+    for (int bx = bins.x0; bx <= bins.x1; ++bx) {
+      const int b = by * cam.bins + bx;
+      for (int n = cam.bin_start[b]; n < cam.bin_start[b + 1]; ++n) {
+        if (test(cam.bin_items[n], false) && done()) return;
+      }
+    }
+  }
+  for (int t : cam.everywhere) {
+    if (test(t, true) && done()) return;
+  }
+}
+
+}  // namespace
+
 /// κ of SPEC §3 for the voxel with centre at w from the camera (d = |w|, or < 0 when not yet
 /// known), in the FOV of the camera, for the states in `interest`: adds to `out` the states where
 /// it is occupied and those where it is otherwise not free. With `free_only` the split between the
-/// two is not kept (the model needs no more).
+/// two is not kept (the model needs no more). `size`: the voxel's (cell_sizes[0]) or, in
+/// conservative mode, a refined cell's; the camera's box extents scale with size.factor.
+/// `witness` (conservative mode, optional): detail::kWitnesses triangles to test first (those
+/// ≥ 0; the ones that decided the cell's parent), updated with the triangles that decided states
+/// here, most recent first; the verdict does not depend on the order of the tests. `sure`
+/// (conservative mode, optional): adds the states whose deciding triangle decides them for every
+/// box inside this one as well — its cone holds the whole box (by a margin) and it is occupying, or
+/// it lies nearer to the camera than every point of the box (blocking).
 void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d,
                                  StateMask interest, const StateMask* object_states,
-                                 Scratch& scratch, Verdict& out, bool free_only) const {
+                                 Scratch& scratch, Verdict& out, bool free_only,
+                                 const detail::CellSize& size, int* witness,
+                                 StateMask* sure) const {
   const double x = w.dot(cam.ex), y = w.dot(cam.ey), z = w.dot(cam.axis);
   if (!conservative) {
     // The ray from the camera through the centre: every hit in (0, d] blocks the view, and
@@ -446,11 +497,13 @@ void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d
   BinRange bins{0, cam.bins - 1, 0, cam.bins - 1};
   const double inf = std::numeric_limits<double>::infinity();
   double vx0 = -inf, vx1 = inf, vy0 = -inf, vy1 = inf;  // the box's projection lies inside
-  const double z_lo = z - cam.box_z, z_hi = z + cam.box_z;
+  const double box_x = cam.box_x * size.factor, box_y = cam.box_y * size.factor;
+  const double box_z = cam.box_z * size.factor;
+  const double z_lo = z - box_z, z_hi = z + box_z;
   if (z_lo > 0.0) {
     // The box's projection lies in [min, max] of (x ± rx) / (z ± rz), each axis (the
     // triangles' rectangles are padded, these need not be).
-    const double x0 = x - cam.box_x, x1 = x + cam.box_x, y0 = y - cam.box_y, y1 = y + cam.box_y;
+    const double x0 = x - box_x, x1 = x + box_x, y0 = y - box_y, y1 = y + box_y;
     vx0 = x0 / (x0 >= 0 ? z_hi : z_lo);
     vx1 = x1 / (x1 >= 0 ? z_lo : z_hi);
     vy0 = y0 / (y0 >= 0 ? z_hi : z_lo);
@@ -482,11 +535,11 @@ void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d
     if (!exact_ready) {
       if (d < 0.0) d = w.norm();
       wc = (w / d) * d;
-      far = (w.cwiseAbs() + half_step).norm();
+      far = (w.cwiseAbs() + size.half).norm();
       exact_ready = true;
     }
     if (!occupying && tc.near_distance >= far) return false;
-    const Cone cone = cone_test(tc, wc);
+    const Cone cone = cone_test(tc, wc, size);
     if (cone == Cone::near_miss && tc.touch) {
       // A culled object touching the voxel within rounding: its back faces decide as they
       // did without culling (the front face through the touching point may have been
@@ -495,7 +548,7 @@ void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d
       for (int b = info.first_triangle; b < info.first_triangle + info.triangle_count; ++b) {
         const TriangleCone& back = cam.triangles[b];
         if (!back.back || (!occupying && back.near_distance >= far)) continue;
-        if (cone_test(back, wc) == Cone::meet) {
+        if (cone_test(back, wc, size) == Cone::meet) {
           (occupying ? out.occupied : out.blocked) |= m;
           return true;
         }
@@ -503,33 +556,42 @@ void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d
     }
     if (cone != Cone::meet) return false;
     (occupying ? out.occupied : out.blocked) |= m;
+    if (sure) {
+      // The cone holds the box: the box's lowest point along each inward plane normal is
+      // inside by the margin. A smaller box inside is met too; a blocking triangle nearer than
+      // the box's nearest point (|w| − radius) is nearer than every sub-box's `far`.
+      const double margin = kMargin * (d + size.radius);
+      bool holds = occupying || tc.near_distance < (d - size.radius) * (1.0 - 1e-9) - 1e-12;
+      for (int i = 0; i < 3 && holds; ++i) {
+        holds = tc.normal[i].dot(wc) - tc.abs_normal[i].dot(size.half) > margin;
+      }
+      if (holds) *sure |= m;
+    }
     return true;
   };
   // With free_only, done as soon as every state of interest is decided.
   auto done = [&] { return free_only && !(interest & ~(out.occupied | out.blocked)); };
-  if (z_lo > 0.0 && vx1 - vx0 <= 2.0 * cam.widen && vy1 - vy0 <= 2.0 * cam.widen) {
-    // A triangle whose rectangle overlaps the voxel's has its widened rectangle around the
-    // voxel rectangle's centre: one wide bin holds every candidate, once.
-    const int b = wide_of(cam, 0.5 * (vy0 + vy1)) * cam.wide_bins + wide_of(cam, 0.5 * (vx0 + vx1));
-    for (int n = cam.wide_start[b]; n < cam.wide_start[b + 1]; ++n) {
-      if (test(cam.wide_items[n], true) && done()) return;
+  if (witness) {
+    // A repeated test finds the states it decides decided: it changes nothing.
+    const auto plain = test;
+    auto test = [&, plain](int t, bool once) {
+      if (!plain(t, once)) return false;
+      // Most recent first, each triangle once.
+      int at = 0;
+      while (at < detail::kWitnesses - 1 && witness[at] != t) ++at;
+      for (; at > 0; --at) witness[at] = witness[at - 1];
+      witness[0] = t;
+      return true;
+    };
+    int first[detail::kWitnesses];
+    std::copy(witness, witness + detail::kWitnesses, first);
+    for (int t : first) {
+      if (t >= 0 && test(t, true) && done()) return;
     }
-    for (int t : cam.everywhere) {
-      if (test(t, true) && done()) return;
-    }
+    judge_candidates(cam, bins, vx0, vx1, vy0, vy1, z_lo, test, done);
     return;
   }
-  for (int by = bins.y0; by <= bins.y1; ++by) {
-    for (int bx = bins.x0; bx <= bins.x1; ++bx) {
-      const int b = by * cam.bins + bx;
-      for (int n = cam.bin_start[b]; n < cam.bin_start[b + 1]; ++n) {
-        if (test(cam.bin_items[n], false) && done()) return;
-      }
-    }
-  }
-  for (int t : cam.everywhere) {
-    if (test(t, true) && done()) return;
-  }
+  judge_candidates(cam, bins, vx0, vx1, vy0, vy1, z_lo, test, done);
 }
 
 /// Whether the triangle's infinite cone and the voxel box (centre at w from the camera) meet,
@@ -538,15 +600,16 @@ void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d
 /// touching counts as meeting (Cone::meet). Cone::near_miss: separated, but by less than
 /// 1e-12 of the scale (|w| + Σh) on every separating axis — a touching configuration where
 /// rounding decided; back-face culling then tests the object's back faces too (see judge()).
-VoxelEvaluator::Impl::Cone VoxelEvaluator::Impl::cone_test(const TriangleCone& tc,
-                                                           const Vec3& w) const {
-  const double scale = kTouch * (w.norm() + half_step.sum());
+VoxelEvaluator::Impl::Cone VoxelEvaluator::Impl::cone_test(const TriangleCone& tc, const Vec3& w,
+                                                           const detail::CellSize& size) const {
+  const Vec3& h = size.half;  // the box's half extents (a voxel's or a refined cell's)
+  const double scale = kTouch * (w.norm() + h.sum());
   bool near_miss = false;
   // Cone planes first: cheapest and most often decisive.
   double s[3];
   for (int i = 0; i < 3; ++i) {
     s[i] = tc.normal[i].dot(w);
-    const double gap = s[i] + tc.abs_normal[i].dot(half_step);
+    const double gap = s[i] + tc.abs_normal[i].dot(h);
     if (gap < -scale) return Cone::miss;
     near_miss = near_miss || gap < 0.0;
   }
@@ -559,9 +622,8 @@ VoxelEvaluator::Impl::Cone VoxelEvaluator::Impl::cone_test(const TriangleCone& t
   for (int i = 0; i < 3; ++i) {
     if (!(s[i] > inside)) toward += tc.normal[i];
   }
-  const Vec3 corner = w + Vec3(toward.x() >= 0 ? half_step.x() : -half_step.x(),
-                               toward.y() >= 0 ? half_step.y() : -half_step.y(),
-                               toward.z() >= 0 ? half_step.z() : -half_step.z());
+  const Vec3 corner = w + Vec3(toward.x() >= 0 ? h.x() : -h.x(), toward.y() >= 0 ? h.y() : -h.y(),
+                               toward.z() >= 0 ? h.z() : -h.z());
   if (tc.normal[0].dot(corner) > inside && tc.normal[1].dot(corner) > inside &&
       tc.normal[2].dot(corner) > inside) {
     return Cone::meet;
@@ -572,7 +634,8 @@ VoxelEvaluator::Impl::Cone VoxelEvaluator::Impl::cone_test(const TriangleCone& t
   for (int a = 0; a < tc.axis_count; ++a) {
     const TriangleCone::Axis& axis = tc.axes[a];
     const double mid = axis.axis.dot(w);
-    const double gap = axis.side > 0 ? -(mid + axis.radius) : mid - axis.radius;  // > 0: apart
+    const double radius = axis.radius * size.factor;
+    const double gap = axis.side > 0 ? -(mid + radius) : mid - radius;  // > 0: apart
     if (gap > scale * axis.norm) return Cone::miss;
     near_miss = near_miss || gap > 0.0;
   }
@@ -707,15 +770,7 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
     const StateMask all = count == 64 ? ~StateMask(0) : (StateMask(1) << count) - 1;
     const StateMask* object_states = chunk_object_states[chunk].data();
     const StateMask* step_states = chunk_step_states[chunk].data();
-    // A camera inside an object of a state sees nothing in that state (SPEC §3.3).
-    std::vector<StateMask> seeing(cameras.size(), 0);
-    for (std::size_t c = 0; c < cameras.size(); ++c) {
-      for (int s = 0; s < count; ++s) {
-        bool blind = false;
-        for (int o : states[first + s].objects) blind = blind || cameras[c].inside_object[o];
-        if (!blind) seeing[c] |= StateMask(1) << s;
-      }
-    }
+    const std::vector<StateMask> seeing = seeing_states(cameras, chunk);
     std::vector<int> row_lo(cameras.size()), row_hi(cameras.size());
     std::vector<int> in_lo(cameras.size()), in_hi(cameras.size());
     std::uint8_t* out[detail::kChunk];
@@ -750,7 +805,7 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
                 if (!in_fov(cam, i, j, k, w, d)) continue;
               }
               Verdict verdict;
-              judge(cam, w, d, interest, object_states, scratch, verdict, true);
+              judge(cam, w, d, interest, object_states, scratch, verdict, true, cell_sizes[0]);
               const StateMask freed = interest & ~(verdict.occupied | verdict.blocked);
               if (freed) hint = c;
               pending &= ~freed;
@@ -763,10 +818,29 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
   }
 }
 
+std::vector<StateMask> VoxelEvaluator::Impl::seeing_states(const std::vector<CameraSetup>& cameras,
+                                                           int chunk) const {
+  // A camera inside an object of a state sees nothing in that state (SPEC §3.3).
+  const int first = chunk * detail::kChunk;
+  const int count = std::min(detail::kChunk, static_cast<int>(states.size()) - first);
+  std::vector<StateMask> seeing(cameras.size(), 0);
+  for (std::size_t c = 0; c < cameras.size(); ++c) {
+    for (int s = 0; s < count; ++s) {
+      bool blind = false;
+      for (int o : states[first + s].objects) blind = blind || cameras[c].inside_object[o];
+      if (!blind) seeing[c] |= StateMask(1) << s;
+    }
+  }
+  return seeing;
+}
+
 void VoxelEvaluator::Impl::all_raw_models(const core::CameraConfig& config,
-                                          std::vector<std::vector<std::uint8_t>>& models) const {
+                                          std::vector<std::vector<std::uint8_t>>& models,
+                                          std::vector<CameraSetup>* cameras_out) const {
   core::check_configuration(scene, config);
-  std::vector<CameraSetup> cameras;
+  std::vector<CameraSetup> local;
+  std::vector<CameraSetup>& cameras = cameras_out ? *cameras_out : local;
+  cameras.clear();
   cameras.reserve(config.size());
   for (const auto& camera : config) cameras.push_back(camera_setup(camera));
   models.resize(states.size());
@@ -799,7 +873,7 @@ std::vector<Label> VoxelEvaluator::Impl::labels(const CameraSetup& cam, int stat
         const double d = w.norm();
         if (!in_fov(cam, i, j, k, w, d)) continue;
         Verdict verdict;
-        judge(cam, w, d, interest, object_states, scratch, verdict, false);
+        judge(cam, w, d, interest, object_states, scratch, verdict, false, cell_sizes[0]);
         out[v] = verdict.occupied  ? Label::occupied
                  : verdict.blocked ? Label::undetectable
                                    : Label::free;

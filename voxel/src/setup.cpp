@@ -38,6 +38,7 @@ int VoxelEvaluator::Impl::add_object(const core::SceneObject& object, core::Obje
 
 void VoxelEvaluator::Impl::build() {
   using core::ObjectKind;
+  cell_sizes.assign(1, {half_step, voxel_radius, 1.0});
   // Voxel bounds per axis exactly as Grid::voxel_box computes them.
   for (int a = 0; a < 3; ++a) {
     for (int i = 0; i < grid.n[a]; ++i) {
@@ -98,7 +99,8 @@ void VoxelEvaluator::Impl::build() {
     chunk_object_states.push_back(std::move(by_object));
     chunk_step_states.push_back(std::move(by_step));
   }
-  if (conservative) err_lower_bound = lower_bound();
+  if (levels > 0) build_refinement();
+  if (conservative) err_lower_bound = levels > 0 ? refined_lower_bound() : lower_bound();
 }
 
 /// The conservative lower bound of Err (see VoxelEvaluator::err_lower_bound() for the rule).

@@ -22,6 +22,8 @@ struct EvaluationOptions {
   std::array<int, 3> resolution{0, 0, 0};  ///< nx, ny, nz; all 0 = the scene's `voxels`
   /// States evaluated in parallel, both pipelines; 0 = one thread per core.
   int threads = 0;
+  /// Voxel pipeline, conservative mode: adaptive refinement levels (voxel::VoxelOptions::refine).
+  int refine = 0;
   /// Exact pipeline: add each state's squared distances and volume as exact fractions "p/q".
   bool exact_fractions = false;
   /// Exact pipeline: write each state's model and each camera's pyramid as OFF files to this

@@ -14,6 +14,9 @@ namespace camplace::compare {
 struct CompareOptions {
   /// Voxel resolutions to compare; empty = the scene's resolution.
   std::vector<std::array<int, 3>> resolutions;
+  /// Refinement levels of conservative mode (voxel::VoxelOptions::refine) at every resolution;
+  /// empty = {0}. Center mode runs once per resolution (it takes no refinement).
+  std::vector<int> refine_levels;
   /// The command that produced the report, quoted in report.md.
   std::string command;
 };
@@ -25,18 +28,22 @@ struct CompareRow {
   std::string mode;  ///< "center" or "conservative"
   std::array<int, 3> resolution{0, 0, 0};
   double voxel_diagonal = 0.0;
+  int refine = 0;              ///< refinement levels L (conservative mode)
+  double cell_diagonal = 0.0;  ///< the finest cell's diagonal: voxel diagonal / 2^L
   double d_true = 0.0, d_exact = 0.0, d_voxel = 0.0;
   double volume_exact = 0.0, volume_voxel = 0.0;
   /// Points of the exact model found outside the voxel model (0 = contains it), see
-  /// exact_outside_voxel_model().
+  /// exact_outside_voxel_model(); with refinement, counted in finest cells.
   int exact_outside = 0;
   bool distance_over_estimated = false;  ///< d_voxel > d_exact (+1e-9 m)
 };
 
 /// Err of one pipeline (m²) and its evaluation time (ms).
 struct ErrRow {
-  std::string pipeline;  ///< "exact", "voxel-center", "voxel-conservative"
+  /// "exact", "voxel-center", "voxel-conservative", "voxel-conservative-refineL" (L ≥ 1 levels)
+  std::string pipeline;
   std::array<int, 3> resolution{0, 0, 0};
+  int refine = 0;
   double err = 0.0;
   double ms = 0.0;
 };
@@ -48,8 +55,10 @@ struct CompareResult {
   int center_violations = 0;        ///< the same for center mode (expected: it is not conservative)
 };
 
-/// Runs the exact pipeline once and the voxel pipeline in both modes at every resolution, both
-/// with the scene's inscribed k-sided pyramid as FOV (SPEC §1).
+/// Runs the exact pipeline once and the voxel pipeline in both modes at every resolution (and in
+/// conservative mode at every refinement level), all with the scene's inscribed k-sided pyramid
+/// as FOV (SPEC §1). Throws core::OptionError("refine", ...) before any work when a level is
+/// one voxel::refine_problem() refuses at some resolution.
 CompareResult compare_voxel_exact(const core::Scene& scene, const core::CameraConfig& config,
                                   const CompareOptions& options);
 
@@ -57,8 +66,10 @@ CompareResult compare_voxel_exact(const core::Scene& scene, const core::CameraCo
 core::Scene with_pyramid_fov(const core::Scene& scene);
 
 /// Writes DIR/report.md, DIR/compare.csv, DIR/err.csv and the plots (gnuplot, PNG):
-/// DIR/error_vs_resolution.png and DIR/d_voxel_vs_d_exact.png. Timing only in err.csv's `ms`
-/// column and the report's timing table.
+/// DIR/error_vs_resolution.png (against the finest cell's diagonal: the effective resolution)
+/// and DIR/d_voxel_vs_d_exact.png; with refinement levels also
+/// DIR/time_vs_effective_resolution.png. Timing only in err.csv's `ms` column, the report's
+/// timing table and that plot.
 void write_compare_report(const core::Scene& scene, const CompareResult& result,
                           const CompareOptions& options, const std::string& dir);
 

@@ -21,6 +21,9 @@ struct RunContext {
   std::string scene_file;
   std::string mode;  ///< voxel labelling mode ("center", "conservative")
   std::array<int, 3> resolution{0, 0, 0};
+  /// voxel::VoxelOptions::refine (levels; 0 = none). Written as "refine" only when > 0, so
+  /// files without refinement keep their layout; a file without the key has 0.
+  int refine = 0;
   std::string start;  ///< "random", "corners" or the start file
   double time_limit = 0.0;
   std::uint64_t max_evaluations = 0;
@@ -68,6 +71,7 @@ struct RunSettings {
   std::optional<core::SceneHashes> scene;  ///< none in run files of formats 1 and 2
   std::string mode;                        ///< voxel labelling mode
   std::optional<std::array<int, 3>> resolution;
+  int refine = 0;  ///< voxel::VoxelOptions::refine
   std::string algorithm;
   std::string start;        ///< "random", "corners" or the start file's path
   double time_limit = 0.0;  ///< s; 0 = none

@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "camplace/core/camera.hpp"
@@ -27,6 +28,20 @@ enum class Label : std::uint8_t { free, occupied, undetectable };
 /// Largest `threads` an evaluator accepts.
 constexpr int kMaxThreads = 256;
 
+/// Largest `refine` an evaluator accepts (levels); the memory limit below refuses most grids
+/// well before it.
+constexpr int kMaxRefine = 10;
+/// The most memory (bytes) refinement may need in the worst case (refine_memory_estimate()):
+/// 2 GiB.
+constexpr double kRefineMemoryLimit = 2.0 * 1024 * 1024 * 1024;
+
+/// Worst-case memory (bytes) of refinement to `levels` levels on an n[0]·n[1]·n[2] grid with
+/// `time_steps` time steps and `states` states: every base voxel refined, so n[0]·n[1]·n[2]·8^L
+/// finest cells, each with a state mask (8 bytes), union–find and component labels (8 bytes,
+/// per evaluating thread), one byte per state, and per time step a cached distance and an
+/// obstacle-interior flag per octree node (≤ 8/7 nodes per cell: 10 bytes). 0 when L ≤ 0.
+double refine_memory_estimate(const std::array<int, 3>& n, int levels, int time_steps, int states);
+
 struct VoxelOptions {
   LabelMode mode = LabelMode::conservative;
   std::array<int, 3> resolution{0, 0, 0};  ///< nx, ny, nz; all 0 = the scene's `voxels`
@@ -34,13 +49,31 @@ struct VoxelOptions {
   /// distances by state), 1..kMaxThreads. Keep 1 when the caller runs evaluations in parallel
   /// itself (the optimizer).
   int threads = 1;
+  /// Adaptive refinement, conservative mode only: levels L ≥ 0 (0 = none). A base voxel of a
+  /// component the filter keeps is split into 8 cells when it lies near the critical objects
+  /// (nearer than the state's d(C, M) so far plus a voxel diagonal, a radius that grows until
+  /// the nearest kept cell lies within it), and every cell no camera proves free and no obstacle
+  /// holds wholly is split again, down to cells of 1/2^L of the voxel's edge; the other kept
+  /// voxels stay whole. M is the union of those finest cells and whole voxels; components
+  /// (6-connectivity of the finest cells, across base voxels) and the filter work on them, and
+  /// d(C, M) uses their boxes. Refined M ⊆ unrefined M and still ⊇ the exact model. See
+  /// refine_problem() for the limits.
+  int refine = 0;
 };
+
+/// Why `refine` levels cannot be used for `scene` with these options ("" when they can):
+/// negative, above kMaxRefine, center mode (refinement is for conservative labels), or more
+/// memory than kRefineMemoryLimit by refine_memory_estimate(). The evaluator throws it as
+/// core::OptionError("refine", ...).
+std::string refine_problem(const core::Scene& scene, const VoxelOptions& options);
 
 class VoxelEvaluator {
  public:
   /// Precomputes everything that does not depend on the cameras (obstacle interiors, true
-  /// distances, voxel-to-critical distances). Throws core::InputError on a bad resolution
-  /// (core::resolution_problem) or a `threads` outside 1..kMaxThreads.
+  /// distances, voxel-to-critical distances; with refinement the obstacle interiors of the
+  /// octree cells and the refined lower bound). Throws core::InputError on a bad resolution
+  /// (core::resolution_problem) or a `threads` outside 1..kMaxThreads, core::OptionError
+  /// ("refine") on a `refine` that refine_problem() refuses.
   VoxelEvaluator(const core::Scene& scene, const VoxelOptions& options);
   ~VoxelEvaluator();
   VoxelEvaluator(VoxelEvaluator&&) noexcept;
@@ -48,7 +81,10 @@ class VoxelEvaluator {
 
   /// Full evaluation with per-state results and timing (wall-clock per stage). Throws
   /// core::InputError when config.size() is not the scene's camera count. The result does not
-  /// depend on `threads`.
+  /// depend on `threads`. With refinement, a state's `components_removed` counts the base
+  /// components the filter removes before refinement (each may hold several cell components)
+  /// plus the cell components it removes after; the timing adds refinement's labelling,
+  /// components and distances to the stages'.
   Evaluation evaluate(const core::CameraConfig& config) const;
   /// Err only (the optimizer's objective), m².
   double err(const core::CameraConfig& config) const;
@@ -56,8 +92,13 @@ class VoxelEvaluator {
   /// Labels of every voxel for one camera in one state (index into core::states()).
   /// Conservative mode reports `free` only for voxels it proves wholly free.
   std::vector<Label> labels(const core::CameraSetting& camera, int state) const;
-  /// Model voxels after the plausibility filter (1 = in M) for one state.
+  /// Model voxels after the plausibility filter (1 = in M) for one state. With refinement: the
+  /// base voxels that hold at least one finest cell of M (leaf_model() has the cells).
   std::vector<std::uint8_t> model(const core::CameraConfig& config, int state) const;
+  /// The grid of the finest cells: S cut into n·2^L cells per axis (grid() when L = 0).
+  Grid leaf_grid() const;
+  /// M after the filter for one state on leaf_grid() (1 = in M); model() when L = 0.
+  std::vector<std::uint8_t> leaf_model(const core::CameraConfig& config, int state) const;
 
   /// A lower bound of Err over all camera configurations (m²), conservative mode only. Per
   /// state: a voxel that an occupying object (a target; a dynamic obstacle in masked mode)
@@ -72,6 +113,12 @@ class VoxelEvaluator {
   /// M or keep a component at d_true). Without a filter every group passes. Compare Err against
   /// it through core::lower_bound_threshold (the sums' order differs). When this bound exceeds
   /// the tolerance, no configuration can reach it. Center mode: 0 (no bound).
+  /// With refinement (options().refine = L > 0) the same rule applies to the finest cells: a
+  /// cell an occupying object reaches into (and its ancestors: never free) that no obstacle holds
+  /// wholly at any level is in the refined M before the filter; groups are 6-connected sets of
+  /// such cells, their volume and z-extent those of the cells; U is the distance to the nearest
+  /// cell of a group that passes. Only cells touching the targets remain, so the bound shrinks
+  /// with L toward the true minimum.
   double err_lower_bound() const;
 
   const Grid& grid() const;
