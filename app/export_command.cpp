@@ -23,6 +23,7 @@ struct ExportArgs {
   std::vector<std::string> states;
   std::string three_dir = view::kDefaultThreeDir;
   int threads = 0;  // 0 = one per core
+  int refine = 0;   // voxel::VoxelOptions::refine
 };
 
 /// "H,L" → the state; InputError naming --state otherwise.
@@ -50,6 +51,7 @@ void run_export(const ExportArgs& args) {
   view::ExportOptions options;
   options.pipeline = parse_enum<core::Pipeline>(args.pipeline);
   options.voxel.mode = parse_enum<core::LabelMode>(args.mode);
+  options.voxel.refine = args.refine;
   if (!args.resolution.empty()) {
     options.voxel.resolution = core::parse_resolution(args.resolution, "--resolution");
   }
@@ -70,7 +72,7 @@ void run_export(const ExportArgs& args) {
     std::printf("%4d %5d %7.3f %9.4f %10.4f  %s\n", s.state.time_step, s.state.event,
                 s.result.weight, s.result.d_true, s.result.d_model, s.glb.c_str());
   }
-  std::printf("Err = %.6f m^2 (%s pipeline)\n%zu files in %s; open %s/index.html in a browser\n",
+  std::printf("Err = %.6f m² (%s pipeline)\n%zu files in %s; open %s/index.html in a browser\n",
               result.err, args.pipeline.c_str(), result.files.size(), args.out.c_str(),
               args.out.c_str());
 }
@@ -92,6 +94,10 @@ void register_export_command(CLI::App& app) {
   cmd->add_option("--mode", args->mode, "voxel labelling mode")->check(one_of<core::LabelMode>());
   cmd->add_option("--resolution", args->resolution,
                   "voxel resolution NXxNYxNZ (default: the scene's)");
+  cmd->add_option("--refine", args->refine,
+                  "conservative mode: refine the model L levels, as evaluate --refine (the model "
+                  "is drawn as its finest cells)")
+      ->check(in_range(0, voxel::kMaxRefine));
   cmd->add_option("--state", args->states,
                   "export only state H,L (time step, event); repeatable (default: every state)");
   cmd->add_option("--threads", args->threads, "threads (default: one per core)")

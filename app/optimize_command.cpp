@@ -2,6 +2,7 @@
 // run files, a summary and progress on stderr. Thin: parse, call camplace::optimize, print.
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -14,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "camplace/compare/evaluation_json.hpp"
 #include "camplace/core/error.hpp"
 #include "camplace/core/files.hpp"
 #include "camplace/core/provenance.hpp"
@@ -187,13 +189,40 @@ void run_optimize(const OptimizeArgs& args) {
   }
   const bool interrupted = stop.load();
   const std::filesystem::path out(args.out);
-  core::write_file_atomically((out / "summary.json").string(),
-                              optimize::summary_json(results, context, interrupted).dump(2) + "\n");
+  auto summary = optimize::summary_json(results, context, interrupted);
+  // The diagnostics of `evaluate` for the best configuration (issue 12), in the summary and below
+  // the table.
+  nlohmann::json diagnostics;
+  if (summary.contains("best")) {
+    const auto best = std::min_element(results.begin(), results.end(),
+                                       [](const auto& a, const auto& b) { return a.err < b.err; });
+    compare::EvaluationOptions eval;
+    eval.mode = voxel_options.mode;
+    eval.resolution = voxel_options.resolution;
+    eval.refine = voxel_options.refine;
+    eval.threads = 1;
+    diagnostics = compare::evaluate_json(scene, best->best, eval).result.at("diagnostics");
+    summary["best"]["diagnostics"] = diagnostics;
+  }
+  core::write_file_atomically((out / "summary.json").string(), summary.dump(2) + "\n");
   core::write_file_atomically((out / "summary.csv").string(), optimize::summary_csv(results));
   if (interrupted) {
     std::cout << "interrupted: the best result so far is in " << args.out << "\n\n";
   }
   optimize::print_summary(std::cout, results);
+  if (!diagnostics.is_null()) {
+    std::cout << "\nbest configuration:\n";
+    for (const auto& s : diagnostics["states"]) {
+      const auto& c = s["nearest_component"];
+      if (c.is_null()) continue;
+      std::cout << "  step " << s["time_step"].get<int>() << " event " << s["event"].get<int>()
+                << ": nearest model component at " << c["distance"].get<double>()
+                << " m, observed by " << c["cameras_observing"].get<int>() << " of "
+                << diagnostics["cameras"].size() << " cameras\n";
+    }
+    for (const auto& w : diagnostics["warnings"])
+      std::cout << "  warning: " << w.get<std::string>() << "\n";
+  }
   std::cout << "\nrun files, summary.json and summary.csv in " << args.out << "\n";
   if (interrupted) throw Interrupted("the best result so far is in " + args.out);
 }

@@ -42,6 +42,30 @@ TEST(Export, VoxelGlbFilesParseBackWithTheLibrary) {
   EXPECT_NEAR(result.err, 0.083112, 5e-7);
 }
 
+// With --refine the model is drawn as its finest cells, so the d_model segment measures the
+// refined distance (larger than the unrefined one in some state).
+TEST(Export, RefinedModelSegmentMeasuresTheRefinedDistance) {
+  const core::Scene scene = core::load_scene(kData + "paper_basic.json");
+  const core::CameraConfig config =
+      core::load_camera_config(kData + "paper_basic_corners.json", scene);
+  view::ExportOptions options;
+  options.voxel.refine = 3;
+  const std::string dir = temp_dir("export_refine");
+  const view::ExportResult refined = view::export_scene(scene, config, options, dir);
+  const view::ExportResult plain = view::export_scene(scene, config, {}, temp_dir("export_plain"));
+  ASSERT_EQ(refined.states.size(), 6u);
+  bool farther = false;
+  for (std::size_t i = 0; i < refined.states.size(); ++i) {
+    const view::ExportedState& s = refined.states[i];
+    check_state_file(scene, config, s, dir + "/" + s.glb);
+    ASSERT_FALSE(s.model_empty);
+    EXPECT_NEAR((s.model_segment.a - s.model_segment.b).norm(), s.result.d_model, 1e-9);
+    farther |= s.result.d_model > plain.states[i].result.d_model + 1e-6;
+  }
+  EXPECT_TRUE(farther);
+  EXPECT_LT(refined.err, plain.err);
+}
+
 TEST(Export, CenterModeSegmentEndsAtAVoxelCentre) {
   const core::Scene scene = core::load_scene(kData + "paper_basic.json");
   const core::CameraConfig config =

@@ -181,16 +181,19 @@ Evaluated evaluate_voxel(const core::Scene& scene, const core::CameraConfig& con
   out.fov = core::name_of(scene.cameras.fov);
   out.grid = evaluator.grid();
   const auto all = core::states(scene);
+  // The model as d(C, M) sees it: with refinement its finest cells (leaf_grid(), leaf_model()),
+  // else the voxels; the voxel files keep the base voxels that hold M (VoxelEvaluator::model).
+  const voxel::Grid cells = evaluator.leaf_grid();
   for (int i : selected) {
-    std::vector<std::uint8_t> model = evaluator.model(config, i);
-    out.model_meshes.push_back(voxel_boundary_mesh(evaluator.grid(), model));
+    const std::vector<std::uint8_t> model = evaluator.leaf_model(config, i);
+    out.model_meshes.push_back(voxel_boundary_mesh(cells, model));
     const auto critical = meshes_of(scene.time_steps[all[i].time_step].critical);
     const bool empty = std::none_of(model.begin(), model.end(), [](std::uint8_t b) { return b; });
     out.model_segments.push_back(
         empty || critical.empty()
             ? core::ClosestPoints{}
-            : voxel_model_segment(evaluator.grid(), model, critical, options.voxel.mode));
-    out.voxel_layers.push_back({all[i].time_step, all[i].event, std::move(model)});
+            : voxel_model_segment(cells, model, critical, options.voxel.mode));
+    out.voxel_layers.push_back({all[i].time_step, all[i].event, evaluator.model(config, i)});
   }
   return out;
 }
