@@ -168,13 +168,14 @@ void exact_fractions_to_python(py::dict exact) {
 }
 
 py::dict evaluate(const PyScene& scene, const py::object& cameras, const std::string& pipeline,
-                  const std::string& mode, const py::object& resolution, int threads,
+                  const std::string& mode, const py::object& resolution, int refine, int threads,
                   bool fractions, const std::optional<std::filesystem::path>& export_mesh,
                   const std::optional<std::filesystem::path>& voxels_out) {
   compare::EvaluationOptions options;
   options.pipeline = enum_argument<core::Pipeline>("pipeline", pipeline);
   options.mode = enum_argument<core::LabelMode>("mode", mode);
   options.resolution = resolution_argument(resolution);
+  options.refine = refine;
   options.threads = threads_argument(threads);
   const bool want_voxel = options.pipeline != core::Pipeline::exact;
   const bool want_exact = options.pipeline != core::Pipeline::voxel;
@@ -338,7 +339,7 @@ struct RunChannel {
 
 py::dict optimize_run(const PyScene& scene, const std::string& algorithm, unsigned seed,
                       double time_limit, std::uint64_t max_evaluations, const std::string& mode,
-                      const py::object& resolution, std::optional<double> tolerance,
+                      const py::object& resolution, int refine, std::optional<double> tolerance,
                       const py::object& start, int threads, int population,
                       const py::object& callback, double progress_interval) {
   // The checks of `camplace optimize`'s options, named as the keyword arguments.
@@ -366,6 +367,7 @@ py::dict optimize_run(const PyScene& scene, const std::string& algorithm, unsign
   voxel::VoxelOptions voxel_options;
   voxel_options.mode = enum_argument<core::LabelMode>("mode", mode);
   voxel_options.resolution = resolution_argument(resolution);
+  voxel_options.refine = refine;
 
   std::atomic<bool> stop{false};
   optimize::OptimizeOptions options;
@@ -408,6 +410,7 @@ py::dict optimize_run(const PyScene& scene, const std::string& algorithm, unsign
       context.scene_file = scene_ptr->file;
       context.mode = core::name_of(voxel_options.mode);
       context.resolution = objective.evaluator().grid().n;
+      context.refine = refine;
       context.start = start_name;
       context.time_limit = time_limit;
       context.max_evaluations = max_evaluations;
@@ -601,7 +604,7 @@ the scene's camera count. Raises ValueError (file, entry, reason) on a bad file.
 taking `cameras` accepts this list, a camera file's path or a dict with a 'cameras' list.)");
 
   m.def("evaluate", &evaluate, "scene"_a, "cameras"_a, py::kw_only(), "pipeline"_a = "voxel",
-        "mode"_a = "conservative", "resolution"_a = py::none(), "threads"_a = 0,
+        "mode"_a = "conservative", "resolution"_a = py::none(), "refine"_a = 0, "threads"_a = 0,
         "fractions"_a = false, "export_mesh"_a = py::none(), "voxels_out"_a = py::none(),
         R"(Err of one camera configuration, state by state: `camplace evaluate --json`.
 
@@ -609,8 +612,9 @@ scene: a Scene. cameras: a camera file's path, a list of camera dicts (load_came
 with a 'cameras' list (a run file's content).
 pipeline: 'voxel', 'exact' (CGAL Nef, inscribed pyramids) or 'both' (the voxel pipeline then
 uses the pyramid too). mode: 'center' or 'conservative' (voxel labelling).
-resolution: None (the scene's), (nx, ny, nz) or 'NXxNYxNZ'. threads: states evaluated in
-parallel, 0 = one per core.
+resolution: None (the scene's), (nx, ny, nz) or 'NXxNYxNZ'. refine: conservative mode,
+adaptive refinement levels as `--refine` (0 = none). threads: states evaluated in parallel,
+0 = one per core.
 fractions: exact pipeline: add 'd_true_sq_exact', 'd_model_sq_exact' (m²) and
 'model_volume_exact' (m³) to each state as fractions.Fraction.
 export_mesh: exact pipeline: a directory receiving each state's model and each camera's pyramid
@@ -651,13 +655,14 @@ fov, mode, resolution, threads as in voxel_model().)");
 
   m.def("optimize", &optimize_run, "scene"_a, py::kw_only(), "algorithm"_a = "gaco", "seed"_a = 1u,
         "time_limit"_a = 300.0, "max_evaluations"_a = std::uint64_t{0}, "mode"_a = "conservative",
-        "resolution"_a = py::none(), "tolerance"_a = py::none(), "start"_a = "random",
-        "threads"_a = 0, "population"_a = 0, "callback"_a = py::none(), "progress_interval"_a = 0.5,
+        "resolution"_a = py::none(), "refine"_a = 0, "tolerance"_a = py::none(),
+        "start"_a = "random", "threads"_a = 0, "population"_a = 0, "callback"_a = py::none(),
+        "progress_interval"_a = 0.5,
         R"(One optimisation run of `camplace optimize` (SPEC §7) minimising the voxel Err.
 
 algorithm: a solver of algorithms(). seed: seeds the population and the solver.
 time_limit: seconds of wall clock, 0 = none. max_evaluations: Err evaluations, 0 = none.
-mode, resolution: the voxel pipeline's. tolerance: stop at Err <= tolerance (m²); None = (½ voxel
+mode, resolution, refine: the voxel pipeline's (refine: as `--refine`). tolerance: stop at Err <= tolerance (m²); None = (½ voxel
 diagonal)². start: 'random', 'corners' or a camera file's path. threads: batch evaluation,
 0 = all cores. population: 0 = the solver's default.
 callback(evaluations, best_err, seconds): called every `progress_interval` seconds while the run

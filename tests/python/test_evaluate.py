@@ -27,6 +27,14 @@ def test_resolution_and_threads_as_on_the_command_line(paper):
     assert got["resolution"] == [8, 6, 5]
 
 
+def test_refinement_as_on_the_command_line(paper):
+    expected = cli_json("evaluate", SCENE, "--cameras", CORNERS, "--refine", "2", "--json")
+    got = camplace.evaluate(paper, CORNERS, refine=2)
+    assert got["refine"] == 2
+    assert without_timing(got) == without_timing(expected)
+    assert got["err_lower_bound"] < camplace.evaluate(paper, CORNERS)["err_lower_bound"]
+
+
 def test_cameras_as_list_or_dict_give_the_files_result(paper):
     from_file = camplace.evaluate(paper, CORNERS)
     cameras = camplace.load_cameras(CORNERS)
