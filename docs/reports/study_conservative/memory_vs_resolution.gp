@@ -1,10 +1,10 @@
 set terminal pngcairo size 800,560 font 'DejaVu Sans,10'
-set output 'docs/reports/study_conservative/memory_vs_resolution.png.part'
+set output 'memory_vs_resolution.png'
 set title 'Peak memory against resolution (varies between runs)'
 set xlabel 'voxels (nx·ny·nz)'
 set ylabel 'peak memory of a run [kB]'
 set grid
 set key outside right top box
-plot 'docs/reports/study_conservative/memory_vs_resolution.dat' index 0 using 1:2 with linespoints title 'virtual (VmPeak)', 'docs/reports/study_conservative/memory_vs_resolution.dat' index 1 using 1:2 with linespoints title 'resident (VmHWM)'
+plot 'memory_vs_resolution.dat' index 0 using 1:2 with linespoints title 'virtual (VmPeak)', 'memory_vs_resolution.dat' index 1 using 1:2 with linespoints title 'resident (VmHWM)'
 
 unset output

@@ -1,5 +1,5 @@
 set terminal pngcairo size 800,560 font 'DejaVu Sans,10'
-set output 'docs/reports/study_paper/success_vs_dynamic_objects.png.part'
+set output 'success_vs_dynamic_objects.png'
 set title 'Success against dynamic objects'
 set xlabel 'dynamic objects'
 set ylabel 'runs reaching the tolerance [%]'
@@ -8,6 +8,6 @@ set key outside right top box
 set style fill solid 0.6
 set boxwidth 0.6 relative
 set yrange [0:105]
-plot 'docs/reports/study_paper/success_vs_dynamic_objects.dat' index 0 using 1:2 with boxes title 'success'
+plot 'success_vs_dynamic_objects.dat' index 0 using 1:2 with boxes title 'success'
 
 unset output
