@@ -88,6 +88,7 @@ core::SceneObject random_object(std::mt19937& rng, const std::string& name, cons
     if (std::abs((b - a).cross(c - a).dot(d - a)) > 1e-3) return tetra_object(name, a, b, c, d);
   }
 }
+
 }  // namespace
 
 core::Scene random_scene(std::mt19937& rng, std::array<int, 3> voxels) {
@@ -172,6 +173,26 @@ std::string temp_dir(const std::string& name) {
   std::filesystem::create_directories(dir);
   scratch_directories().dirs.push_back(dir);
   return dir.string();
+}
+
+std::vector<core::CameraConfig> configs_around(const core::CameraConfig& base,
+                                               const core::Scene& scene, unsigned seed,
+                                               int jittered, int random) {
+  std::vector<core::CameraConfig> out{base};
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> jitter(0.0, 1.0);
+  for (int n = 0; n < jittered; ++n) {
+    core::CameraConfig c = base;
+    for (core::CameraSetting& s : c) {
+      s.position += 0.1 * core::Vec3(jitter(rng), jitter(rng), jitter(rng));
+      s.position = s.position.cwiseMax(scene.area.min).cwiseMin(scene.area.max);
+      s.yaw += 0.05 * jitter(rng);
+      s.pitch = std::clamp(s.pitch + 0.05 * jitter(rng), -1.5, 1.5);
+    }
+    out.push_back(c);
+  }
+  for (int n = 0; n < random; ++n) out.push_back(random_config(rng, scene));
+  return out;
 }
 
 }  // namespace camplace::testing

@@ -29,6 +29,11 @@ core::CameraSetting camera_at(const core::Vec3& position, double yaw_deg, double
 core::Scene random_scene(std::mt19937& rng, std::array<int, 3> voxels);
 /// Random camera configuration inside the scene's area.
 core::CameraConfig random_config(std::mt19937& rng, const core::Scene& scene);
+/// `base`, `jittered` copies of it moved by ~0.1 m and ~3° (near-optimal when `base` is) and
+/// `random` random configurations, all from `seed`.
+std::vector<core::CameraConfig> configs_around(const core::CameraConfig& base,
+                                               const core::Scene& scene, unsigned seed,
+                                               int jittered, int random);
 
 /// Writes text to a file (creating directories) and returns the path.
 std::string write_file(const std::string& path, const std::string& text);

@@ -33,22 +33,7 @@ void expect_not_below(double err, double bound, const std::string& what) {
 /// The corners configuration, jittered copies of it (near-optimal: Err close to the bound) and
 /// random configurations, from `seed`.
 std::vector<core::CameraConfig> paper_configs(const core::Scene& scene, unsigned seed) {
-  const core::CameraConfig corners = core::load_camera_config(kCorners, scene);
-  std::vector<core::CameraConfig> out{corners};
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> jitter(0.0, 1.0);
-  for (int n = 0; n < 8; ++n) {
-    core::CameraConfig c = corners;
-    for (core::CameraSetting& s : c) {
-      s.position += 0.1 * core::Vec3(jitter(rng), jitter(rng), jitter(rng));
-      s.position = s.position.cwiseMax(scene.area.min).cwiseMin(scene.area.max);
-      s.yaw += 0.05 * jitter(rng);
-      s.pitch = std::clamp(s.pitch + 0.05 * jitter(rng), -1.5, 1.5);
-    }
-    out.push_back(c);
-  }
-  for (int n = 0; n < 6; ++n) out.push_back(random_config(rng, scene));
-  return out;
+  return configs_around(core::load_camera_config(kCorners, scene), scene, seed, 8, 6);
 }
 
 /// paper_basic with an extra target, a box of 0.3 m × 0.3 m × 0.3 m (below min_height 1.45 m),

@@ -38,22 +38,7 @@ voxel::VoxelOptions refined(int levels, std::array<int, 3> resolution = {0, 0, 0
 /// The corners configuration, copies of it moved by ~0.1 m and ~3° (near-optimal, Err close to
 /// the bound) and random configurations.
 std::vector<core::CameraConfig> paper_configs(const core::Scene& scene, unsigned seed) {
-  const core::CameraConfig corners = core::load_camera_config(kCorners, scene);
-  std::vector<core::CameraConfig> out{corners};
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> jitter(0.0, 1.0);
-  for (int n = 0; n < 6; ++n) {
-    core::CameraConfig c = corners;
-    for (core::CameraSetting& s : c) {
-      s.position += 0.1 * core::Vec3(jitter(rng), jitter(rng), jitter(rng));
-      s.position = s.position.cwiseMax(scene.area.min).cwiseMin(scene.area.max);
-      s.yaw += 0.05 * jitter(rng);
-      s.pitch = std::clamp(s.pitch + 0.05 * jitter(rng), -1.5, 1.5);
-    }
-    out.push_back(c);
-  }
-  for (int n = 0; n < 4; ++n) out.push_back(random_config(rng, scene));
-  return out;
+  return configs_around(core::load_camera_config(kCorners, scene), scene, seed, 6, 4);
 }
 
 TEST(Refine, LevelZeroIsTheUnrefinedPipeline) {

@@ -7,6 +7,8 @@
 #include <cstring>
 #include <numeric>
 
+#include "union_find.hpp"
+
 namespace camplace::voxel {
 
 namespace {
@@ -16,19 +18,8 @@ struct Run {
   int i0, i1;  ///< x range, inclusive
 };
 
-int find(std::vector<int>& parent, int a) {
-  while (parent[a] != a) {
-    parent[a] = parent[parent[a]];
-    a = parent[a];
-  }
-  return a;
-}
-
-void unite(std::vector<int>& parent, int a, int b) {
-  a = find(parent, a);
-  b = find(parent, b);
-  if (a != b) parent[std::max(a, b)] = std::min(a, b);
-}
+using detail::find;
+using detail::unite;
 
 /// The model's runs and their union–find forest (parent[n]: run n's component is find(n)).
 struct RunForest {

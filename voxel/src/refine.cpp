@@ -50,6 +50,7 @@
 #include "camplace/core/names.hpp"
 #include "impl.hpp"
 #include "solid_distance.hpp"
+#include "union_find.hpp"
 
 namespace camplace::voxel {
 
@@ -106,19 +107,8 @@ detail::Octree make_octree(int levels) {
   return t;
 }
 
-int find(std::vector<int>& parent, int a) {
-  while (parent[a] != a) {
-    parent[a] = parent[parent[a]];
-    a = parent[a];
-  }
-  return a;
-}
-
-void unite(std::vector<int>& parent, int a, int b) {
-  a = find(parent, a);
-  b = find(parent, b);
-  if (a != b) parent[std::max(a, b)] = std::min(a, b);
-}
+using detail::find;
+using detail::unite;
 
 }  // namespace
 
