@@ -3,16 +3,23 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "camplace/compare/run_validation.hpp"
 #include "cli_checks.hpp"
 #include "commands.hpp"
 #include "interrupt.hpp"
+#ifdef CAMPLACE_HAVE_MPI
+#include "mpi_work.hpp"
+#endif
 
 namespace camplace::app {
 
@@ -35,6 +42,64 @@ std::string duration_text(double seconds) {
   return text;
 }
 
+#ifdef CAMPLACE_HAVE_MPI
+/// One run's check under way on this rank, in a thread of its own (the rank keeps polling).
+class CheckTask : public mpi::Task {
+ public:
+  CheckTask(compare::RunChecker& checker, std::string file)
+      : thread_([this, &checker, file] {
+          try {
+            checker.check(file);  // its result goes into the folder's cache
+          } catch (const std::exception&) {
+            // rank 0's own pass over the folder reports what could not be checked
+          }
+          done_.store(true);
+        }) {}
+  ~CheckTask() override {
+    if (thread_.joinable()) thread_.join();
+  }
+  std::optional<std::string> poll() override {
+    if (!done_.load()) return std::nullopt;
+    thread_.join();
+    return std::string("checked");
+  }
+
+ private:
+  std::atomic<bool> done_{false};
+  std::thread thread_;
+};
+
+mpi::Handlers check_handlers(const std::shared_ptr<compare::RunChecker>& checker) {
+  mpi::Handlers handlers;
+  handlers.start = [checker](const std::string& file) {
+    return std::make_unique<CheckTask>(*checker, file);
+  };
+  handlers.interrupt = &InterruptSignals::flag();
+  return handlers;
+}
+
+/// Rank 0 of `mpirun camplace validate DIR`: every run file's check spread over the ranks
+/// (itself included), each into the folder's cache, from which validate_runs then takes them.
+/// Returns false when a signal stopped it.
+bool check_on_ranks(const mpi::Session& session, const compare::ValidateOptions& options) {
+  const std::vector<std::string> files = compare::find_validation_runs(options.dir);
+  mpi::Handlers handlers = check_handlers(std::make_shared<compare::RunChecker>(options.dir));
+  const auto start = std::chrono::steady_clock::now();
+  int done = 0;
+  handlers.judge = [&](std::size_t, int, const std::string&) {
+    ++done;
+    if (options.on_progress) {
+      options.on_progress(
+          {done, static_cast<int>(files.size()), 0,
+           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()});
+    }
+    return InterruptSignals::flag().load() ? mpi::Verdict::stop : mpi::Verdict::done;
+  };
+  mpi::distribute(session, files, handlers);
+  return !InterruptSignals::flag().load();
+}
+#endif
+
 void run_validate(ValidateArgs& args) {
   // The first SIGINT, SIGTERM or SIGHUP finishes the runs under way and writes the files
   // (interrupt.hpp).
@@ -54,7 +119,25 @@ void run_validate(ValidateArgs& args) {
     };
   }
   options.command = "camplace validate " + options.dir;
-  const compare::ValidationOutcome outcome = compare::validate_runs(options);
+#ifdef CAMPLACE_HAVE_MPI
+  // Under mpirun with more than one rank: the checks are spread over the ranks and land in the
+  // cache; rank 0 then writes the files from it as a serial validate does.
+  std::unique_ptr<mpi::Session> session;
+  if (mpi::launched_by_mpirun()) session = std::make_unique<mpi::Session>();
+  if (session && session->rank() > 0) {
+    mpi::serve(*session, check_handlers(std::make_shared<compare::RunChecker>(options.dir)));
+    return;
+  }
+  if (session && session->size() > 1 && !check_on_ranks(*session, options)) {
+    // Stopped by a signal: the checks finished so far, from the cache.
+    options.interrupt = nullptr;
+    options.cache_only = true;
+  }
+#endif
+  compare::ValidationOutcome outcome = compare::validate_runs(options);
+#ifdef CAMPLACE_HAVE_MPI
+  if (options.cache_only) outcome.interrupted = true;
+#endif
   if (tty) std::fprintf(stderr, "\n");
   int false_successes = 0, over = 0, checked = 0;
   for (const auto& r : outcome.rows) {

@@ -148,8 +148,10 @@ bool read_cache(const fs::path& file, RunValidation& r) {
   return true;
 }
 
-/// Checks one run file; fills `row` (its error on failure).
-void check_run(const fs::path& dir, const fs::path& file, SceneCache& scenes, RunValidation& row) {
+/// Checks one run file; fills `row` (its error on failure). With `cache_only`, a run without a
+/// cache entry is not checked and false returned.
+bool check_run(const fs::path& dir, const fs::path& file, SceneCache& scenes, RunValidation& row,
+               bool cache_only = false) {
   row.run = fs::relative(file, dir).generic_string();
   const auto start = Clock::now();
   try {
@@ -190,6 +192,7 @@ void check_run(const fs::path& dir, const fs::path& file, SceneCache& scenes, Ru
                                                   std::to_string(kCacheFormat)) +
                                  ".json");
     row.cached = read_cache(cache_file, row);
+    if (!row.cached && cache_only) return false;
     if (!row.cached) {
       voxel::VoxelOptions options;
       options.mode = *mode;
@@ -218,6 +221,7 @@ void check_run(const fs::path& dir, const fs::path& file, SceneCache& scenes, Ru
   } catch (const std::exception& e) {
     row.error = file.string() + ": " + e.what();
   }
+  return !cache_only || row.error.empty();
 }
 
 const char* kCsvHeader =
@@ -311,6 +315,29 @@ std::string markdown_text(const ValidateOptions& options, const ValidationOutcom
 
 }  // namespace
 
+std::vector<std::string> find_validation_runs(const std::string& dir) {
+  std::vector<std::string> out;
+  for (const fs::path& file : find_run_files(dir)) out.push_back(file.string());
+  return out;
+}
+
+struct RunChecker::Impl {
+  fs::path dir;
+  SceneCache scenes;
+};
+
+RunChecker::RunChecker(std::string dir) : impl_(std::make_unique<Impl>()) {
+  impl_->dir = std::move(dir);
+}
+
+RunChecker::~RunChecker() = default;
+
+RunValidation RunChecker::check(const std::string& run_file) {
+  RunValidation row;
+  check_run(impl_->dir, run_file, impl_->scenes, row);
+  return row;
+}
+
 ValidationOutcome validate_runs(const ValidateOptions& options) {
   const fs::path dir(options.dir);
   if (!fs::is_directory(dir)) throw core::InputError(options.dir, "", "not a folder");
@@ -336,7 +363,7 @@ ValidationOutcome validate_runs(const ValidateOptions& options) {
       if (stop_requested()) return;
       const std::size_t i = next.fetch_add(1);
       if (i >= files.size()) return;
-      check_run(dir, files[i], scenes, rows[i]);
+      if (!check_run(dir, files[i], scenes, rows[i], options.cache_only)) continue;
       std::lock_guard<std::mutex> lock(progress_mutex);
       done[i] = 1;
       ++finished;

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 
 #include "camplace/compare/run_validation.hpp"
@@ -217,9 +219,9 @@ void check_resume(const detail::StudySpec& spec, const std::vector<Group>& group
 }
 
 /// Removes what earlier invocations of a study wrote into `dir`: the run folders' files (run
-/// files, summaries, last-output.txt) and the folders once empty, the groups' scenes, the report
-/// with its plots and the exact checks. Nothing else: files of other names stay. Returns the
-/// number of run files removed.
+/// files, summaries, the runs' output-<seed>.txt and the last-output.txt of earlier versions) and
+/// the folders once empty, the groups' scenes, the report with its plots and the exact checks.
+/// Nothing else: files of other names stay. Returns the number of run files removed.
 int discard_study(const std::vector<Group>& groups, const std::string& dir) {
   auto remove_file = [](const fs::path& file) {
     std::error_code ec;
@@ -234,6 +236,18 @@ int discard_study(const std::vector<Group>& groups, const std::string& dir) {
     names.insert(folder.filename().string());
     runs += optimize::discard_runs(folder.string());
     remove_file(folder / "last-output.txt");
+    std::vector<fs::path> outputs;  // output-<seed>.txt, as run_study names them
+    std::error_code ec;
+    for (auto it = fs::directory_iterator(folder, ec); !ec && it != fs::directory_iterator();
+         it.increment(ec)) {
+      const std::string name = it->path().filename().string();
+      if (name.rfind("output-", 0) == 0 && name.size() > 11 &&
+          name.compare(name.size() - 4, 4, ".txt") == 0 &&
+          name.find_first_not_of("0123456789", 7) == name.size() - 4) {
+        outputs.push_back(it->path());
+      }
+    }
+    for (const fs::path& file : outputs) remove_file(file);
     std::error_code not_empty;
     fs::remove(folder, not_empty);  // only when nothing else is left in it
   }
@@ -245,77 +259,190 @@ int discard_study(const std::vector<Group>& groups, const std::string& dir) {
   return runs;
 }
 
+/// One run of the study in the canonical order (groups as in the study file, seeds ascending).
+struct PlannedRun {
+  int index = 0;  ///< k in the canonical order, from 0
+  RunRow row;     ///< the group's scene; the result once the run is finished
+  std::string run_dir, run_file, scene_path;
+  double cost = 0.0;  ///< PendingRun::cost
+  std::optional<optimize::RunResult> before;
+};
+
+std::string run_label(const RunRow& row) { return row.group + " seed " + std::to_string(row.seed); }
+
+/// The file that receives a run's standard output: one per run, so runs of one group may go at
+/// the same time (MPI, shards).
+std::string output_file(const PlannedRun& run) {
+  return run.run_dir + "/output-" + std::to_string(run.row.seed) + ".txt";
+}
+
+/// Appends the runs without a finished run file to DIR/report.md (study --report-only).
+void append_missing_runs(const std::string& dir, const std::vector<std::string>& missing,
+                         int total) {
+  const std::string report = dir + "/report.md";
+  std::ifstream in(report, std::ios::binary);
+  std::ostringstream read;
+  read << in.rdbuf();
+  std::string text = read.str();
+  text += "\n## Missing runs\n\n" + std::to_string(missing.size()) + " of the study's " +
+          std::to_string(total) +
+          " runs have no finished run file yet (written with `--report-only`); the figures above "
+          "leave them out. Run the missing shards, or the study, and report again.\n\n";
+  for (const std::string& run : missing) text += "- " + run + "\n";
+  core::write_file_atomically(report, text);
+}
+
 }  // namespace
 
 StudyOutcome run_study(const StudyOptions& options) {
+  const bool sharded = options.shard_count > 0;
+  if (sharded && (options.shard_index < 1 || options.shard_index > options.shard_count)) {
+    throw std::invalid_argument("run_study: shard index outside 1..shard_count");
+  }
+  if (sharded && (options.restart || options.report_only || options.validate)) {
+    throw std::invalid_argument("run_study: a shard neither restarts, validates nor reports");
+  }
   const detail::StudySpec spec = detail::parse_study(options.study_file);
   const std::string dir = options.out_dir;
   const std::vector<Group> groups = study_groups(spec, dir);
   StudyOutcome outcome;
-  // Before anything in the folder changes: the runs found must be runs of this study.
+  // Before anything in the folder changes: the runs found must be runs of this study (those of
+  // other shards included: the same settings, groups and seeds).
   if (options.restart) {
     outcome.runs_discarded = discard_study(groups, dir);
   } else {
     check_resume(spec, groups, dir);
   }
   fs::create_directories(dir + "/scenes");
-  std::vector<RunRow> rows;
+  const bool conservative = spec.mode == core::LabelMode::conservative;
   const int total_runs = static_cast<int>(groups.size()) * spec.runs_per_group;
+  outcome.runs_total = total_runs;
+  // Every run of the study (of the shard), finished or not; each group's scene written first
+  // (atomically and always with the same content, so shards may write it at the same time).
+  std::vector<PlannedRun> runs;
+  int k = 0;
   for (const Group& g : groups) {
-    const std::string& group = g.name;
-    const std::string& scene_path = g.scene_path;
-    const std::string& run_dir = g.run_dir;
-    core::write_file_atomically(scene_path, g.scene_text);
+    core::write_file_atomically(g.scene_path, g.scene_text);
     RunRow shape;
-    describe_scene(core::load_scene(scene_path), shape);
+    describe_scene(core::load_scene(g.scene_path), shape);
     shape.examination = g.examination->name;
     shape.family = g.examination->family;
-    shape.group = group;
+    shape.group = g.name;
     shape.param = g.param.value_or(0);
-    for (int r = 0; r < spec.runs_per_group; ++r) {
-      ++outcome.runs_total;
-      RunRow row = shape;
-      row.seed = spec.first_seed + r;
-      const std::string run_file = run_dir + "/run-" + std::to_string(row.seed) + ".json";
-      const std::optional<optimize::RunResult> before = existing_run(run_file);
-      if (before && before->stop_reason != optimize::StopReason::interrupted) {
-        add_result(*before, spec.mode == core::LabelMode::conservative, row);
-        ++outcome.runs_done_before;
-        rows.push_back(row);
-        continue;
-      }
-      if (outcome.interrupted) continue;
-      if (!options.launch) throw std::invalid_argument("run_study: no launcher for the runs");
-      std::fprintf(stderr, "study: %s seed %u (run %d of %d)\n", group.c_str(), row.seed,
-                   outcome.runs_total, total_runs);
-      fs::create_directories(run_dir);
-      // An interrupted run's file goes: the file found afterwards is this run's.
-      if (before) fs::remove(run_file);
-      const LaunchOutcome launched = options.launch(
-          {optimize_args(spec, scene_path, row.seed, run_dir), run_dir + "/last-output.txt"});
-      // Ctrl-C ends the study after this run; the report covers the runs finished so far.
-      if (launched.interrupted) outcome.interrupted = true;
-      const std::optional<optimize::RunResult> after = existing_run(run_file);
-      if (after && after->stop_reason != optimize::StopReason::interrupted) {
-        add_result(*after, spec.mode == core::LabelMode::conservative, row);
-        ++outcome.runs_done_now;
-        rows.push_back(row);
-        continue;
-      }
-      // An interrupted run writes its best result as "interrupted" and exits normally.
-      if (after || launched.interrupted) {
-        outcome.interrupted = true;
-        continue;
-      }
-      throw std::runtime_error("study: the run of " + group + " seed " + std::to_string(row.seed) +
-                               " wrote no run file (" +
-                               (launched.failure.empty() ? "exit status 0" : launched.failure) +
-                               "; its standard output is in " + run_dir + "/last-output.txt)");
+    for (int r = 0; r < spec.runs_per_group; ++r, ++k) {
+      if (sharded && shard_of(k, options.shard_count) != options.shard_index) continue;
+      ++outcome.runs_in_shard;
+      PlannedRun run;
+      run.index = k;
+      run.row = shape;
+      run.row.seed = spec.first_seed + r;
+      run.run_dir = g.run_dir;
+      run.scene_path = g.scene_path;
+      run.run_file = g.run_dir + "/run-" + std::to_string(run.row.seed) + ".json";
+      run.cost = static_cast<double>(shape.voxels) * shape.cameras * std::max(1, shape.events);
+      run.before = existing_run(run.run_file);
+      runs.push_back(std::move(run));
     }
+  }
+  auto finished = [](const std::optional<optimize::RunResult>& r) {
+    return r && r->stop_reason != optimize::StopReason::interrupted;
+  };
+  std::vector<PlannedRun*> todo;
+  for (PlannedRun& run : runs) {
+    if (finished(run.before)) {
+      add_result(*run.before, conservative, run.row);
+      ++outcome.runs_done_before;
+    } else if (options.report_only) {
+      outcome.missing.push_back(run_label(run.row));
+    } else {
+      todo.push_back(&run);
+    }
+  }
+  if (!todo.empty() && !options.launch && !options.dispatch) {
+    throw std::invalid_argument("run_study: no launcher for the runs");
+  }
+  // How a launched run ended: its result, an interrupt, or an error (as std::runtime_error).
+  std::vector<const PlannedRun*> done_now;
+  auto settle = [&](PlannedRun& run, const LaunchOutcome& launched) {
+    // Ctrl-C ends the study after this run; the report covers the runs finished so far.
+    if (launched.interrupted) outcome.interrupted = true;
+    const std::optional<optimize::RunResult> after = existing_run(run.run_file);
+    if (finished(after)) {
+      add_result(*after, conservative, run.row);
+      ++outcome.runs_done_now;
+      done_now.push_back(&run);
+      return;
+    }
+    // An interrupted run writes its best result as "interrupted" and exits normally.
+    if (after || launched.interrupted) {
+      outcome.interrupted = true;
+      return;
+    }
+    throw std::runtime_error("study: the run of " + run.row.group + " seed " +
+                             std::to_string(run.row.seed) + " wrote no run file (" +
+                             (launched.failure.empty() ? "exit status 0" : launched.failure) +
+                             "; its standard output is in " + output_file(run) + ")");
+  };
+  auto prepare = [](const PlannedRun& run) {
+    fs::create_directories(run.run_dir);
+    // An interrupted run's file goes: the file found afterwards is this run's.
+    if (run.before) fs::remove(run.run_file);
+  };
+  if (!options.dispatch) {
+    for (PlannedRun* run : todo) {
+      if (outcome.interrupted) break;
+      std::fprintf(stderr, "study: %s (run %d of %d)\n", run_label(run->row).c_str(),
+                   run->index + 1, total_runs);
+      prepare(*run);
+      settle(*run,
+             options.launch({optimize_args(spec, run->scene_path, run->row.seed, run->run_dir),
+                             output_file(*run)}));
+    }
+  } else if (!todo.empty()) {
+    // Longest expected first, so the last runs to finish are short ones; ties in the canonical
+    // order.
+    std::vector<PlannedRun*> order = todo;
+    std::stable_sort(order.begin(), order.end(),
+                     [](const PlannedRun* a, const PlannedRun* b) { return a->cost > b->cost; });
+    std::vector<PendingRun> pending;
+    for (const PlannedRun* run : order) {
+      prepare(*run);
+      pending.push_back(
+          {{optimize_args(spec, run->scene_path, run->row.seed, run->run_dir), output_file(*run)},
+           run->run_file,
+           run_label(run->row),
+           run->cost});
+    }
+    const std::vector<LaunchOutcome> ended = options.dispatch(pending);
+    if (ended.size() != order.size()) {
+      throw std::logic_error("run_study: the dispatcher returned another number of runs");
+    }
+    // Every result is read before an error is raised, in the canonical order.
+    std::string first_error;
+    std::vector<std::pair<PlannedRun*, const LaunchOutcome*>> settled;
+    for (std::size_t i = 0; i < order.size(); ++i) settled.emplace_back(order[i], &ended[i]);
+    std::sort(settled.begin(), settled.end(),
+              [](const auto& a, const auto& b) { return a.first->index < b.first->index; });
+    for (auto& [run, launched] : settled) {
+      try {
+        settle(*run, *launched);
+      } catch (const std::runtime_error& e) {
+        if (first_error.empty()) first_error = e.what();
+      }
+    }
+    if (!first_error.empty()) throw std::runtime_error(first_error);
+  }
+  // A shard's runs are done; the report is written once, by `--report-only` (or the study).
+  if (sharded) return outcome;
+
+  std::vector<RunRow> rows;
+  std::set<const PlannedRun*> now(done_now.begin(), done_now.end());
+  for (const PlannedRun& run : runs) {
+    if (finished(run.before) || now.count(&run) > 0) rows.push_back(run.row);
   }
   // The exact check of every run (issue 10): now, with --validate, or from an earlier
   // `camplace validate DIR`. A row counts only when it is of this very run (same voxel Err).
-  if (options.validate && !outcome.interrupted) {
+  if (options.validate && !outcome.interrupted && !rows.empty()) {
     ValidateOptions check;
     check.dir = dir;
     check.command = options.command;
@@ -337,6 +464,7 @@ StudyOutcome run_study(const StudyOptions& options) {
     row.reached_exact = row.exact_err <= row.target;
   }
   detail::write_study_report(spec, rows, options.command, outcome.interrupted, dir);
+  if (!outcome.missing.empty()) append_missing_runs(dir, outcome.missing, total_runs);
   return outcome;
 }
 

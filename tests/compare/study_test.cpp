@@ -350,7 +350,7 @@ TEST(Study, RunStudyLaunchesEachMissingRunWithOneArgumentPerValue) {
                                              "--quiet",      "--out=" + run_dir,
                                              "--",           dir + "/scenes/cameras-3.json"};
   EXPECT_EQ(fake->launches[1].args, expected);
-  EXPECT_EQ(fake->launches[1].output_file, run_dir + "/last-output.txt");
+  EXPECT_EQ(fake->launches[1].output_file, run_dir + "/output-2.txt");
   // The rows are the copied run file's.
   const std::vector<CsvRow> rows = read_csv(dir + "/runs.csv");
   ASSERT_EQ(rows.size(), 2u);

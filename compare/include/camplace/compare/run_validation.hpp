@@ -7,6 +7,7 @@
 #include <array>
 #include <atomic>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,9 @@ struct ValidateOptions {
   std::function<void(const ValidationProgress&)> on_progress;
   const std::atomic<bool>* interrupt = nullptr;  ///< set (e.g. by Ctrl-C): stop after the runs
                                                  ///< under way; the finished ones are kept
+  /// Check nothing now: take each run's check from the cache, and leave out the runs without
+  /// one (as after an interrupt), e.g. after RunChecker checks on MPI ranks were interrupted.
+  bool cache_only = false;
 };
 
 struct ValidationOutcome {
@@ -66,6 +70,29 @@ struct ValidationOutcome {
 /// with an error; the others are still checked. Throws core::InputError when the folder holds
 /// no run file.
 ValidationOutcome validate_runs(const ValidateOptions& options);
+
+/// The run files validate_runs checks in `dir` (every run-*.json below it, outside its cache),
+/// sorted. Throws core::InputError when the folder cannot be listed.
+std::vector<std::string> find_validation_runs(const std::string& dir);
+
+/// Checks single run files of one folder as validate_runs does, through and into its cache
+/// (DIR/validation-cache), keeping the scenes it loaded for the next: for checks spread over
+/// processes (`camplace validate` under MPI), after which validate_runs finds every check in the
+/// cache. One check at a time per checker.
+class RunChecker {
+ public:
+  explicit RunChecker(std::string dir);  ///< `dir`: as ValidateOptions::dir
+  ~RunChecker();
+  RunChecker(const RunChecker&) = delete;
+  RunChecker& operator=(const RunChecker&) = delete;
+  /// The check of `run_file` (a path below dir, as find_validation_runs gives it); errors are
+  /// in the row's `error`, as in validate_runs.
+  RunValidation check(const std::string& run_file);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 /// The rows of DIR/validation.csv (for reports); empty when the file does not exist.
 std::vector<RunValidation> read_validation_csv(const std::string& dir);

@@ -31,6 +31,21 @@ struct LaunchOutcome {
 /// ending the caller (as std::system does); the launcher reports it in LaunchOutcome.
 using RunLauncher = std::function<LaunchOutcome(const OptimizeLaunch& launch)>;
 
+/// A run of the study still to do, as a RunDispatcher receives it.
+struct PendingRun {
+  OptimizeLaunch launch;  ///< exactly what the serial study hands its launcher
+  std::string run_file;   ///< the run file it writes (DIR/runs/<group>/run-<seed>.json)
+  std::string label;      ///< "<group> seed <seed>", for messages
+  /// Expected cost, for handing out the longest runs first: voxels × cameras × max(1, events)
+  /// of the group's scene (what one evaluation costs; every run has the same budget).
+  double cost = 0.0;
+};
+
+/// Carries out the pending runs elsewhere (e.g. on MPI ranks, app/mpi_study.cpp) and returns how
+/// each ended, in the order given (a run never started: interrupted, or failure "not started").
+/// run_study gives them longest expected first, with their folders made and no stale run file.
+using RunDispatcher = std::function<std::vector<LaunchOutcome>(const std::vector<PendingRun>&)>;
+
 struct StudyOptions {
   std::string study_file;  ///< the study JSON (see data/studies/paper.json)
   std::string out_dir;     ///< must exist
@@ -45,6 +60,15 @@ struct StudyOptions {
   bool restart = false;
   int validate_threads = 0;  ///< 0 = all cores
   std::function<void(const ValidationProgress&)> on_validate_progress;
+  /// When set, carries out the missing runs instead of `launch` one after another (MPI).
+  RunDispatcher dispatch;
+  /// Shards (Slurm job arrays): with shard_count N > 0, only the runs whose index k in the
+  /// canonical order (groups as in the study file, seeds ascending; k from 0) has
+  /// k mod N == shard_index − 1 are run, and no report is written. Shards of one study may run
+  /// at the same time into the same folder. 1 ≤ shard_index ≤ shard_count.
+  int shard_index = 0, shard_count = 0;
+  /// Run nothing: write the report from the run files there and list the missing runs.
+  bool report_only = false;
 };
 
 /// What a study run did.
@@ -54,10 +78,19 @@ struct StudyOutcome {
   int runs_done_now = 0;
   int runs_discarded = 0;    ///< run files removed by StudyOptions::restart
   bool interrupted = false;  ///< Ctrl-C: the report covers the runs finished so far
+  int runs_in_shard = 0;     ///< with a shard: the runs of the study that are the shard's
+  /// With report_only: the runs without a finished run file ("<group> seed <seed>"), in the
+  /// canonical order; the report lists them too.
+  std::vector<std::string> missing;
 };
 
+/// Which shard (1..shard_count) runs the run of canonical index k (from 0).
+inline int shard_of(int k, int shard_count) { return k % shard_count + 1; }
+
 /// Runs every missing run of the study through options.launch (each as
-/// `optimize SCENE ... --runs 1`, so peak memory is per run), then writes DIR/report.md,
+/// `optimize SCENE ... --runs 1`, so peak memory is per run; its standard output in
+/// DIR/runs/<group>/output-<seed>.txt), or all of them at once through options.dispatch, or only
+/// a shard's (then no report), then writes DIR/report.md,
 /// DIR/runs.csv and the plots. A run counts as finished when
 /// DIR/runs/<group>/run-<seed>.json exists and was not interrupted; an interrupted one is run
 /// again. Before any run starts, every run file found must be one of this study (issue 13):
