@@ -328,7 +328,10 @@ compare::RunDispatcher mpi_dispatcher(const mpi::Session& session, const std::st
       outcome.interrupted = result.size() >= 2 && result[1] == '1';
       outcome.failure = result.size() >= 2 ? result.substr(2) : "a malformed MPI result";
       if (rank_signalled || InterruptSignals::flag().load()) {
-        outcome.interrupted = true;  // the job got a signal: stop, keep what is finished
+        // The job is being stopped (mpirun signals its ranks one after another): rank 0 stops
+        // its own run now too, as if the signal had reached it, and reports what is finished.
+        if (!InterruptSignals::flag().load()) std::raise(SIGTERM);
+        outcome.interrupted = true;
         return mpi::Verdict::stop;
       }
       const bool killed = outcome.interrupted || outcome.failure.rfind("killed by signal", 0) == 0;
