@@ -2,7 +2,8 @@
 # Installs every Debian 12 package camplace needs to build, test (including the clang-format
 # check and the viewer's browser test) and benchmark. libtinygltf-dev writes the glTF files of
 # `camplace export`, libjs-three is the three.js it copies beside the viewer page, chromium runs
-# the page headless in the test labelled `browser`.
+# the page headless in the test labelled `browser`. openmpi-bin and libopenmpi-dev: `mpirun camplace
+# study|validate` (docs/cluster.md).
 # The one list of dependencies; README commands and .ci/run call this script.
 set -euo pipefail
 packages=(
@@ -13,6 +14,7 @@ packages=(
   python3 gnuplot-nox clang-format clang libclang-rt-14-dev
   pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
   libtinygltf-dev libjs-three chromium
+  openmpi-bin libopenmpi-dev
 )
 missing=()
 for p in "${packages[@]}"; do
