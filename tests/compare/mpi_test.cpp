@@ -77,13 +77,17 @@ TEST(MpiStudy, ThreeRanksGiveTheSerialStudysRunResults) {
   EXPECT_NE(again.output.find("runs: 4 (4 found, 0 run now)"), std::string::npos) << again.output;
 }
 
-/// The pid of a `camplace optimize` whose parent is an MPI rank other than 0, or 0.
-pid_t worker_run() {
+/// The pid of a `camplace optimize` of the study into `out` whose parent is an MPI rank other
+/// than 0, or 0. (Other tests may run studies at the same time.)
+pid_t worker_run(const std::string& out) {
   for (const auto& e : fs::directory_iterator("/proc")) {
     const std::string pid = e.path().filename().string();
     if (pid.find_first_not_of("0123456789") != std::string::npos) continue;
     std::string cmdline = read_text("/proc/" + pid + "/cmdline");
-    if (cmdline.find(std::string(CAMPLACE_BINARY) + '\0' + "optimize") != 0) continue;
+    if (cmdline.find(std::string(CAMPLACE_BINARY) + '\0' + "optimize") != 0 ||
+        cmdline.find("--out=" + out + "/runs/") == std::string::npos) {
+      continue;
+    }
     std::istringstream stat(read_text("/proc/" + pid + "/stat"));
     std::string field;
     for (int i = 0; i < 4; ++i) stat >> field;  // pid (comm) state ppid
@@ -103,7 +107,7 @@ TEST(MpiStudy, ARunKilledOnAWorkerIsRedoneElsewhereAndEachRunIsMadeOnce) {
                         [&] { return mpirun(3, "study " + study + " --out " + spread); });
   pid_t victim = 0;
   for (int i = 0; i < 3000 && victim == 0; ++i) {
-    victim = worker_run();
+    victim = worker_run(spread);
     if (victim == 0) std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   ASSERT_NE(victim, 0) << "no run on a worker seen";
@@ -129,7 +133,7 @@ TEST(MpiStudy, AJobWhoseWorkerDiesResumesWithTheSameCommand) {
                         [&] { return mpirun(3, "study " + study + " --out " + spread); });
   pid_t run = 0;
   for (int i = 0; i < 3000 && run == 0; ++i) {
-    run = worker_run();
+    run = worker_run(spread);
     if (run == 0) std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   ASSERT_NE(run, 0) << "no run on a worker seen";
