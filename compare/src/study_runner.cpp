@@ -322,7 +322,13 @@ StudyOutcome run_study(const StudyOptions& options) {
   std::vector<PlannedRun> runs;
   int k = 0;
   for (const Group& g : groups) {
-    core::write_file_atomically(g.scene_path, g.scene_text);
+    // Rewritten only when missing or different: shards started later do not touch it.
+    std::ifstream scene_in(g.scene_path, std::ios::binary);
+    std::ostringstream scene_there;
+    scene_there << scene_in.rdbuf();
+    if (!scene_in || scene_there.str() != g.scene_text) {
+      core::write_file_atomically(g.scene_path, g.scene_text);
+    }
     RunRow shape;
     describe_scene(core::load_scene(g.scene_path), shape);
     shape.examination = g.examination->name;
