@@ -41,9 +41,10 @@ struct PendingRun {
   double cost = 0.0;
 };
 
-/// Carries out the pending runs elsewhere (e.g. on MPI ranks, app/mpi_study.cpp) and returns how
-/// each ended, in the order given (a run never started: interrupted, or failure "not started").
-/// run_study gives them longest expected first, with their folders made and no stale run file.
+/// Carries out the pending runs elsewhere (on MPI ranks: app/study_command.cpp, app/mpi_work.cpp)
+/// and returns how each ended, in the order given (a run never started, after an interrupt or an
+/// error: interrupted, no failure). run_study gives them longest expected first, with their
+/// folders made and no stale run file, and judges each by its run file as after `launch`.
 using RunDispatcher = std::function<std::vector<LaunchOutcome>(const std::vector<PendingRun>&)>;
 
 struct StudyOptions {
@@ -78,7 +79,7 @@ struct StudyOutcome {
   int runs_done_now = 0;
   int runs_discarded = 0;    ///< run files removed by StudyOptions::restart
   bool interrupted = false;  ///< Ctrl-C: the report covers the runs finished so far
-  int runs_in_shard = 0;     ///< with a shard: the runs of the study that are the shard's
+  int runs_in_shard = 0;     ///< the runs this invocation covers (the shard's, or all)
   /// With report_only: the runs without a finished run file ("<group> seed <seed>"), in the
   /// canonical order; the report lists them too.
   std::vector<std::string> missing;
@@ -90,7 +91,7 @@ inline int shard_of(int k, int shard_count) { return k % shard_count + 1; }
 /// Runs every missing run of the study through options.launch (each as
 /// `optimize SCENE ... --runs 1`, so peak memory is per run; its standard output in
 /// DIR/runs/<group>/output-<seed>.txt), or all of them at once through options.dispatch, or only
-/// a shard's (then no report), then writes DIR/report.md,
+/// a shard's (then no report), or none (report_only), then writes DIR/report.md,
 /// DIR/runs.csv and the plots. A run counts as finished when
 /// DIR/runs/<group>/run-<seed>.json exists and was not interrupted; an interrupted one is run
 /// again. Before any run starts, every run file found must be one of this study (issue 13):
