@@ -221,8 +221,8 @@ std::string plot(const std::string& dir, const std::string& name, const std::str
 }
 
 /// Box plot of the final Err of each group of `family` (box: quartiles, whiskers: smallest and
-/// largest, bar: median), the groups evenly spaced and labelled by `label`, with the success
-/// target and "reached/runs" above each box; "" when the study has no such group.
+/// largest, bar: median), the groups evenly spaced and labelled by `label` over "reached/runs",
+/// with the success target; "" when the study has no such group.
 std::string err_box_plot(const std::string& dir, const std::string& name, const std::string& title,
                          const std::string& xlabel, const std::vector<GroupStats>& groups,
                          const std::string& family,
@@ -243,20 +243,20 @@ std::string err_box_plot(const std::string& dir, const std::string& name, const 
   const std::string file = gnuplot_string(dir + "/" + name + ".dat");
   std::ostringstream cmd;
   cmd << "set title '" << title << "'\nset xlabel '" << xlabel
-      << "'\nset ylabel 'final Err of a run [m²]'\nset grid ytics\nset key outside right top box\n"
-      << "set xrange [-0.6:" << k - 0.4 << "]\nset yrange [0:*]\nset offsets 0, 0, graph 0.1, 0\n"
+      << " (below: runs that reached the target / runs)' offset 0,-1\nset bmargin 5\n"
+      << "set ylabel 'final Err of a run [m²]'\nset grid ytics\nset key outside right top box\n"
+      << "set xrange [-0.6:" << k - 0.4 << "]\nset yrange [0:*]\n"
       << "set boxwidth 0.5\nset style fill solid 0.3 border -1\nset xtics scale 0\n"
       << "plot " << file
-      << " using 1:4:3:7:6:xtic(2) with candlesticks whiskerbars 0.5 lc rgb '#1f77b4' title "
-         "'Err: quartiles, min–max', "
+      << " using 1:4:3:7:6:xtic(sprintf(\"%s\\n%d/%d\", stringcolumn(2), $9, $10)) with "
+         "candlesticks whiskerbars 0.5 lc rgb '#1f77b4' title 'Err: quartiles, min–max', "
       << file << " using 1:5:5:5:5 with candlesticks lw 2 lc rgb 'black' title 'median', " << file
-      << " using 1:8 with points pt 6 ps 1.5 lc rgb '#d62728' title 'success target', " << file
-      << " using 1:7:(sprintf('%d/%d', $9, $10)) with labels offset 0,0.8 notitle\n";
+      << " using 1:8 with points pt 6 ps 1.5 lc rgb '#d62728' title 'success target'\n";
   detail::gnuplot_png(dir + "/" + name + ".png", cmd.str());
   return figure(name, title,
                 "Box: the middle half of the runs' final Err (quartiles), bar: the median, "
                 "whiskers: the smallest and the largest; red circle: the success target (median "
-                "over the group's runs); above each box: runs that reached it / runs.");
+                "over the group's runs); below each group's label: runs that reached it / runs.");
 }
 
 /// Thousands separators for counts ("160,000").

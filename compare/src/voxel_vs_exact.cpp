@@ -259,7 +259,7 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
                               : "voxel diagonal") +
           " [m]'\nset ylabel '|d_{voxel} - d_{exact}| [m] (log scale; 0 not "
           "shown)'\n"
-          "set key outside below box\nset grid\nset logscale y\n"
+          "set key outside right top box\nset grid\nset logscale y\n"
           "plot '" +
           dir +
           "/error_vs_resolution.dat' index 0 using 1:2 with linespoints lc 1 pt 7 title 'center: "
@@ -273,10 +273,10 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
                      "refined: max', "
                    : "") +
           "'' index " + lost_index +
-          " using 1:2 with points pt 2 ps 1.5 lc rgb '#d62728' title 'filter lost the person "
-          "(not voxelisation error)', "
+          " using 1:2 with points pt 2 ps 1.5 lc rgb '#d62728' title 'filter lost the person (not "
+          "voxelisation error)', "
           "x with lines lc rgb 'gray40' dashtype 2 title 'one voxel diagonal'\n",
-      800, 620);
+      1100, 560);
 
   // Plot 2: d_voxel against d_exact per state, one colour per resolution, one point type per
   // series.
@@ -315,7 +315,7 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
   detail::gnuplot_png(dir + "/d_voxel_vs_d_exact.png",
                       "set title 'd(C, M) per state: voxel pipeline against exact'\n"
                       "set xlabel 'd_{exact} [m]'\nset ylabel 'd_{voxel} [m]'\nset key outside "
-                      "right top box\nset grid\nset size ratio -1\n" +
+                      "right top box\nset grid\nset size square\n" +
                           scatter_cmd +
                           ", x with lines lc rgb 'gray40' dashtype 2 title 'd_{voxel} = "
                           "d_{exact}'\n",

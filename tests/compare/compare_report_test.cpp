@@ -13,6 +13,7 @@
 
 #include "camplace/compare/optimizer_validation.hpp"
 #include "command.hpp"
+#include "report_header.hpp"
 #include "scene_builder.hpp"
 
 namespace camplace::testing {
@@ -144,6 +145,8 @@ TEST(CompareReport, RowsMatchDirectEvaluationsAndRerunIsIdentical) {
   }
 
   const std::map<std::string, std::string> before = read_dir(dir + "/a");
+  expect_provenance_header(before.at("report.md"), "# Voxel pipeline against the exact pipeline",
+                           scene, scene, "resolutions 4x4x4, 8x8x8, refine 0");
   // The files the report promises, each non-empty, and the timing really is where it is dropped.
   for (const char* name : {"compare.csv", "err.csv", "report.md", "error_vs_resolution.png",
                            "d_voxel_vs_d_exact.png"}) {
