@@ -2,6 +2,7 @@
 #include "study_report.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -191,7 +192,8 @@ std::string plot(const std::string& dir, const std::string& name, const std::str
   std::ostringstream dat, cmd;
   int blocks = 0;
   cmd << "set title '" << title << "'\nset xlabel '" << xlabel << "'\nset ylabel '" << ylabel
-      << "'\nset grid\nset key outside right top box\nset yrange [0:*]\n";
+      << "'\nset grid\nset key outside right top box\nset yrange [0:*]\n"
+      << "set offsets graph 0.04, graph 0.04, graph 0.06, 0\n";
   std::string plot_cmd;
   for (const Series& line : series) {
     const GroupValue& value = line.y ? line.y : y;
@@ -232,8 +234,11 @@ std::string err_box_plot(const std::string& dir, const std::string& name, const 
       << ": index label min_err q1_err median_err q3_err max_err target reached runs (m², "
          "quartiles interpolated)\n";
   int k = 0;
+  double lo = INFINITY, hi = 0.0;
   for (const GroupStats& g : groups) {
     if (g.family != family) continue;
+    lo = std::min({lo, g.min_err, g.median_target});
+    hi = std::max({hi, g.max_err, g.median_target});
     dat << k++ << " \"" << label(g) << "\" " << num(g.min_err, 6) << " " << num(g.q1_err, 6) << " "
         << num(g.median_err, 6) << " " << num(g.q3_err, 6) << " " << num(g.max_err, 6) << " "
         << num(g.median_target, 6) << " " << g.reached << " " << g.runs << "\n";
@@ -244,9 +249,15 @@ std::string err_box_plot(const std::string& dir, const std::string& name, const 
   std::ostringstream cmd;
   cmd << "set title '" << title << "'\nset xlabel '" << xlabel
       << " (below: runs that reached the target / runs)' offset 0,-1\nset bmargin 5\n"
-      << "set ylabel 'final Err of a run [m²]'\nset grid ytics\nset key outside right top box\n"
-      << "set xrange [-0.6:" << k - 0.4 << "]\nset yrange [0:*]\n"
-      << "set boxwidth 0.5\nset style fill solid 0.3 border -1\nset xtics scale 0\n"
+      << "set grid ytics\nset key outside right top box\nset xrange [-0.6:" << k - 0.4 << "]\n";
+  // Err spanning more than a factor 20 (and no Err 0): a log scale, so that no box is flat.
+  if (lo > 0.0 && hi > 20.0 * lo) {
+    cmd << "set ylabel 'final Err of a run [m²] (log scale)'\nset logscale y\nset yrange ["
+        << num(lo / 1.5, 9) << ":" << num(hi * 1.5, 9) << "]\n";
+  } else {
+    cmd << "set ylabel 'final Err of a run [m²]'\nset yrange [0:*]\n";
+  }
+  cmd << "set boxwidth 0.5\nset style fill solid 0.3 border -1\nset xtics scale 0\n"
       << "plot " << file
       << " using 1:4:3:7:6:xtic(sprintf(\"%s\\n%d/%d\", stringcolumn(2), $9, $10)) with "
          "candlesticks whiskerbars 0.5 lc rgb '#1f77b4' title 'Err: quartiles, min–max', "
@@ -556,8 +567,8 @@ void write_study_report(const StudySpec& spec, const std::vector<RunRow>& rows,
                      [](const GroupStats& g) { return g.resolution; });
   md << plot(dir, "iterations_vs_objects", "Iterations against static and dynamic objects",
              "objects", "evaluations per run", groups,
-             {{"static_objects", "static objects", {}, q1_evals, q3_evals},
-              {"dynamic_objects", "dynamic objects", {}, q1_evals, q3_evals}},
+             {{"static_objects", "static objects: median, quartiles", {}, q1_evals, q3_evals},
+              {"dynamic_objects", "dynamic objects: median, quartiles", {}, q1_evals, q3_evals}},
              evals, evals_caption);
   md << err_box_plot(dir, "err_vs_dynamic_objects", "Final Err against dynamic objects",
                      "dynamic objects", groups, "dynamic_objects",
