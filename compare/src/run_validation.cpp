@@ -279,7 +279,8 @@ std::string markdown_text(const ValidateOptions& options, const ValidationOutcom
                                   {{"folder", "`" + options.dir + "`"},
                                    {"threads", std::to_string(threads)},
                                    {"run files", std::to_string(rows.size())}},
-                                  options.command, started, "none could be read")
+                                  options.command, started,
+                                  scenes.empty() ? "none could be read" : "")
      << "Each run's best configuration evaluated by the exact pipeline (CGAL Nef polyhedra, "
         "inscribed "
      << "pyramid FOV) and by the voxel pipeline at the run's mode and resolution with the same "

@@ -132,6 +132,7 @@ TEST(Validate, ExactErrEqualsEvaluateOnTheRunFileAndRerunsComeFromTheCache) {
   expect_provenance_header(read(out + "/validation.md"),
                            "# Exact check of the optimizer results in " + out, scene, scene,
                            "folder `" + out + "`, threads ");
+  EXPECT_EQ(read(out + "/validation.md").find("none could be read"), std::string::npos);
 }
 
 TEST(Validate, BadFoldersAndFilesAreErrorsThatKeepTheOtherRuns) {
