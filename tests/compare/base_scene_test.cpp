@@ -236,6 +236,32 @@ TEST(BaseScene, TheDescriptionRecordsTheBasesHashSoAChangedBaseChangesTheScene) 
   EXPECT_EQ(generate_scene_json("cameras", 3, 1).find("--base"), std::string::npos);
 }
 
+TEST(BaseScene, AMeshFileOfTheBaseThatChangesOnlyInBytesStillChangesTheScene) {
+  // The table read from an OFF file; the second copy differs by a trailing blank line only, so
+  // the meshes are the same and only the SHA-256 in the description tells them apart.
+  const std::string dir = temp_dir("base-mesh");
+  const std::string off =
+      "OFF\n4 4 0\n2.1 1.3 0\n2.9 1.3 0\n2.1 1.9 0\n2.3 1.5 0.8\n"
+      "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  std::string with_file = kBase;
+  const std::string table =
+      R"("tetrahedron": [[2.1, 1.3, 0], [2.9, 1.3, 0], [2.1, 1.9, 0], [2.3, 1.5, 0.8]])";
+  with_file.replace(with_file.find(table), table.size(), R"("file": "table.off")");
+  const std::string scene = write_file(dir + "/cell.json", with_file);
+  write_file(dir + "/table.off", off);
+  const BaseScene before = compare::load_base_scene(scene, "cell.json");
+  ASSERT_EQ(before.hashes.meshes.size(), 1u);
+  const std::string text = generate_scene_json("resolution", 1, 1, &before);
+  write_file(dir + "/table.off", off + "\n");
+  const BaseScene after = compare::load_base_scene(scene, "cell.json");
+  EXPECT_EQ(after.scene.static_obstacles[0].mesh.vertices,
+            before.scene.static_obstacles[0].mesh.vertices);
+  EXPECT_NE(after.hashes.meshes[0].second, before.hashes.meshes[0].second);
+  const std::string changed = generate_scene_json("resolution", 1, 1, &after);
+  EXPECT_NE(changed, text);
+  EXPECT_NE(changed.find(after.hashes.combined), std::string::npos);
+}
+
 /// `sha256sum FILE`'s digest: an implementation independent of camplace's.
 std::string sha256sum(const std::string& path) {
   FILE* pipe = popen(("sha256sum '" + path + "'").c_str(), "r");
