@@ -4,6 +4,10 @@
 #include <array>
 #include <cstdio>
 #include <string>
+#include <utility>
+#include <vector>
+
+#include "camplace/core/provenance.hpp"
 
 namespace camplace::compare::detail {
 
@@ -17,6 +21,65 @@ inline std::string num(double v, int digits = 6) {
 /// "NXxNYxNZ".
 inline std::string resolution_text(const std::array<int, 3>& n) {
   return std::to_string(n[0]) + "x" + std::to_string(n[1]) + "x" + std::to_string(n[2]);
+}
+
+/// One scene file of a report's provenance header: its path as the report names it, and the
+/// hashes of it and of the mesh files it references.
+struct HeaderScene {
+  std::string role;  ///< what the scene is to the report ("scene", "base scene", a group's name)
+  std::string path;
+  core::SceneHashes hashes;
+};
+
+/// What every report starts with (issue 13 part 1): a table of the camplace version and commit,
+/// the scene files with the first 12 hex digits of their SHA-256 (mesh files too), the resolved
+/// options (name, value), the command, the host and the start time (ISO 8601), then a details
+/// block with every full SHA-256 (beyond the first 3 scenes one row counts the others, their
+/// hashes only in the details). `scene_note`, when not empty, is a row of its own before the
+/// scenes (e.g. a scene that has no file).
+/// Lines: "| camplace | VERSION, commit COMMIT |", "| started | TIME |", "| host | NAME |" ...
+inline std::string provenance_header(
+    const std::vector<HeaderScene>& scenes,
+    const std::vector<std::pair<std::string, std::string>>& options, const std::string& command,
+    const std::string& started, const std::string& scene_note = "") {
+  const core::BuildInfo build = core::build_info();
+  auto short_hash = [](const std::string& hex) { return "`" + hex.substr(0, 12) + "…`"; };
+  std::string md = "| provenance | |\n|---|---|\n| camplace | " + build.version + ", commit `" +
+                   build.commit + "` |\n";
+  if (!scene_note.empty()) md += "| scene | " + scene_note + " |\n";
+  for (std::size_t i = 0; i < scenes.size(); ++i) {
+    const HeaderScene& s = scenes[i];
+    if (i == 3) {
+      md += "| | and " + std::to_string(scenes.size() - 3) +
+            " more scene files (their SHA-256 in the details below) |\n";
+      break;
+    }
+    md += "| " + s.role + " | `" + s.path + "`, SHA-256 " + short_hash(s.hashes.scene);
+    for (const auto& [mesh, hash] : s.hashes.meshes) {
+      md += "; mesh file `" + mesh + "`, SHA-256 " + short_hash(hash);
+    }
+    md += " |\n";
+  }
+  std::string resolved;
+  for (const auto& [name, value] : options) {
+    resolved += (resolved.empty() ? "" : ", ") + name + " " + value;
+  }
+  md += "| options | " + resolved + " |\n| command | `" + command + "` |\n| host | " +
+        core::host_name() + " |\n| started | " + started + " |\n";
+  if (!scenes.empty()) {
+    md +=
+        "\n<details><summary>Full SHA-256 of the scene and mesh files</summary>\n\n"
+        "| file | SHA-256 |\n|---|---|\n";
+    for (const HeaderScene& s : scenes) {
+      md += "| `" + s.path + "` | " + s.hashes.scene + " |\n";
+      for (const auto& [mesh, hash] : s.hashes.meshes) md += "| `" + mesh + "` | " + hash + " |\n";
+      if (!s.hashes.meshes.empty()) {
+        md += "| `" + s.path + "` with its mesh files (combined) | " + s.hashes.combined + " |\n";
+      }
+    }
+    md += "\n</details>\n";
+  }
+  return md + "\n";
 }
 
 }  // namespace camplace::compare::detail

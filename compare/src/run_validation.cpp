@@ -90,6 +90,14 @@ class SceneCache {
     return loaded;
   }
 
+  /// Every scene loaded so far, in path order, for the report's header.
+  std::vector<detail::HeaderScene> loaded() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::vector<detail::HeaderScene> out;
+    for (const auto& [path, scene] : scenes_) out.push_back({"scene", path, scene->hashes});
+    return out;
+  }
+
   /// The voxel evaluator for (scene, mode, resolution, refinement) with the pyramid FOV.
   std::shared_ptr<const voxel::VoxelEvaluator> evaluator(const std::string& path,
                                                          const LoadedScene& scene,
@@ -254,7 +262,9 @@ std::string csv_text(const std::vector<RunValidation>& rows) {
   return out.str();
 }
 
-std::string markdown_text(const ValidateOptions& options, const ValidationOutcome& outcome) {
+std::string markdown_text(const ValidateOptions& options, const ValidationOutcome& outcome,
+                          const std::vector<detail::HeaderScene>& scenes, int threads,
+                          const std::string& started) {
   const auto& rows = outcome.rows;
   int checked = 0, reached_voxel = 0, reached_exact = 0, false_successes = 0, over = 0;
   double worst_over = -std::numeric_limits<double>::infinity();
@@ -267,11 +277,14 @@ std::string markdown_text(const ValidateOptions& options, const ValidationOutcom
     over += r.max_overestimate > 0.0;
     worst_over = std::max(worst_over, r.max_overestimate);
   }
-  const core::BuildInfo build = core::build_info();
   std::ostringstream md;
   md << "# Exact check of the optimizer results in " << options.dir << "\n\n"
-     << "Made by camplace " << build.version << " (commit " << build.commit << ") on "
-     << core::host_name() << ", " << core::now_iso8601() << ":\n\n    " << options.command << "\n\n"
+     << detail::provenance_header(scenes,
+                                  {{"folder", "`" + options.dir + "`"},
+                                   {"threads", std::to_string(threads)},
+                                   {"run files", std::to_string(rows.size())}},
+                                  options.command, started,
+                                  scenes.empty() ? "none could be read" : "")
      << "Each run's best configuration evaluated by the exact pipeline (CGAL Nef polyhedra, "
         "inscribed "
      << "pyramid FOV) and by the voxel pipeline at the run's mode and resolution with the same "
@@ -346,6 +359,7 @@ ValidationOutcome validate_runs(const ValidateOptions& options) {
     throw core::InputError(options.dir, "",
                            "holds no run file (run-<seed>.json of camplace optimize or study)");
   }
+  const std::string started = core::now_iso8601();
   const int threads = std::max(
       1, std::min<int>(options.threads > 0 ? options.threads
                                            : static_cast<int>(std::thread::hardware_concurrency()),
@@ -388,7 +402,8 @@ ValidationOutcome validate_runs(const ValidateOptions& options) {
     outcome.rows.push_back(std::move(rows[i]));
   }
   core::write_file_atomically((dir / "validation.csv").string(), csv_text(outcome.rows));
-  core::write_file_atomically((dir / "validation.md").string(), markdown_text(options, outcome));
+  core::write_file_atomically((dir / "validation.md").string(),
+                              markdown_text(options, outcome, scenes.loaded(), threads, started));
   return outcome;
 }
 

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -285,10 +286,10 @@ bool boxes_apart(const Box3& a, const Box3& b, double margin) {
   return false;
 }
 
-bool inside_area(const Box3& b) {
-  return b.min.x() >= kArea.min.x() + kWallMargin && b.max.x() <= kArea.max.x() - kWallMargin &&
-         b.min.y() >= kArea.min.y() + kWallMargin && b.max.y() <= kArea.max.y() - kWallMargin &&
-         b.min.z() >= kArea.min.z() && b.max.z() <= kArea.max.z();
+bool inside_area(const Box3& b, const Box3& area) {
+  return b.min.x() >= area.min.x() + kWallMargin && b.max.x() <= area.max.x() - kWallMargin &&
+         b.min.y() >= area.min.y() + kWallMargin && b.max.y() <= area.max.y() - kWallMargin &&
+         b.min.z() >= area.min.z() && b.max.z() <= area.max.z();
 }
 
 struct PyramidShape {
@@ -302,7 +303,7 @@ struct PyramidShape {
 /// bounding box kClearance away from every box in `avoid` (and from the ones drawn before).
 std::vector<SceneObject> place_randomly(std::mt19937& rng, const std::vector<int>& facets,
                                         const PyramidShape& shape, const std::string& name,
-                                        std::vector<Box3> avoid) {
+                                        std::vector<Box3> avoid, const Box3& area = kArea) {
   std::vector<SceneObject> out;
   for (std::size_t j = 0; j < facets.size(); ++j) {
     const int n = corners_for(facets[j]);
@@ -312,8 +313,8 @@ std::vector<SceneObject> place_randomly(std::mt19937& rng, const std::vector<int
       const double r = shape.radius_lo + (shape.radius_hi - shape.radius_lo) * unit(rng);
       const double h = shape.height_lo + (shape.height_hi - shape.height_lo) * unit(rng);
       const double turn = 2.0 * kPi * unit(rng);
-      const Vec3 center(kArea.min.x() + kArea.size().x() * unit(rng),
-                        kArea.min.y() + kArea.size().y() * unit(rng), 0.0);
+      const Vec3 center(area.min.x() + area.size().x() * unit(rng),
+                        area.min.y() + area.size().y() * unit(rng), area.min.z());
       const Vec3 lean(shape.lean * r * (2.0 * unit(rng) - 1.0),
                       shape.lean * r * (2.0 * unit(rng) - 1.0), 0.0);
       const double base_z = upright ? 0.0 : h, apex_z = upright ? h : 0.0;
@@ -324,7 +325,7 @@ std::vector<SceneObject> place_randomly(std::mt19937& rng, const std::vector<int
       }
       TriangleMesh mesh = pyramid(ring, center + lean + Vec3(0, 0, apex_z));
       const Box3 box = core::bounding_box(mesh);
-      if (!inside_area(box)) continue;
+      if (!inside_area(box, area)) continue;
       if (!std::all_of(avoid.begin(), avoid.end(),
                        [&](const Box3& o) { return boxes_apart(box, o, kClearance); })) {
         continue;
@@ -336,9 +337,9 @@ std::vector<SceneObject> place_randomly(std::mt19937& rng, const std::vector<int
                                  std::move(mesh)));
       placed = true;
     }
-    // The free floor of S is far larger than what these objects need: not finding a place is a
-    // bug in the shapes above, not a user error.
-    CAMPLACE_ASSERT(placed);
+    // On the paper's S the free floor is far larger than what these objects need: not finding
+    // a place is a bug in the shapes above. On another base it says the base has no room.
+    if (!placed) return {};
   }
   return out;
 }
@@ -353,27 +354,41 @@ std::vector<Box3> boxes_of(const std::vector<SceneObject>& objects) {
 // Families
 
 const std::vector<SceneFamily> kFamilies = {
-    {"resolution", true, 0, 5, false, "voxels (16+4i)x(12+3i)x(12+3i)"},
-    {"static_facets", true, 0, 5, false, "8+60i static facets at 2 objects (4+30i each)"},
+    {"resolution", true, 0, 5, false, "voxels (16+4i)x(12+3i)x(12+3i)",
+     "the base's voxels times (4+i)/4 along each axis, rounded"},
+    {"static_facets", true, 0, 5, false, "8+60i static facets at 2 objects (4+30i each)",
+     "each static tetrahedron of the base with 4+30i facets (same volume)"},
     {"static_objects", true, 0, 3, false,
      "2+i static tetrahedra, 8+4i facets (the paper's \"6+4i facets at 2+i objects\" is "
-     "impossible for closed polyhedra)"},
+     "impossible for closed polyhedra)",
+     "the base's static obstacles and i of the paper's 3 extra pieces of furniture, their floor "
+     "plan stretched from the paper's 4x3 m to the base's area"},
     {"dynamic_facets", true, 0, 5, false,
-     "24+60i dynamic facets at 3 objects per time step, 2 time steps (4+10i each)"},
+     "24+60i dynamic facets at 3 objects per time step, 2 time steps (4+10i each)",
+     "each dynamic tetrahedron of the base with 4+10i facets (same volume)"},
     {"dynamic_objects", true, 0, 3, true,
-     "2+i dynamic objects with 24+4i facets in total, 1 time step, placed randomly"},
+     "2+i dynamic objects with 24+4i facets in total, 1 time step, placed randomly",
+     "the base's first time step, its dynamic obstacles replaced by 2+i random ones (24+4i "
+     "facets, 0.5-0.95 m tall)"},
     {"dynamic_steps", true, 1, 5, false,
-     "i time steps with 2i dynamic tetrahedra (8i facets), 3 events per step"},
+     "i time steps with 2i dynamic tetrahedra (8i facets), 3 events per step",
+     "not on another base: it moves the paper's robot arm"},
     {"unmodelled_facets", true, 0, 5, false,
-     "24+60i target facets at 2 objects per event, 3 events (4+10i each)"},
+     "24+60i target facets at 2 objects per event, 3 events (4+10i each)",
+     "each target tetrahedron of the base with 4+10i facets (same volume)"},
     {"unmodelled_objects", true, 0, 3, true,
-     "2+i target objects with 24+4i facets in total, 1 event, placed randomly"},
+     "2+i target objects with 24+4i facets in total, 1 event, placed randomly",
+     "one event of 2+i random targets (24+4i facets, 1.5-1.9 m tall) in every time step of "
+     "the base"},
     {"unmodelled_events", true, 1, 5, false,
-     "i events with 2i target tetrahedra (8i facets), 3 time steps"},
-    {"cameras", true, 3, 9, false, "i cameras"},
-    {"domain_ceiling", false, 0, 0, false, "cameras on the ceiling only (domain preset ceiling)"},
+     "i events with 2i target tetrahedra (8i facets), 3 time steps",
+     "the base's first i events of every time step (i up to the base's fewest), weights scaled "
+     "to the step's sum"},
+    {"cameras", true, 3, 9, false, "i cameras", "i cameras, with the base's shared domain"},
+    {"domain_ceiling", false, 0, 0, false, "cameras on the ceiling only (domain preset ceiling)",
+     ""},
     {"domain_upper_fourth", false, 0, 0, false,
-     "cameras in the upper fourth of S's height only (domain preset upper_fourth)"},
+     "cameras in the upper fourth of S's height only (domain preset upper_fourth)", ""},
 };
 
 /// A generated scene and what its description says beyond the scene itself.
@@ -464,6 +479,7 @@ GeneratedScene build(const SceneFamily& family, int i, unsigned seed) {
     const PyramidShape shape{0.15, 0.3, 0.5, 0.95, 0.5, true};
     s.time_steps[0].dynamic_obstacles =
         place_randomly(rng, split_facets(24 + 4 * i, 2 + i), shape, "robot part", avoid);
+    CAMPLACE_ASSERT(s.time_steps[0].dynamic_obstacles.size() == static_cast<std::size_t>(2 + i));
   } else if (f == "dynamic_steps") {
     s.time_steps.clear();
     for (int h = 0; h < i; ++h) {
@@ -482,6 +498,7 @@ GeneratedScene build(const SceneFamily& family, int i, unsigned seed) {
     const PyramidShape shape{0.15, 0.3, 1.5, 1.9, 0.3, false};
     const core::Event event{
         1.0, place_randomly(rng, split_facets(24 + 4 * i, 2 + i), shape, "target", avoid)};
+    CAMPLACE_ASSERT(event.targets.size() == static_cast<std::size_t>(2 + i));
     for (core::TimeStep& step : s.time_steps) step.events = {event};
   } else if (f == "unmodelled_events") {
     s.time_steps.clear();
@@ -497,6 +514,231 @@ GeneratedScene build(const SceneFamily& family, int i, unsigned seed) {
   }
   finish(g);
   return g;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Families on another base scene (issue 13 part 5)
+
+/// Thrown when `family` cannot be applied to the base: names the family, the base and why.
+[[noreturn]] void not_applicable(const SceneFamily& family, const BaseScene& base,
+                                 const std::string& reason) {
+  throw core::OptionError("base", "family " + family.name +
+                                      " cannot be applied to the base scene " + base.label + ": " +
+                                      reason);
+}
+
+/// `objects` with `facets` facets each (finer()); every one must be a tetrahedron (4 vertices,
+/// 4 facets, as the loader makes of a "tetrahedron" entry: base triangle, then apex).
+std::vector<SceneObject> finer_objects(const SceneFamily& family, const BaseScene& base,
+                                       const std::vector<SceneObject>& objects, int facets,
+                                       const std::string& what) {
+  std::vector<SceneObject> out;
+  for (const SceneObject& o : objects) {
+    if (o.mesh.vertices.size() != 4 || o.mesh.triangles.size() != 4) {
+      not_applicable(family, base,
+                     what + " \"" + o.name + "\" has " + std::to_string(o.mesh.triangles.size()) +
+                         " facets; only tetrahedra are made finer");
+    }
+    NamedTetra t{o.name,
+                 {o.mesh.vertices[0], o.mesh.vertices[1], o.mesh.vertices[2], o.mesh.vertices[3]}};
+    out.push_back(finer(t, facets));
+  }
+  return out;
+}
+
+/// Same names and vertices (a step's critical objects left at their default, SPEC §2).
+bool same_objects(const std::vector<SceneObject>& a, const std::vector<SceneObject>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (a[i].name != b[i].name || a[i].mesh.vertices != b[i].mesh.vertices) return false;
+  }
+  return true;
+}
+
+/// The smallest target part's volume and z-extent rounded down (as finish() sets them).
+core::Plausibility smallest_target(const core::Scene& s) {
+  double min_volume = INFINITY, min_height = INFINITY;
+  for (const core::TimeStep& step : s.time_steps) {
+    for (const core::Event& e : step.events) {
+      for (const SceneObject& o : e.targets) {
+        min_volume = std::min(min_volume, std::abs(core::signed_volume(o.mesh)));
+        min_height = std::min(min_height, o.bounds.size().z());
+      }
+    }
+  }
+  return {floor6(min_volume), floor6(min_height)};
+}
+
+GeneratedScene build_on_base(const SceneFamily& family, int i, unsigned seed,
+                             const BaseScene& base) {
+  GeneratedScene g;
+  g.scene = base.scene;
+  g.domain.clear();  // the base's domains stay unless the family sets a preset
+  core::Scene& s = g.scene;
+  const Box3& area = s.area;
+  const std::string& f = family.name;
+  std::mt19937 rng(seed);
+  // Critical objects left at their default follow the dynamic obstacles they copy.
+  std::vector<bool> default_critical;
+  for (const core::TimeStep& step : s.time_steps) {
+    default_critical.push_back(same_objects(step.critical, step.dynamic_obstacles));
+  }
+  bool new_targets = false;
+  if (f == "resolution") {
+    for (int a = 0; a < 3; ++a) {
+      s.voxels[a] = static_cast<int>(std::lround(base.scene.voxels[a] * (4.0 + i) / 4.0));
+    }
+    const std::string problem = core::resolution_problem(s.voxels);
+    if (!problem.empty()) not_applicable(family, base, problem);
+  } else if (f == "static_facets") {
+    if (s.static_obstacles.empty()) not_applicable(family, base, "it has no static obstacles");
+    s.static_obstacles =
+        finer_objects(family, base, s.static_obstacles, 4 + 30 * i, "static obstacle");
+  } else if (f == "static_objects") {
+    // The paper's extra furniture at the same place relative to the floor (x, y stretched from
+    // the paper's S to the base's), at its own height above the base's floor.
+    std::vector<NamedTetra> extra = extra_static();
+    extra.resize(i);
+    for (NamedTetra& t : extra) {
+      for (Vec3& p : t.points) {
+        p = rounded(
+            Vec3(area.min.x() + (p.x() - kArea.min.x()) * area.size().x() / kArea.size().x(),
+                 area.min.y() + (p.y() - kArea.min.y()) * area.size().y() / kArea.size().y(),
+                 area.min.z() + p.z()));
+      }
+      s.static_obstacles.push_back(tetra_object(t));
+    }
+  } else if (f == "dynamic_facets") {
+    bool any = false;
+    for (core::TimeStep& step : s.time_steps) {
+      any = any || !step.dynamic_obstacles.empty();
+      step.dynamic_obstacles =
+          finer_objects(family, base, step.dynamic_obstacles, 4 + 10 * i, "dynamic obstacle");
+    }
+    if (!any) not_applicable(family, base, "it has no dynamic obstacles");
+  } else if (f == "dynamic_objects") {
+    s.time_steps.resize(1);
+    default_critical.resize(1);
+    // A base with explicit critical objects keeps them (they are what must be observed).
+    std::vector<Box3> avoid = boxes_of(s.static_obstacles);
+    for (const core::Event& e : s.time_steps[0].events) {
+      const std::vector<Box3> b = boxes_of(e.targets);
+      avoid.insert(avoid.end(), b.begin(), b.end());
+    }
+    const PyramidShape shape{0.15, 0.3, 0.5, 0.95, 0.5, true};
+    s.time_steps[0].dynamic_obstacles =
+        place_randomly(rng, split_facets(24 + 4 * i, 2 + i), shape, "robot part", avoid, area);
+    if (s.time_steps[0].dynamic_obstacles.empty()) {
+      not_applicable(family, base,
+                     "no room for " + std::to_string(2 + i) +
+                         " objects 0.5-0.95 m tall and up to 0.6 m wide, 0.1 m clear of the "
+                         "other objects and the walls (seed " +
+                         std::to_string(seed) + ")");
+    }
+  } else if (f == "dynamic_steps") {
+    not_applicable(family, base,
+                   "the family moves the paper's robot arm over i time steps; it applies to the "
+                   "paper's basic setup only (no base)");
+  } else if (f == "unmodelled_facets") {
+    for (core::TimeStep& step : s.time_steps) {
+      for (core::Event& e : step.events) {
+        e.targets = finer_objects(family, base, e.targets, 4 + 10 * i, "target");
+      }
+    }
+  } else if (f == "unmodelled_objects") {
+    std::vector<Box3> avoid = boxes_of(s.static_obstacles);
+    for (const core::TimeStep& step : s.time_steps) {
+      const std::vector<Box3> b = boxes_of(step.dynamic_obstacles);
+      avoid.insert(avoid.end(), b.begin(), b.end());
+    }
+    const PyramidShape shape{0.15, 0.3, 1.5, 1.9, 0.3, false};
+    const core::Event event{
+        1.0, place_randomly(rng, split_facets(24 + 4 * i, 2 + i), shape, "target", avoid, area)};
+    if (event.targets.empty()) {
+      not_applicable(family, base,
+                     "no room for " + std::to_string(2 + i) +
+                         " targets 1.5-1.9 m tall and up to 0.6 m wide, 0.1 m clear of the "
+                         "obstacles and the walls (seed " +
+                         std::to_string(seed) + ")");
+    }
+    for (core::TimeStep& step : s.time_steps) step.events = {event};
+    new_targets = true;
+  } else if (f == "unmodelled_events") {
+    for (std::size_t h = 0; h < s.time_steps.size(); ++h) {
+      std::vector<core::Event>& events = s.time_steps[h].events;
+      if (static_cast<int>(events.size()) < i) {
+        not_applicable(family, base,
+                       "i = " + std::to_string(i) + " needs " + std::to_string(i) +
+                           " events in every time step, and its time step " + std::to_string(h) +
+                           " has " + std::to_string(events.size()));
+      }
+      double all = 0.0, kept = 0.0;
+      for (std::size_t l = 0; l < events.size(); ++l) {
+        all += events[l].weight;
+        if (static_cast<int>(l) < i) kept += events[l].weight;
+      }
+      if (!(kept > 0.0)) {
+        not_applicable(family, base,
+                       "the first " + std::to_string(i) + " events of time step " +
+                           std::to_string(h) + " all have weight 0");
+      }
+      events.resize(i);
+      for (core::Event& e : events) e.weight *= all / kept;
+    }
+  } else if (f == "cameras") {
+    for (const core::CameraDomain& d : s.cameras.domains) {
+      const core::CameraDomain& d0 = s.cameras.domains.front();
+      const bool same = d.x.lo == d0.x.lo && d.x.hi == d0.x.hi && d.y.lo == d0.y.lo &&
+                        d.y.hi == d0.y.hi && d.z.lo == d0.z.lo && d.z.hi == d0.z.hi &&
+                        d.yaw.lo == d0.yaw.lo && d.yaw.hi == d0.yaw.hi &&
+                        d.pitch.lo == d0.pitch.lo && d.pitch.hi == d0.pitch.hi;
+      if (!same) {
+        not_applicable(family, base,
+                       "its cameras have different domains (\"camera_domains\"); the family "
+                       "needs one domain shared by every camera");
+      }
+    }
+    const core::CameraDomain shared = s.cameras.domains.front();
+    s.cameras.count = i;
+    s.cameras.domains.assign(i, shared);
+  } else if (f == "domain_ceiling") {
+    g.domain = "ceiling";
+  } else if (f == "domain_upper_fourth") {
+    g.domain = "upper_fourth";
+  }
+  if (!g.domain.empty()) {
+    s.cameras.domains.assign(s.cameras.count, *core::domain_preset(area, g.domain));
+  }
+  for (std::size_t h = 0; h < s.time_steps.size(); ++h) {
+    if (default_critical[h]) s.time_steps[h].critical = s.time_steps[h].dynamic_obstacles;
+  }
+  // New targets: thresholds from the smallest target part, as for the paper's scenes; finer
+  // targets keep their volume and height, so the base's thresholds stay.
+  if (new_targets) s.plausibility = smallest_target(s);
+  s.file.clear();
+  s.mesh_files.clear();
+  return g;
+}
+
+/// Throws not_applicable with the loader's reason when the generated scene `text` does not load
+/// (an object leaving S, a target meeting an obstacle, ...).
+void check_loads(const SceneFamily& family, const BaseScene& base, const std::string& text) {
+  namespace fs = std::filesystem;
+  static std::atomic<unsigned> counter{0};
+  const fs::path file =
+      fs::temp_directory_path() / ("camplace-generated-" + std::to_string(::getpid()) + "-" +
+                                   std::to_string(counter++) + ".json");
+  core::write_file_atomically(file.string(), text);
+  std::string problem;
+  try {
+    (void)core::load_scene(file.string());
+  } catch (const core::InputError& e) {
+    problem = "the scene it makes is not valid: " + e.reason() +
+              (e.entry().empty() ? "" : " (at " + e.entry() + ")");
+  }
+  std::error_code ec;
+  fs::remove(file, ec);
+  if (!problem.empty()) not_applicable(family, base, problem);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -528,7 +770,7 @@ void check_invariants(const core::Scene& s) {
 }
 
 std::string describe(const SceneFamily& family, std::optional<int> param, unsigned seed,
-                     const GeneratedScene& g) {
+                     const GeneratedScene& g, const BaseScene* base) {
   const core::Scene& s = g.scene;
   std::size_t dyn_facets = 0, dyn_objects = 0;
   for (const core::TimeStep& step : s.time_steps) {
@@ -544,19 +786,26 @@ std::string describe(const SceneFamily& family, std::optional<int> param, unsign
   std::ostringstream d;
   d << "Generated by `camplace generate " << family.name;
   if (param) d << " --param " << *param;
-  d << " --seed " << seed << "` from the paper's basic setup (data/paper_basic.json): family "
-    << family.name;
+  d << " --seed " << seed;
+  if (base) {
+    // The base's content hash: a changed base (or mesh file) changes every scene made from it.
+    d << " --base " << base->label << "` from the base scene " << base->label
+      << " (SHA-256 of it and its mesh files " << base->hashes.combined << "): family "
+      << family.name;
+  } else {
+    d << "` from the paper's basic setup (data/paper_basic.json): family " << family.name;
+  }
   if (param) d << ", param i = " << *param;
-  d << " (" << family.what << "), seed " << seed
-    << (family.random ? "" : " (the placement does not depend on the seed)") << ". Static "
+  d << " (" << (base && !family.on_base.empty() ? family.on_base : family.what) << "), seed "
+    << seed << (family.random ? "" : " (the placement does not depend on the seed)") << ". Static "
     << facets_of(s.static_obstacles) << " facets at " << s.static_obstacles.size()
     << " objects; dynamic " << dyn_facets << " facets at " << dyn_objects << " objects in "
     << s.time_steps.size() << " time step" << (s.time_steps.size() == 1 ? "" : "s")
     << "; unmodelled " << target_facets << " facets at " << target_objects << " objects in "
     << events.size() << " event" << (events.size() == 1 ? "" : "s")
-    << " (the same targets in every time step); " << s.cameras.count << " cameras, domain "
-    << g.domain << "; voxels " << s.voxels[0] << "x" << s.voxels[1] << "x" << s.voxels[2] << "."
-    << g.note;
+    << (base ? " (in the first time step); " : " (the same targets in every time step); ")
+    << s.cameras.count << " cameras, domain " << (g.domain.empty() ? "of the base" : g.domain)
+    << "; voxels " << s.voxels[0] << "x" << s.voxels[1] << "x" << s.voxels[2] << "." << g.note;
   return d.str();
 }
 
@@ -590,20 +839,34 @@ void check_param(const SceneFamily& f, std::optional<int> param) {
 
 const std::vector<SceneFamily>& scene_families() { return kFamilies; }
 
-std::string generate_scene_json(const std::string& family, std::optional<int> param,
-                                unsigned seed) {
+BaseScene load_base_scene(const std::string& path, const std::string& label) {
+  BaseScene base;
+  base.scene = core::load_scene(path);
+  base.label = label;
+  base.hashes = core::hash_scene(base.scene);
+  return base;
+}
+
+std::string generate_scene_json(const std::string& family, std::optional<int> param, unsigned seed,
+                                const BaseScene* base) {
   const SceneFamily& f = find_family(family);
   check_param(f, param);
-  const GeneratedScene g = build(f, param.value_or(0), seed);
-  check_invariants(g.scene);
-  // The scene file as the scene writer writes it; the description names family, param, seed.
-  return core::scene_text(g.scene, describe(f, param, seed, g));
+  if (!base) {
+    const GeneratedScene g = build(f, param.value_or(0), seed);
+    check_invariants(g.scene);
+    // The scene file as the scene writer writes it; the description names family, param, seed.
+    return core::scene_text(g.scene, describe(f, param, seed, g, nullptr));
+  }
+  const GeneratedScene g = build_on_base(f, param.value_or(0), seed, *base);
+  const std::string text = core::scene_text(g.scene, describe(f, param, seed, g, base));
+  check_loads(f, *base, text);
+  return text;
 }
 
 std::string write_generated_scene(const std::string& family, std::optional<int> param,
-                                  unsigned seed, const std::string& path) {
+                                  unsigned seed, const std::string& path, const BaseScene* base) {
   namespace fs = std::filesystem;
-  const std::string text = generate_scene_json(family, param, seed);
+  const std::string text = generate_scene_json(family, param, seed, base);
   // Written beside the target and validated there (the loader checks everything SPEC §2 lists),
   // then renamed: a scene that does not load is never published.
   std::error_code ec;

@@ -8,6 +8,7 @@
 #include "camplace/compare/scene_generator.hpp"
 #include "camplace/core/error.hpp"
 #include "camplace/core/json_reader.hpp"
+#include "camplace/core/provenance.hpp"
 #include "camplace/core/scene.hpp"
 #include "camplace/optimize/optimizer.hpp"
 #include "camplace/voxel/evaluator.hpp"
@@ -17,10 +18,26 @@ namespace camplace::compare::detail {
 StudySpec parse_study(const std::string& path) {
   const nlohmann::json doc = core::read_json_file(path);
   const core::JsonNode root(doc, path, "");
-  root.only_keys({"description", "algorithm", "mode", "refine", "runs_per_group", "threads",
+  root.only_keys({"description", "base", "algorithm", "mode", "refine", "runs_per_group", "threads",
                   "first_seed", "scene_seed", "time_limit_s", "max_evaluations", "examinations"});
   StudySpec s;
   s.name = std::filesystem::path(path).stem().string();
+  s.file = path;
+  s.started = core::now_iso8601();
+  if (root.has("base")) {
+    // Relative to the study file's folder, so the study runs from any working directory.
+    const std::string label = root.at("base").string();
+    const std::filesystem::path rel(label);
+    s.base_file =
+        rel.is_absolute()
+            ? label
+            : (std::filesystem::path(path).parent_path() / rel).lexically_normal().string();
+    try {
+      s.base = std::make_shared<const BaseScene>(load_base_scene(s.base_file, label));
+    } catch (const core::InputError& err) {
+      root.at("base").fail("the base scene does not load: " + std::string(err.what()));
+    }
+  }
   if (root.has("description")) s.description = root.at("description").string();
   if (root.has("algorithm")) {
     s.algorithm = root.at("algorithm").string();
@@ -67,7 +84,8 @@ StudySpec parse_study(const std::string& path) {
     for (const std::optional<int>& param : ex.params) {
       std::string text;
       try {
-        text = generate_scene_json(ex.family, param, s.scene_seed);  // validates family, param
+        // Validates family and param, and that the family applies to the base.
+        text = generate_scene_json(ex.family, param, s.scene_seed, s.base.get());
       } catch (const core::InputError& err) {
         e.fail(err.reason());
       }

@@ -1,9 +1,11 @@
 #pragma once
 // A study file (data/studies/*.json) read into its examinations and budget. Private to compare.
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "camplace/compare/scene_generator.hpp"
 #include "camplace/core/names.hpp"
 
 namespace camplace::compare::detail {
@@ -25,11 +27,18 @@ struct StudySpec {
   double time_limit = 600.0;  ///< seconds per run
   long long max_evaluations = 10000;
   std::vector<Examination> examinations;
+  /// The scene the families are applied to: null for the paper's basic setup (no "base").
+  /// Its label is the study file's "base" as written (relative to the study file's folder).
+  std::shared_ptr<const BaseScene> base;
+  std::string base_file;  ///< the base's path as opened ("" without a base)
+  std::string file;       ///< the study file as given
+  std::string started;    ///< when the study file was read (core::now_iso8601): the study's start
 };
 
 /// Reads the study file `path`; the algorithm must be one of optimize::algorithm_names(), every
-/// (family, param) one the scene generator makes, and `refine` one voxel::refine_problem()
-/// accepts for every group's scene. Throws core::InputError.
+/// (family, param) one the scene generator makes (on the study's base scene, when it names one),
+/// and `refine` one voxel::refine_problem() accepts for every group's scene. Throws
+/// core::InputError naming the study file, the entry and the reason.
 StudySpec parse_study(const std::string& path);
 
 /// The group's name: "<family>-<param>", or the family alone.

@@ -2,6 +2,8 @@
 #include "study_report.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <limits>
@@ -10,6 +12,7 @@
 #include <thread>
 
 #include "camplace/core/files.hpp"
+#include "camplace/core/provenance.hpp"
 #include "camplace/core/statistics.hpp"
 #include "format.hpp"
 #include "gnuplot.hpp"
@@ -69,12 +72,26 @@ struct GroupStats {
   int param = 0, runs = 0, reached = 0;
   RunRow shape;  // scene description
   double median_evaluations = 0, median_seconds = 0, median_err = 0;
+  // quartiles (linear interpolation) for the box plots; target: median success target
+  double q1_evaluations = 0, q3_evaluations = 0;
+  double min_err = 0, q1_err = 0, q3_err = 0, max_err = 0, median_target = 0;
   double labelling_ms = 0, clustering_ms = 0, total_ms = 0;
   double max_vm_peak_kb = 0, max_vm_hwm_kb = 0;
   // the exact check of the group's runs (those `camplace validate` checked)
   int checked = 0, reached_exact = 0, false_successes = 0, overestimates = 0;
   double median_exact_err = 0, max_exact_err = 0;
 };
+
+/// The q-quantile of `values` (0 ≤ q ≤ 1), linearly interpolated between the order statistics
+/// (R's type 7: q = ½ is the median); 0 for no values.
+double quantile(std::vector<double> values, double q) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const double at = q * static_cast<double>(values.size() - 1);
+  const std::size_t lo = static_cast<std::size_t>(at);
+  const std::size_t hi = std::min(lo + 1, values.size() - 1);
+  return values[lo] + (at - static_cast<double>(lo)) * (values[hi] - values[lo]);
+}
 
 std::vector<GroupStats> group_stats(const std::vector<RunRow>& rows) {
   std::vector<GroupStats> out;
@@ -95,9 +112,10 @@ std::vector<GroupStats> group_stats(const std::vector<RunRow>& rows) {
     members[r.group].push_back(&r);
   }
   for (GroupStats& g : out) {
-    std::vector<double> evals, secs, errs;
+    std::vector<double> evals, secs, errs, targets;
     for (const RunRow* r : members[g.group]) {
       ++g.runs;
+      targets.push_back(r->target);
       g.reached += r->reached;
       evals.push_back(static_cast<double>(r->evaluations));
       secs.push_back(r->seconds);
@@ -122,6 +140,13 @@ std::vector<GroupStats> group_stats(const std::vector<RunRow>& rows) {
     g.median_evaluations = core::median(evals);
     g.median_seconds = core::median(secs);
     g.median_err = core::median(errs);
+    g.q1_evaluations = quantile(evals, 0.25);
+    g.q3_evaluations = quantile(evals, 0.75);
+    g.min_err = quantile(errs, 0.0);
+    g.q1_err = quantile(errs, 0.25);
+    g.q3_err = quantile(errs, 0.75);
+    g.max_err = quantile(errs, 1.0);
+    g.median_target = core::median(targets);
   }
   return out;
 }
@@ -149,42 +174,100 @@ using GroupValue = std::function<double(const GroupStats&)>;
 struct Series {
   std::string family, label;
   GroupValue y = {};
+  GroupValue lo = {}, hi = {};  ///< when set: an interval drawn as error bars (e.g. quartiles)
 };
 
-/// Writes one plot's data (x, y per series) and draws it; returns the markdown line, or "" when
-/// the study has no group of the series' families. `percent_bars`: y is a percentage, drawn
-/// as boxes on [0, 105].
+/// The markdown of a figure: the image and its caption below it.
+std::string figure(const std::string& name, const std::string& title, const std::string& caption) {
+  return "![" + title + "](" + name + ".png)\n\n*Figure: " + title + ".* " + caption + "\n\n";
+}
+
+/// Writes one plot's data (x, y per series; with the series' interval x, y, lo, hi) and draws
+/// it; returns the markdown (figure and `caption`), or "" when the study has no group of the
+/// series' families.
 std::string plot(const std::string& dir, const std::string& name, const std::string& title,
                  const std::string& xlabel, const std::string& ylabel,
                  const std::vector<GroupStats>& groups, const std::vector<Series>& series,
-                 const GroupValue& y, bool percent_bars = false) {
+                 const GroupValue& y, const std::string& caption) {
   std::ostringstream dat, cmd;
   int blocks = 0;
   cmd << "set title '" << title << "'\nset xlabel '" << xlabel << "'\nset ylabel '" << ylabel
-      << "'\nset grid\nset key outside right top box\n";
-  if (percent_bars)
-    cmd << "set style fill solid 0.6\nset boxwidth 0.6 relative\nset yrange [0:105]\n";
+      << "'\nset grid\nset key outside right top box\nset yrange [0:*]\n"
+      << "set offsets graph 0.04, graph 0.04, graph 0.06, 0\n";
   std::string plot_cmd;
-  for (const auto& [family, label, series_y] : series) {
-    const GroupValue& value = series_y ? series_y : y;
+  for (const Series& line : series) {
+    const GroupValue& value = line.y ? line.y : y;
     std::vector<const GroupStats*> members;
     for (const auto& g : groups) {
-      if (g.family == family) members.push_back(&g);
+      if (g.family == line.family) members.push_back(&g);
     }
     if (members.empty()) continue;
-    dat << "# " << family << ", " << label << ": x y\n";
-    for (const GroupStats* g : members)
-      dat << num(x_value(*g), 6) << " " << num(value(*g), 6) << "\n";
+    const bool interval = line.lo && line.hi;
+    dat << "# " << line.family << ", " << line.label << ": x y" << (interval ? " lo hi" : "")
+        << "\n";
+    for (const GroupStats* g : members) {
+      dat << num(x_value(*g), 6) << " " << num(value(*g), 6);
+      if (interval) dat << " " << num(line.lo(*g), 6) << " " << num(line.hi(*g), 6);
+      dat << "\n";
+    }
     dat << "\n\n";
     plot_cmd += std::string(plot_cmd.empty() ? "plot " : ", ") +
                 gnuplot_string(dir + "/" + name + ".dat") + " index " + std::to_string(blocks++) +
-                " using 1:2 with " + (percent_bars ? "boxes" : "linespoints") + " title '" + label +
-                "'";
+                (interval ? " using 1:2:3:4 with yerrorlines" : " using 1:2 with linespoints") +
+                " title '" + line.label + "'";
   }
   if (blocks == 0) return "";
   core::write_file_atomically(dir + "/" + name + ".dat", dat.str());
   detail::gnuplot_png(dir + "/" + name + ".png", cmd.str() + plot_cmd + "\n");
-  return "![" + title + "](" + name + ".png)\n\n";
+  return figure(name, title, caption);
+}
+
+/// Box plot of the final Err of each group of `family` (box: quartiles, whiskers: smallest and
+/// largest, bar: median), the groups evenly spaced and labelled by `label` over "reached/runs",
+/// with the success target; "" when the study has no such group.
+std::string err_box_plot(const std::string& dir, const std::string& name, const std::string& title,
+                         const std::string& xlabel, const std::vector<GroupStats>& groups,
+                         const std::string& family,
+                         const std::function<std::string(const GroupStats&)>& label) {
+  std::ostringstream dat;
+  dat << "# " << family
+      << ": index label min_err q1_err median_err q3_err max_err target reached runs (m², "
+         "quartiles interpolated)\n";
+  int k = 0;
+  double lo = INFINITY, hi = 0.0;
+  for (const GroupStats& g : groups) {
+    if (g.family != family) continue;
+    lo = std::min({lo, g.min_err, g.median_target});
+    hi = std::max({hi, g.max_err, g.median_target});
+    dat << k++ << " \"" << label(g) << "\" " << num(g.min_err, 6) << " " << num(g.q1_err, 6) << " "
+        << num(g.median_err, 6) << " " << num(g.q3_err, 6) << " " << num(g.max_err, 6) << " "
+        << num(g.median_target, 6) << " " << g.reached << " " << g.runs << "\n";
+  }
+  if (k == 0) return "";
+  core::write_file_atomically(dir + "/" + name + ".dat", dat.str());
+  const std::string file = gnuplot_string(dir + "/" + name + ".dat");
+  std::ostringstream cmd;
+  cmd << "set title '" << title << "'\nset xlabel '" << xlabel
+      << " (below: runs that reached the target / runs)' offset 0,-1\nset bmargin 5\n"
+      << "set grid ytics\nset key outside right top box\nset xrange [-0.6:" << k - 0.4 << "]\n";
+  // Err spanning more than a factor 20 (and no Err 0): a log scale, so that no box is flat.
+  if (lo > 0.0 && hi > 20.0 * lo) {
+    cmd << "set ylabel 'final Err of a run [m²] (log scale)'\nset logscale y\nset yrange ["
+        << num(lo / 1.5, 9) << ":" << num(hi * 1.5, 9) << "]\n";
+  } else {
+    cmd << "set ylabel 'final Err of a run [m²]'\nset yrange [0:*]\n";
+  }
+  cmd << "set boxwidth 0.5\nset style fill solid 0.3 border -1\nset xtics scale 0\n"
+      << "plot " << file
+      << " using 1:4:3:7:6:xtic(sprintf(\"%s\\n%d/%d\", stringcolumn(2), $9, $10)) with "
+         "candlesticks whiskerbars 0.5 lc rgb '#1f77b4' title 'Err: quartiles, min–max', "
+      << file << " using 1:5:5:5:5 with candlesticks lw 2 lc rgb 'black' title 'median', " << file
+      << " using 1:8 with points pt 6 ps 1.5 lc rgb '#d62728' title 'success target'\n";
+  detail::gnuplot_png(dir + "/" + name + ".png", cmd.str());
+  return figure(name, title,
+                "Box: the middle half of the runs' final Err (quartiles), bar: the median, "
+                "whiskers: the smallest and the largest; red circle: the success target (median "
+                "over the group's runs); below each group's label: runs that reached it / runs.");
 }
 
 /// Thousands separators for counts ("160,000").
@@ -276,10 +359,10 @@ std::string paper_comparison(const std::vector<GroupStats>& groups,
     << "; upper fourth: "
     << success_text(rows, [](const RunRow& r) { return r.family == "domain_upper_fourth"; })
     << " |\n";
-  t << "| peak virtual memory | 32,868 kB at 36×27×27 | ";
+  t << "| peak virtual memory | 32,868 kB (32.1 MiB) at 36×27×27 | ";
   if (finest) {
-    t << count_text(finest->max_vm_peak_kb) << " kB virtual, " << count_text(finest->max_vm_hwm_kb)
-      << " kB resident at " << finest->resolution
+    t << num(finest->max_vm_peak_kb / 1024.0, 1) << " MiB virtual, "
+      << num(finest->max_vm_hwm_kb / 1024.0, 1) << " MiB resident at " << finest->resolution
       << " (whole process: thread stacks and libraries are reserved, mostly untouched)";
   } else {
     t << none;
@@ -356,11 +439,48 @@ std::string exact_check_section(const std::vector<GroupStats>& groups,
       << (lines.size() == 1 ? num(lines[0], 4) : num(lines[0], 4) + " … " + num(lines[1], 4))
       << " m²'\n";
   detail::gnuplot_png(dir + "/exact_vs_voxel_err.png", cmd.str());
-  md << "\n![Exact against voxel Err](exact_vs_voxel_err.png)\n\n"
-     << "Dashed lines: the success target (tolerance, or in conservative mode max(tolerance, "
-        "lower bound)); points above the horizontal line are not successes by their exact "
-        "Err. Err 0 is drawn at 10⁻⁶ m².\n";
+  md << "\n"
+     << figure("exact_vs_voxel_err", "Exact against voxel Err of every run",
+               "Log–log; each point one run's best configuration. Dashed lines: the success "
+               "target (tolerance, or in conservative mode max(tolerance, lower bound)); points "
+               "above the horizontal line are not successes by their exact Err. Err 0 is drawn at "
+               "10⁻⁶ m².");
   return md.str();
+}
+
+/// The report's provenance header: the study file, the base scene and the groups' scenes with
+/// their SHA-256, the study's resolved settings, host and start time.
+std::string study_header(const StudySpec& spec, const std::vector<RunRow>& rows,
+                         const std::string& command, const std::string& dir) {
+  std::vector<HeaderScene> scenes;
+  if (spec.base) scenes.push_back({"base scene", spec.base_file, spec.base->hashes});
+  for (const RunRow& r : rows) {
+    const std::string path = "scenes/" + r.group + ".json";
+    if (!scenes.empty() && scenes.back().path == path) continue;
+    const std::string full = dir + "/" + path;
+    if (!std::filesystem::is_regular_file(full)) continue;
+    scenes.push_back(
+        {"scene of " + r.group, path, core::combine_scene_hashes(core::sha256_file(full), {})});
+  }
+  const std::string seed_range =
+      std::to_string(spec.first_seed) + "–" +
+      std::to_string(spec.first_seed + static_cast<unsigned>(spec.runs_per_group) - 1);
+  std::vector<std::pair<std::string, std::string>> options = {
+      {"study file", "`" + spec.file + "`"},
+      {"mode", core::name_of(spec.mode)},
+      {"refine", std::to_string(spec.refine)},
+      {"algorithm", spec.algorithm},
+      {"runs per group", std::to_string(spec.runs_per_group)},
+      {"seeds", seed_range},
+      {"scene seed", std::to_string(spec.scene_seed)},
+      {"threads", std::to_string(spec.threads)},
+      {"time limit", num(spec.time_limit, 0) + " s"},
+      {"max evaluations", std::to_string(spec.max_evaluations)}};
+  return provenance_header(scenes, options, command,
+                           spec.started.empty() ? core::now_iso8601() : spec.started,
+                           spec.base ? ""
+                                     : "the groups' scenes are generated from the paper's basic "
+                                       "setup (built in, as data/paper_basic.json)");
 }
 
 }  // namespace
@@ -387,10 +507,9 @@ void write_study_report(const StudySpec& spec, const std::vector<RunRow>& rows,
 
   const std::vector<GroupStats> groups = group_stats(rows);
   std::ostringstream md;
-  md << "# Study `" << spec.name << "`\n\n";
+  md << "# Study `" << spec.name << "`\n\n" << study_header(spec, rows, command, dir);
   if (!spec.description.empty()) md << spec.description << "\n\n";
-  md << "Made by:\n\n    " << command << "\n\n"
-     << "## Budget\n\n| | this study | the paper |\n|---|---|---|\n"
+  md << "## Budget\n\n| | this study | the paper |\n|---|---|---|\n"
      << "| runs per group | " << spec.runs_per_group << " | 20 |\n"
      << "| stop | tolerance (½ voxel diagonal)²"
      << (spec.mode == core::LabelMode::conservative
@@ -422,32 +541,41 @@ void write_study_report(const StudySpec& spec, const std::vector<RunRow>& rows,
   md << "\n(objects/facets; events counted over all time steps.)\n\n"
      << "## Time and memory (vary between runs)\n\n"
      << "| examination | param | labelling ms | clustering ms | total ms per evaluation | median "
-        "seconds per run | peak VM [kB] | peak resident [kB] |\n"
+        "seconds per run | peak VM [MiB] | peak resident [MiB] |\n"
      << "|---|---|---|---|---|---|---|---|\n";
   for (const GroupStats& g : groups) {
     md << "| " << g.examination << " | " << g.param << " | " << num(g.labelling_ms, 3) << " | "
        << num(g.clustering_ms, 3) << " | " << num(g.total_ms, 3) << " | "
-       << num(g.median_seconds, 1) << " | " << num(g.max_vm_peak_kb, 0) << " | "
-       << num(g.max_vm_hwm_kb, 0) << " |\n";
+       << num(g.median_seconds, 1) << " | " << num(g.max_vm_peak_kb / 1024.0, 1) << " | "
+       << num(g.max_vm_hwm_kb / 1024.0, 1) << " |\n";
   }
   md << exact_check_section(groups, rows, dir);
   md << "\n## The paper's figures beside ours\n\n" << paper_comparison(groups, rows);
   md << "## Plots\n\n";
   auto evals = [](const GroupStats& g) { return g.median_evaluations; };
-  auto success = [](const GroupStats& g) { return g.runs ? 100.0 * g.reached / g.runs : 0.0; };
+  auto q1_evals = [](const GroupStats& g) { return g.q1_evaluations; };
+  auto q3_evals = [](const GroupStats& g) { return g.q3_evaluations; };
+  const std::string evals_caption =
+      "Points: the median number of evaluations of a group's runs; bars: the middle half of the "
+      "runs (quartiles). A run ends at the success target or at the evaluation budget (" +
+      std::to_string(spec.max_evaluations) + ").";
   md << plot(dir, "iterations_vs_resolution", "Iterations against voxel resolution",
-             "voxels (nx·ny·nz)", "median evaluations", groups,
-             {{"resolution", "median evaluations"}}, evals);
-  md << plot(dir, "success_vs_resolution", "Success against voxel resolution", "voxels (nx·ny·nz)",
-             "runs reaching the tolerance [%]", groups, {{"resolution", "success"}}, success, true);
+             "voxels (nx·ny·nz)", "evaluations per run", groups,
+             {{"resolution", "median, quartiles", {}, q1_evals, q3_evals}}, evals, evals_caption);
+  md << err_box_plot(dir, "err_vs_resolution", "Final Err against voxel resolution",
+                     "voxel resolution", groups, "resolution",
+                     [](const GroupStats& g) { return g.resolution; });
   md << plot(dir, "iterations_vs_objects", "Iterations against static and dynamic objects",
-             "objects", "median evaluations", groups,
-             {{"static_objects", "static objects"}, {"dynamic_objects", "dynamic objects"}}, evals);
-  md << plot(dir, "success_vs_dynamic_objects", "Success against dynamic objects",
-             "dynamic objects", "runs reaching the tolerance [%]", groups,
-             {{"dynamic_objects", "success"}}, success, true);
-  md << plot(dir, "success_vs_cameras", "Success against cameras", "cameras",
-             "runs reaching the tolerance [%]", groups, {{"cameras", "success"}}, success, true);
+             "objects", "evaluations per run", groups,
+             {{"static_objects", "static objects: median, quartiles", {}, q1_evals, q3_evals},
+              {"dynamic_objects", "dynamic objects: median, quartiles", {}, q1_evals, q3_evals}},
+             evals, evals_caption);
+  md << err_box_plot(dir, "err_vs_dynamic_objects", "Final Err against dynamic objects",
+                     "dynamic objects", groups, "dynamic_objects",
+                     [](const GroupStats& g) { return std::to_string(g.shape.dynamic_objects); });
+  md << err_box_plot(dir, "err_vs_cameras", "Final Err against cameras", "cameras", groups,
+                     "cameras",
+                     [](const GroupStats& g) { return std::to_string(g.shape.cameras); });
   {
     // Time per iteration against cameras, split into intersection (labelling) and clustering.
     std::ostringstream dat;
@@ -472,15 +600,23 @@ void write_study_report(const StudySpec& spec, const std::vector<RunRow>& rows,
               gnuplot_string(dir + "/time_vs_cameras.dat") +
               " using 2:xtic(1) title 'intersection (labelling)', "
               "'' using 3 title 'clustering'\n");
-      md << "![Time per iteration against cameras](time_vs_cameras.png)\n\n";
+      md << figure("time_vs_cameras", "Time per iteration against cameras",
+                   "Mean time of one evaluation over a group's runs, split into the "
+                   "intersection test (voxel labelling) and the clustering (components and "
+                   "plausibility filter); the distance computation is the rest of the total "
+                   "in the table above. Measured on the machine above; varies between runs.");
     }
   }
-  md << plot(
-      dir, "memory_vs_resolution", "Peak memory against resolution (varies between runs)",
-      "voxels (nx·ny·nz)", "peak memory of a run [kB]", groups,
-      {{"resolution", "virtual (VmPeak)", [](const GroupStats& g) { return g.max_vm_peak_kb; }},
-       {"resolution", "resident (VmHWM)", [](const GroupStats& g) { return g.max_vm_hwm_kb; }}},
-      {});
+  md << plot(dir, "memory_vs_resolution", "Peak memory against resolution (varies between runs)",
+             "voxels (nx·ny·nz)", "peak memory of a run [MiB]", groups,
+             {{"resolution", "virtual (VmPeak)",
+               [](const GroupStats& g) { return g.max_vm_peak_kb / 1024.0; }},
+              {"resolution", "resident (VmHWM)",
+               [](const GroupStats& g) { return g.max_vm_hwm_kb / 1024.0; }}},
+             {},
+             "The largest peak memory of a group's runs (each run is a process of its own), "
+             "virtual (address space reserved, including thread stacks and libraries) and "
+             "resident (actually used). 1 MiB = 1024 kB.");
   md << "Data: `runs.csv` (one row per run), plot data and gnuplot scripts beside each PNG, run "
         "files under `runs/`, generated scenes under `scenes/`.\n";
   if (interrupted) md << "\n**Interrupted**: rerun the same command to finish the study.\n";
@@ -491,9 +627,11 @@ std::vector<std::string> study_report_files() {
   // Every plot name write_study_report passes to plot() or writes itself.
   std::vector<std::string> files = {"report.md", "runs.csv"};
   for (const char* plot :
-       {"iterations_vs_resolution", "success_vs_resolution", "iterations_vs_objects",
-        "success_vs_dynamic_objects", "success_vs_cameras", "time_vs_cameras",
-        "memory_vs_resolution", "exact_vs_voxel_err"}) {
+       {"iterations_vs_resolution", "err_vs_resolution", "iterations_vs_objects",
+        "err_vs_dynamic_objects", "err_vs_cameras", "time_vs_cameras", "memory_vs_resolution",
+        "exact_vs_voxel_err",
+        // the names of earlier versions' plots, so a restart discards them too
+        "success_vs_resolution", "success_vs_dynamic_objects", "success_vs_cameras"}) {
     for (const char* extension : {".png", ".gp", ".dat"}) {
       files.push_back(std::string(plot) + extension);
     }

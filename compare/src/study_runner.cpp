@@ -121,7 +121,7 @@ std::vector<Group> study_groups(const detail::StudySpec& spec, const std::string
       g.param = param;
       g.name = detail::group_name(ex, param);
       g.scene_path = dir + "/scenes/" + g.name + ".json";
-      g.scene_text = generate_scene_json(ex.family, param, spec.scene_seed);
+      g.scene_text = generate_scene_json(ex.family, param, spec.scene_seed, spec.base.get());
       g.run_dir = dir + "/runs/" + g.name;
       groups.push_back(std::move(g));
     }

@@ -12,6 +12,7 @@
 #include "camplace/core/error.hpp"
 #include "camplace/core/files.hpp"
 #include "camplace/core/geometry.hpp"
+#include "camplace/core/provenance.hpp"
 #include "camplace/exact/evaluator.hpp"
 #include "camplace/voxel/evaluator.hpp"
 #include "format.hpp"
@@ -121,6 +122,7 @@ CompareResult compare_voxel_exact(const core::Scene& original, const core::Camer
     }
   }
   CompareResult result;
+  result.started = core::now_iso8601();
   exact::ExactOptions exact_options;
   exact_options.keep_models = true;
   const exact::ExactEvaluation ex = exact::evaluate_exact(scene, config, exact_options);
@@ -161,6 +163,7 @@ CompareResult compare_voxel_exact(const core::Scene& original, const core::Camer
         row.exact_outside = exact_outside_voxel_model(
             ex.models[s], evaluator.leaf_grid(), evaluator.leaf_model(config, static_cast<int>(s)));
         row.distance_over_estimated = row.d_voxel > row.d_exact + kDistanceSlack;
+        row.filter_lost_component = vs.components_removed > 0 && vs.components < es.components;
         const bool violation = row.exact_outside > 0 || row.distance_over_estimated;
         (conservative ? result.conservative_violations : result.center_violations) += violation;
         result.rows.push_back(row);
@@ -176,7 +179,8 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
   std::ostringstream csv;
   csv << "time_step,event,weight,mode,resolution,voxel_diagonal_m,d_true_m,d_exact_m,d_voxel_m,"
          "d_voxel_minus_exact_m,abs_error_over_diagonal,volume_exact_m3,volume_voxel_m3,"
-         "exact_voxels_outside_voxel_model,d_voxel_over_estimates,refine,cell_diagonal_m\n";
+         "exact_voxels_outside_voxel_model,d_voxel_over_estimates,refine,cell_diagonal_m,"
+         "filter_lost_component\n";
   for (const auto& r : result.rows) {
     csv << r.time_step << "," << r.event << "," << num(r.weight) << "," << r.mode << ","
         << resolution_text(r.resolution) << "," << num(r.voxel_diagonal) << "," << num(r.d_true, 9)
@@ -185,7 +189,7 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
         << num(std::abs(r.d_voxel - r.d_exact) / r.voxel_diagonal) << "," << num(r.volume_exact, 9)
         << "," << num(r.volume_voxel, 9) << "," << r.exact_outside << ","
         << (r.distance_over_estimated ? "yes" : "no") << "," << r.refine << ","
-        << num(r.cell_diagonal) << "\n";
+        << num(r.cell_diagonal) << "," << (r.filter_lost_component ? "yes" : "no") << "\n";
   }
   core::write_file_atomically(dir + "/compare.csv", csv.str());
   std::ostringstream err_csv;
@@ -206,13 +210,25 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
     return r.refine > 0 ? std::string("conservative-refined") : r.mode;
   };
 
-  // Plot 1: mean and max |d_voxel − d_exact| against the voxel (cell) diagonal, per series.
+  // Plot 1: mean and max |d_voxel − d_exact| against the voxel (cell) diagonal, per series,
+  // over the states whose voxel model kept the exact model's components (voxelisation error);
+  // the states where the filter lost a component (the person) are drawn one by one apart.
   std::map<std::pair<std::string, double>, std::pair<double, double>>
       stats;  // (series, diag) → (sum, max)
   std::map<std::pair<std::string, double>, int> counts;
+  int lost = 0;
+  std::ostringstream lost_dat;
+  lost_dat << "# states where the plausibility filter lost a component: cell_diagonal_m "
+              "abs_error_m series\n";
   for (const auto& r : result.rows) {
-    auto& s = stats[{series_of(r), r.cell_diagonal}];
     const double e = std::abs(r.d_voxel - r.d_exact);
+    if (r.filter_lost_component) {
+      ++lost;
+      lost_dat << num(r.cell_diagonal) << " " << num(std::max(e, 1e-6), 9) << " " << series_of(r)
+               << "\n";
+      continue;
+    }
+    auto& s = stats[{series_of(r), r.cell_diagonal}];
     s.first += e;
     s.second = std::max(s.second, e);
     ++counts[{series_of(r), r.cell_diagonal}];
@@ -220,7 +236,7 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
   std::ostringstream dat;
   for (const std::string& name : series) {
     dat << "# " << name << ": " << (name == "conservative-refined" ? "cell" : "voxel")
-        << "_diagonal_m mean_abs_error_m max_abs_error_m\n";
+        << "_diagonal_m mean_abs_error_m max_abs_error_m (states the filter kept whole)\n";
     for (const auto& [key, s] : stats) {
       if (key.first != name) continue;
       dat << num(key.second) << " " << num(s.first / counts[key], 9) << " " << num(s.second, 9)
@@ -228,7 +244,13 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
     }
     dat << "\n\n";
   }
+  // The lost states as the last block (a dummy point off the plot when there are none, so the
+  // script's index stays valid).
+  dat << lost_dat.str();
+  if (lost == 0) dat << "1 -1 none\n";
+  dat << "\n\n";
   core::write_file_atomically(dir + "/error_vs_resolution.dat", dat.str());
+  const std::string lost_index = std::to_string(series.size());
   detail::gnuplot_png(
       dir + "/error_vs_resolution.png",
       "set title 'Voxelisation error of d(C, M) against the exact pipeline'\n"
@@ -237,43 +259,67 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
                               : "voxel diagonal") +
           " [m]'\nset ylabel '|d_{voxel} - d_{exact}| [m] (log scale; 0 not "
           "shown)'\n"
-          "set key top left box opaque\nset grid\nset logscale y\n"
+          "set key outside right top box\nset grid\nset logscale y\n"
           "plot '" +
           dir +
-          "/error_vs_resolution.dat' index 0 using 1:2 with linespoints title 'center: mean', "
-          "'' index 0 using 1:3 with linespoints title 'center: max', "
-          "'' index 1 using 1:2 with linespoints title 'conservative: mean', "
-          "'' index 1 using 1:3 with linespoints title 'conservative: max', " +
-          (refined ? "'' index 2 using 1:2 with linespoints title 'conservative, refined: mean', "
-                     "'' index 2 using 1:3 with linespoints title 'conservative, refined: max', "
+          "/error_vs_resolution.dat' index 0 using 1:2 with linespoints lc 1 pt 7 title 'center: "
+          "mean', "
+          "'' index 0 using 1:3 with linespoints lc 1 pt 5 dt 3 title 'center: max', "
+          "'' index 1 using 1:2 with linespoints lc 2 pt 7 title 'conservative: mean', "
+          "'' index 1 using 1:3 with linespoints lc 2 pt 5 dt 3 title 'conservative: max', " +
+          (refined ? "'' index 2 using 1:2 with linespoints lc 4 pt 7 title 'conservative, "
+                     "refined: mean', "
+                     "'' index 2 using 1:3 with linespoints lc 4 pt 5 dt 3 title 'conservative, "
+                     "refined: max', "
                    : "") +
-          "x with lines dashtype 2 title 'one voxel diagonal'\n");
+          "'' index " + lost_index +
+          " using 1:2 with points pt 2 ps 1.5 lc rgb '#d62728' title 'filter lost the person (not "
+          "voxelisation error)', "
+          "x with lines lc rgb 'gray40' dashtype 2 title 'one voxel diagonal'\n",
+      1100, 560);
 
-  // Plot 2: d_voxel against d_exact per state, every resolution, per series.
-  std::ostringstream scatter;
-  for (const std::string& name : series) {
-    scatter << "# " << name << ": d_exact_m d_voxel_m\n";
-    for (const auto& r : result.rows) {
-      if (series_of(r) == name) {
-        scatter << num(r.d_exact, 9) << " " << num(r.d_voxel, 9) << "\n";
-      }
+  // Plot 2: d_voxel against d_exact per state, one colour per resolution, one point type per
+  // series.
+  std::vector<std::array<int, 3>> resolutions;
+  for (const auto& r : result.rows) {
+    if (std::find(resolutions.begin(), resolutions.end(), r.resolution) == resolutions.end()) {
+      resolutions.push_back(r.resolution);
     }
-    scatter << "\n\n";
+  }
+  std::ostringstream scatter;
+  std::string scatter_cmd;
+  int block = 0;
+  for (std::size_t si = 0; si < series.size(); ++si) {
+    const std::string& name = series[si];
+    for (std::size_t ri = 0; ri < resolutions.size(); ++ri) {
+      std::ostringstream points;
+      for (const auto& r : result.rows) {
+        if (series_of(r) == name && r.resolution == resolutions[ri]) {
+          points << num(r.d_exact, 9) << " " << num(r.d_voxel, 9) << "\n";
+        }
+      }
+      if (points.str().empty()) continue;
+      scatter << "# " << name << " " << resolution_text(resolutions[ri])
+              << ": d_exact_m d_voxel_m\n"
+              << points.str() << "\n\n";
+      const char* point = si == 0 ? "pt 7" : si == 1 ? "pt 6 ps 1.6" : "pt 2 ps 1.3";
+      scatter_cmd +=
+          std::string(scatter_cmd.empty() ? "plot '" + dir + "/d_voxel_vs_d_exact.dat'" : ", ''") +
+          " index " + std::to_string(block++) + " using 1:2 with points " + point + " lc " +
+          std::to_string(ri + 1) + " title '" +
+          (name == "conservative-refined" ? std::string("conservative, refined") : name) + " " +
+          resolution_text(resolutions[ri]) + "'";
+    }
   }
   core::write_file_atomically(dir + "/d_voxel_vs_d_exact.dat", scatter.str());
-  detail::gnuplot_png(
-      dir + "/d_voxel_vs_d_exact.png",
-      "set title 'd(C, M) per state: voxel pipeline against exact'\n"
-      "set xlabel 'd_{exact} [m]'\nset ylabel 'd_{voxel} [m]'\nset key bottom right box "
-      "opaque\nset grid\n"
-      "set size square\n"
-      "plot '" +
-          dir +
-          "/d_voxel_vs_d_exact.dat' index 0 using 1:2 with points pt 7 title 'center', "
-          "'' index 1 using 1:2 with points pt 6 ps 1.5 title 'conservative', " +
-          (refined ? "'' index 2 using 1:2 with points pt 2 title 'conservative, refined', " : "") +
-          "x with lines dashtype 2 title 'd_{voxel} = d_{exact}'\n",
-      640, 640);
+  detail::gnuplot_png(dir + "/d_voxel_vs_d_exact.png",
+                      "set title 'd(C, M) per state: voxel pipeline against exact'\n"
+                      "set xlabel 'd_{exact} [m]'\nset ylabel 'd_{voxel} [m]'\nset key outside "
+                      "right top box\nset grid\nset size square\n" +
+                          scatter_cmd +
+                          ", x with lines lc rgb 'gray40' dashtype 2 title 'd_{voxel} = "
+                          "d_{exact}'\n",
+                      900, 640);
 
   // Plot 3 (refinement only): time per evaluation against the effective resolution (finest
   // cells per axis over S: n·2^L), unrefined and refined conservative mode. Timing: varies.
@@ -311,9 +357,23 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
 
   // report.md
   std::ostringstream md;
+  std::string resolution_list, level_list;
+  for (const auto& n : options.resolutions) {
+    resolution_list += (resolution_list.empty() ? "" : ", ") + resolution_text(n);
+  }
+  for (int level : options.refine_levels) {
+    level_list += (level_list.empty() ? "" : ", ") + std::to_string(level);
+  }
   md << "# Voxel pipeline against the exact pipeline\n\n"
-     << "Scene: `" << scene.file << "`\n\n"
-     << "Made by:\n\n    " << options.command << "\n\n"
+     << detail::provenance_header(
+            {{"scene", scene.file, core::hash_scene(scene)}},
+            {{"resolutions", resolution_list.empty()
+                                 ? resolution_text(scene.voxels) + " (the scene's)"
+                                 : resolution_list},
+             {"refine", level_list.empty() ? "0" : level_list},
+             {"modes", "center, conservative"},
+             {"FOV", std::to_string(scene.cameras.sides) + "-sided pyramid (SPEC §1)"}},
+            options.command, result.started.empty() ? core::now_iso8601() : result.started)
      << "The exact pipeline (CGAL Nef polyhedra, SPEC §6) is the reference. Both pipelines use the "
      << scene.cameras.sides << "-sided pyramid inscribed in each camera's "
      << scene.cameras.half_angle / core::kDegree
@@ -369,9 +429,25 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
        << (r.distance_over_estimated ? "yes" : "no") << " |\n";
   }
   md << "\n## Plots\n\n![error vs resolution](error_vs_resolution.png)\n\n"
+     << "*Figure: voxelisation error of d(C, M) against the voxel diagonal.* Mean and largest "
+        "|d_voxel − d_exact| over the states at each resolution"
+     << (refined ? " (refined rows at the finest cell's diagonal)" : "")
+     << ", over the states whose voxel model kept every component the exact model keeps. Red "
+        "crosses: states where the plausibility filter removed a component of the voxel model "
+        "that the exact model keeps (the person lost; "
+     << lost
+     << " states): their error is the distance to another component or to the empty model, "
+        "not a voxelisation error. Dashed: one voxel diagonal. Log scale; error 0 is not "
+        "shown.\n\n"
      << "![d_voxel vs d_exact](d_voxel_vs_d_exact.png)\n\n"
-     << (refined ? "![time vs effective resolution](time_vs_effective_resolution.png) (timing: "
-                   "varies between runs)\n\nWith refinement (`refine` L levels) the voxels are "
+     << "*Figure: d(C, M) per state, voxel against exact.* One point per state, mode and "
+        "resolution: filled circles center mode, open circles conservative mode"
+     << (refined ? ", crosses conservative with refinement" : "")
+     << "; one colour per resolution. Conservative points must lie on or below the dashed line "
+        "d_voxel = d_exact (SPEC §8).\n\n"
+     << (refined ? "![time vs effective resolution](time_vs_effective_resolution.png)\n\n"
+                   "*Figure: time per evaluation against the effective resolution* (timing: "
+                   "varies between runs). With refinement (`refine` L levels) the voxels are "
                    "cut into cells of 1/2^L of their edge: the error plot puts those rows at the "
                    "finest cell's diagonal, the effective resolution.\n\n"
                  : "")

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "command.hpp"
+#include "report_header.hpp"
 #include "scene_builder.hpp"
 
 namespace camplace::testing {
@@ -205,6 +206,9 @@ TEST(SceneCheck, CompareOptimizerAndValidateRefuseRunFilesOfAnotherScene) {
   r = camplace("compare-optimizer " + copy + " --runs " + runs + " --samples 2 --out " + dir +
                "/same");
   EXPECT_EQ(r.exit_code, 0) << r.output;
+  expect_provenance_header(read(dir + "/same/report.md"),
+                           "# Optimizer results against the exact pipeline", copy, copy,
+                           "samples 2, seed 1");
   // Another scene (here: the same cell with a description) is refused, naming the run file.
   std::string other_text = kCell;
   other_text.insert(1, "\n  \"description\": \"another cell\",");

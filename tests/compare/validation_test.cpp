@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "command.hpp"
+#include "report_header.hpp"
 #include "scene_builder.hpp"
 
 namespace camplace {
@@ -23,6 +24,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using testing::CommandResult;
+using testing::expect_provenance_header;
 using testing::run_camplace;
 using testing::temp_dir;
 using testing::write_file;
@@ -124,6 +126,13 @@ TEST(Validate, ExactErrEqualsEvaluateOnTheRunFileAndRerunsComeFromTheCache) {
       << again.output;
   EXPECT_EQ(read(out + "/validation.csv"), csv);
   EXPECT_NE(read(out + "/validation.md").find("| 2 | 2 | 0 | 2 |"), std::string::npos);
+  // The header names the runs' scene as they recorded it, with its SHA-256.
+  const std::string scene =
+      nlohmann::json::parse(read(out + "/run-1.json")).at("context").at("scene");
+  expect_provenance_header(read(out + "/validation.md"),
+                           "# Exact check of the optimizer results in " + out, scene, scene,
+                           "folder `" + out + "`, threads ");
+  EXPECT_EQ(read(out + "/validation.md").find("none could be read"), std::string::npos);
 }
 
 TEST(Validate, BadFoldersAndFilesAreErrorsThatKeepTheOtherRuns) {

@@ -1,11 +1,11 @@
-set terminal pngcairo size 800,560 font 'DejaVu Sans,10'
-set output 'docs/reports/compare_paper_basic/error_vs_resolution.png.part'
+set terminal pngcairo size 1100,560 font 'DejaVu Sans,10'
+set output 'error_vs_resolution.png'
 set title 'Voxelisation error of d(C, M) against the exact pipeline'
 set xlabel 'voxel diagonal [m]'
 set ylabel '|d_{voxel} - d_{exact}| [m] (log scale; 0 not shown)'
-set key top left box opaque
+set key outside right top box
 set grid
 set logscale y
-plot 'docs/reports/compare_paper_basic/error_vs_resolution.dat' index 0 using 1:2 with linespoints title 'center: mean', '' index 0 using 1:3 with linespoints title 'center: max', '' index 1 using 1:2 with linespoints title 'conservative: mean', '' index 1 using 1:3 with linespoints title 'conservative: max', x with lines dashtype 2 title 'one voxel diagonal'
+plot 'error_vs_resolution.dat' index 0 using 1:2 with linespoints lc 1 pt 7 title 'center: mean', '' index 0 using 1:3 with linespoints lc 1 pt 5 dt 3 title 'center: max', '' index 1 using 1:2 with linespoints lc 2 pt 7 title 'conservative: mean', '' index 1 using 1:3 with linespoints lc 2 pt 5 dt 3 title 'conservative: max', '' index 2 using 1:2 with points pt 2 ps 1.5 lc rgb '#d62728' title 'filter lost the person (not voxelisation error)', x with lines lc rgb 'gray40' dashtype 2 title 'one voxel diagonal'
 
 unset output

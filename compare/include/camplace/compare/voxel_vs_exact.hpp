@@ -36,6 +36,10 @@ struct CompareRow {
   /// exact_outside_voxel_model(); with refinement, counted in finest cells.
   int exact_outside = 0;
   bool distance_over_estimated = false;  ///< d_voxel > d_exact (+1e-9 m)
+  /// The plausibility filter removed a component of the voxel model and the voxel model kept
+  /// fewer components than the exact one: a target (the person) lost to the filter, not a
+  /// voxelisation error of a kept one (the report marks these states apart).
+  bool filter_lost_component = false;
 };
 
 /// Err of one pipeline (m²) and its evaluation time (ms).
@@ -53,6 +57,7 @@ struct CompareResult {
   std::vector<ErrRow> errs;
   int conservative_violations = 0;  ///< rows of conservative mode failing either check
   int center_violations = 0;        ///< the same for center mode (expected: it is not conservative)
+  std::string started;  ///< when the comparison started (ISO 8601), for the report's header
 };
 
 /// Runs the exact pipeline once and the voxel pipeline in both modes at every resolution (and in
