@@ -13,6 +13,8 @@
 #include "camplace/view/export.hpp"
 #include "cli_checks.hpp"
 #include "commands.hpp"
+#include "interrupt.hpp"
+#include "memory_estimate.hpp"
 
 namespace camplace::app {
 
@@ -64,6 +66,15 @@ void run_export(const ExportArgs& args) {
   options.cameras_file = args.cameras;
   // Every check before the output folder is created or anything is computed.
   view::check_export_options(scene, options);
+  const std::string resolution_option =
+      args.resolution.empty() ? "the scene's voxels" : "--resolution";
+  const VoxelWork work =
+      voxel_work(scene, options.voxel.resolution, args.refine, options.voxel.threads, false);
+  set_work_description("export " + resolution_option + " " + std::to_string(work.n[0]) + "x" +
+                       std::to_string(work.n[1]) + "x" + std::to_string(work.n[2]) + " with " +
+                       std::to_string(config.size()) + " cameras" +
+                       (args.refine > 0 ? ", --refine " + std::to_string(args.refine) : ""));
+  if (options.pipeline == core::Pipeline::voxel) check_memory(work, resolution_option);
   core::create_output_directory(args.out, "--out");
   const view::ExportResult result = view::export_scene(scene, config, options, args.out);
   std::printf("%4s %5s %7s %9s %10s  %s\n", "step", "event", "weight", "d_true[m]", "d_model[m]",

@@ -2,6 +2,7 @@
 #include <CLI/CLI.hpp>
 #include <exception>
 #include <iostream>
+#include <new>
 #include <string>
 
 #include "camplace/core/error.hpp"
@@ -54,6 +55,14 @@ int main(int argc, char** argv) {
     // Positional arguments keep their upper-case name (FAMILY); options are --name.
     const std::string flag = e.option() == "family" ? "FAMILY" : "--" + e.option();
     std::cerr << "error: command line: " << flag << ": " << e.reason() << "\n";
+    return 1;
+  } catch (const std::bad_alloc&) {
+    // Commands name the work and the options that sized it (set_work_description).
+    const std::string& work = camplace::app::work_description();
+    std::cerr << "error: out of memory: "
+              << (work.empty() ? std::string("camplace ") + argv[1] : work)
+              << " asked for more memory than the machine could give; use a coarser "
+                 "--resolution, fewer cameras or fewer --refine levels\n";
     return 1;
   } catch (const camplace::app::Interrupted& e) {
     std::cerr << "interrupted: " << e.what() << "\n";
