@@ -165,6 +165,54 @@ TEST(CompareLongWork, SignalAfterSomeEvaluationsKeepsAnIncompleteReport) {
   EXPECT_EQ(temporary_files(dir), 0);
 }
 
+// compare-optimizer: progress over its exact evaluations (1 run + 2 samples) and voxel set-ups
+// (1 resolution × 2 modes); a signal once runs.csv is written keeps it and says the rank
+// agreement was not finished.
+TEST(CompareLongWork, CompareOptimizerShowsProgressAndKeepsRunsCsvOnASignal) {
+  const std::string base = temp_dir("compare-optimizer");
+  const CommandResult optimize = run("optimize " + kScene + " --out " + base +
+                                     "/runs --max-evals 50 --runs 1 --threads 1 --quiet");
+  ASSERT_EQ(optimize.exit_code, 0) << optimize.output;
+  const CommandResult r = run("compare-optimizer " + kScene + " --runs " + base +
+                              "/runs --samples 2 --out " + base + "/full --progress");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(has(r.output, "compare-optimizer: evaluations 0/5, ")) << r.output;
+  EXPECT_TRUE(has(r.output, "compare-optimizer: evaluations 5/5, ")) << r.output;
+
+  const std::string dir = base + "/cut", log = base + "/log";
+  const std::string runs = base + "/runs";
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    std::freopen(log.c_str(), "w", stdout);
+    std::freopen(log.c_str(), "a", stderr);
+    ::execl(CAMPLACE_BINARY, CAMPLACE_BINARY, "compare-optimizer", kScene.c_str(), "--runs",
+            runs.c_str(), "--samples", "6", "--out", dir.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  ASSERT_GT(pid, 0);
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (!fs::exists(dir + "/runs.csv") && std::chrono::steady_clock::now() < give_up) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ASSERT_TRUE(fs::exists(dir + "/runs.csv")) << read_text(log);
+  const auto sent = std::chrono::steady_clock::now();
+  ASSERT_EQ(::kill(pid, SIGHUP), 0);
+  const int status = wait_for(pid, 30.0);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
+  ASSERT_NE(status, -1);
+  ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
+  EXPECT_EQ(WEXITSTATUS(status), 128 + SIGHUP);
+  EXPECT_LT(seconds, 1.0);
+  EXPECT_TRUE(has(read_text(log), "interrupted: " + dir +
+                                      "/runs.csv (the exact Err of every run); the rank "
+                                      "agreement was not finished"))
+      << read_text(log);
+  EXPECT_EQ(read_text(dir + "/runs.csv"), read_text(base + "/full/runs.csv"));
+  EXPECT_FALSE(fs::exists(dir + "/report.md"));
+  EXPECT_EQ(temporary_files(dir), 0);
+}
+
 // Issue 16: one shape for every pipeline; for exact and both the exact object and the
 // differences are where a voxel run has null.
 TEST(CompareLongWork, EvaluateJsonHasOneShapeForExactAndBoth) {

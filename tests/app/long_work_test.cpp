@@ -149,6 +149,28 @@ TEST(LongWork, SignalsEndEvaluateWithinASecondDuringTheSetUp) {
   }
 }
 
+// The same for optimize while its evaluator is set up: nothing is written, not even --out.
+TEST(LongWork, SignalsEndOptimizeWithinASecondDuringTheSetUp) {
+  const std::string dir = temp_dir("signal-optimize");
+  const std::string log = dir + "/log", out = dir + "/out";
+  const std::string scene = kData + "paper_basic.json";
+  const pid_t pid = start(log, "optimize", scene.c_str(), "--resolution", "256x256x64", "--threads",
+                          "1", "--out", out.c_str());
+  ASSERT_GT(pid, 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(700));
+  const auto sent = std::chrono::steady_clock::now();
+  ASSERT_EQ(::kill(pid, SIGTERM), 0);
+  const int status = wait_for(pid, 10.0);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
+  ASSERT_NE(status, -1) << "optimize did not stop";
+  ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
+  EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM);
+  EXPECT_LT(seconds, 1.0);
+  EXPECT_TRUE(has(read_text(log), "interrupted: nothing was written")) << read_text(log);
+  EXPECT_FALSE(fs::exists(out));
+}
+
 TEST(LongWork, MaxSecondsStopsALongEvaluationWithAnErrorNamingIt) {
   const auto begin = std::chrono::steady_clock::now();
   const CommandResult r =
