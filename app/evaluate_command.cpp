@@ -207,6 +207,9 @@ void run_evaluate(const EvaluateArgs& args) {
   } else {
     print_table(out);
   }
+  if (InterruptSignals::flag().load()) {
+    throw Interrupted("evaluate: a signal came while the results were written; they are complete");
+  }
 }
 
 }  // namespace
@@ -214,6 +217,10 @@ void run_evaluate(const EvaluateArgs& args) {
 void register_evaluate_command(CLI::App& app) {
   auto args = std::make_shared<EvaluateArgs>();
   CLI::App* cmd = app.add_subcommand("evaluate", "Err of one camera configuration, state by state");
+  cmd->footer(
+      "Progress on stderr when it is a terminal (or with --progress). Ctrl-C, SIGTERM or SIGHUP\n"
+      "end an evaluation within a second (exit status 128 + the signal); nothing is written\n"
+      "until it ends. Work that would need more memory than available is refused first.");
   cmd->add_option("scene", args->scene, "scene JSON file")->required();
   cmd->add_option("--cameras", args->cameras, "camera configuration JSON file")->required();
   cmd->add_option("--mode", args->mode, "voxel labelling mode")->check(one_of<core::LabelMode>());

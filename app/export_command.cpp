@@ -48,6 +48,7 @@ core::StateIndex parse_state(const std::string& text) {
 }
 
 void run_export(const ExportArgs& args) {
+  const InterruptSignals signals;
   const core::Scene scene = core::load_scene(args.scene);
   const core::CameraConfig config = core::load_camera_config(args.cameras, scene);
   view::ExportOptions options;
@@ -76,7 +77,15 @@ void run_export(const ExportArgs& args) {
                        (args.refine > 0 ? ", --refine " + std::to_string(args.refine) : ""));
   if (options.pipeline == core::Pipeline::voxel) check_memory(work, resolution_option);
   core::create_output_directory(args.out, "--out");
-  const view::ExportResult result = view::export_scene(scene, config, options, args.out);
+  view::ExportResult result;
+  {
+    // A signal ends the export within a second, removing unfinished temporary files.
+    StopAtOnce::Options stop;
+    stop.kept = "the files written so far are in " + args.out + " (the export is incomplete)";
+    stop.temp_dirs.push_back(args.out);
+    const StopAtOnce at_once(stop);
+    result = view::export_scene(scene, config, options, args.out);
+  }
   std::printf("%4s %5s %7s %9s %10s  %s\n", "step", "event", "weight", "d_true[m]", "d_model[m]",
               "file");
   for (const view::ExportedState& s : result.states) {
