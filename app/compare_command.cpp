@@ -139,6 +139,9 @@ void run_compare(const CompareArgs& args, const std::string& command) {
     std::cout << ": " << e.err;
   }
   std::cout << "\nreport: " << args.out << "/report.md\n";
+  if (InterruptSignals::flag().load()) {
+    throw Interrupted("compare: a signal came while the report was written; it is complete");
+  }
 }
 
 }  // namespace
@@ -233,6 +236,10 @@ void register_compare_optimizer_command(CLI::App& app) {
     }
     progress.finish();
     std::cout << "report: " << args->out << "/report.md\n";
+    if (InterruptSignals::flag().load()) {
+      throw Interrupted(
+          "compare-optimizer: a signal came while the report was written; it is complete");
+    }
   });
 }
 

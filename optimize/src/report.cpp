@@ -438,14 +438,13 @@ std::vector<RunResult> runs_in_folder(const std::string& dir, const std::vector<
 FolderLock::FolderLock(const std::string& dir) {
   // The folder itself is locked (flock works on a directory's descriptor on Linux): no lock
   // file joins the user's files.
-  const std::string& path = dir;
-  fd_ = ::open(path.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (fd_ < 0) throw std::runtime_error("cannot open " + path + ": " + std::strerror(errno));
+  fd_ = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd_ < 0) throw std::runtime_error("cannot open " + dir + ": " + std::strerror(errno));
   while (::flock(fd_, LOCK_EX) != 0) {
     if (errno == EINTR) continue;  // a signal (its flag is seen after the summary is written)
     const int error = errno;
     ::close(fd_);
-    throw std::runtime_error("cannot lock " + path + ": " + std::strerror(error));
+    throw std::runtime_error("cannot lock " + dir + ": " + std::strerror(error));
   }
 }
 

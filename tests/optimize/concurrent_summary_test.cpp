@@ -6,8 +6,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <string>
@@ -66,6 +68,23 @@ TEST(ConcurrentOptimize, TheSummaryListsTheRunsOfBothProcesses) {
     }
     EXPECT_EQ(files,
               (std::set<std::string>{"run-1.json", "run-2.json", "summary.csv", "summary.json"}));
+    // The printed table says which time each column is (issue 16: "ms/eval" was read as wall
+    // time): wall/eval is the run's seconds per evaluation, as summary.csv has it.
+    if (round == 0) {
+      std::ifstream printed(log + "1");
+      std::string text((std::istreambuf_iterator<char>(printed)), std::istreambuf_iterator<char>());
+      EXPECT_NE(text.find("ms/eval wall/eval"), std::string::npos) << text;
+      EXPECT_NE(text.find("ms/eval: mean duration of one evaluation (wall clock on the thread "
+                          "running it); wall/eval: the run's wall-clock time per evaluation"),
+                std::string::npos)
+          << text;
+      const nlohmann::json run1 = nlohmann::json::parse(std::ifstream(dir / "run-1.json"));
+      const double wall = run1.at("time_per_evaluation_ms").at("wall_clock").get<double>();
+      EXPECT_NEAR(wall, run1.at("seconds").get<double>() * 1000.0 / 300.0, 1e-9);
+      char cell[32];
+      std::snprintf(cell, sizeof cell, "%.2f", wall);
+      EXPECT_NE(text.find(cell), std::string::npos) << cell << "\n" << text;
+    }
     fs::remove(log + "1");
     fs::remove(log + "2");
   }
