@@ -1,5 +1,6 @@
 // The camplace command-line tool: parse, call the modules, print. Errors → message, exit 1.
 #include <CLI/CLI.hpp>
+#include <cstdlib>
 #include <exception>
 #include <iostream>
 #include <new>
@@ -9,7 +10,38 @@
 #include "commands.hpp"
 #include "interrupt.hpp"
 
+namespace {
+
+/// "error: out of memory: <the work> asked for more memory than the machine could give; ..."
+void print_out_of_memory(const std::string& command) {
+  const std::string& work = camplace::app::work_description();
+  std::cerr << "error: out of memory: " << (work.empty() ? "camplace " + command : work)
+            << " asked for more memory than the machine could give; use a coarser "
+               "--resolution, fewer cameras or fewer --refine levels\n";
+}
+
+std::string g_command;                                 // argv[1], for the terminate handler
+std::terminate_handler g_default_terminate = nullptr;  // the runtime's (prints the exception)
+
+}  // namespace
+
 int main(int argc, char** argv) {
+  g_command = argc > 1 ? argv[1] : "";
+  // std::bad_alloc in a worker thread (the pipelines evaluate states in parallel) ends in
+  // std::terminate, not in the catch below: say the same there.
+  g_default_terminate = std::set_terminate([] {
+    if (const std::exception_ptr e = std::current_exception()) {
+      try {
+        std::rethrow_exception(e);
+      } catch (const std::bad_alloc&) {
+        print_out_of_memory(g_command);
+        std::_Exit(1);
+      } catch (...) {
+      }
+    }
+    if (g_default_terminate != nullptr) g_default_terminate();
+    std::abort();
+  });
   CLI::App app{"camplace: camera placement for human-robot work cells (visual hull distance)"};
   app.require_subcommand(1);
   // Every option's help shows its default (inherited by the subcommands registered below).
@@ -58,11 +90,7 @@ int main(int argc, char** argv) {
     return 1;
   } catch (const std::bad_alloc&) {
     // Commands name the work and the options that sized it (set_work_description).
-    const std::string& work = camplace::app::work_description();
-    std::cerr << "error: out of memory: "
-              << (work.empty() ? std::string("camplace ") + argv[1] : work)
-              << " asked for more memory than the machine could give; use a coarser "
-                 "--resolution, fewer cameras or fewer --refine levels\n";
+    print_out_of_memory(g_command);
     return 1;
   } catch (const camplace::app::Interrupted& e) {
     std::cerr << "interrupted: " << e.what() << "\n";
