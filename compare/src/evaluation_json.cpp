@@ -77,12 +77,19 @@ nlohmann::json voxel_diagnostics(
     const std::vector<int> component = voxel::component_labels(model, grid);
     std::vector<std::vector<voxel::Label>> labels;
     for (const auto& camera : config) labels.push_back(evaluator.labels(camera, int(s)));
-    // The targets' voxels (centre inside a target of the state).
+    // The targets' voxels (centre inside a target of the state). The winding-number test only
+    // inside a target's bounding box (closed: a centre on it is tested): outside it cannot hold.
+    const auto& targets = scene.time_steps[all[s].time_step].events[all[s].event].targets;
+    std::vector<core::Box3> target_boxes;
+    for (const auto& t : targets) target_boxes.push_back(core::bounding_box(t.mesh));
     for (int v = 0; v < grid.count(); ++v) {
       const core::Vec3 c = grid.voxel_center(v);
       bool in_target = false;
-      for (const auto& t : scene.time_steps[all[s].time_step].events[all[s].event].targets)
-        in_target = in_target || core::inside_mesh(t.mesh, c);
+      for (std::size_t t = 0; t < targets.size() && !in_target; ++t) {
+        const core::Box3& b = target_boxes[t];
+        in_target = (c.array() >= b.min.array()).all() && (c.array() <= b.max.array()).all() &&
+                    core::inside_mesh(targets[t].mesh, c);
+      }
       if (!in_target) continue;
       ++targets_total;
       for (std::size_t c2 = 0; c2 < config.size(); ++c2)
