@@ -154,8 +154,9 @@ TEST(LongWork, SignalsEndOptimizeWithinASecondDuringTheSetUp) {
   const std::string dir = temp_dir("signal-optimize");
   const std::string log = dir + "/log", out = dir + "/out";
   const std::string scene = kData + "paper_basic.json";
-  const pid_t pid = start(log, "optimize", scene.c_str(), "--resolution", "256x256x64", "--threads",
-                          "1", "--out", out.c_str());
+  // 256x256x128: a set-up of seconds, so that the signal comes during it also on a fast machine.
+  const pid_t pid = start(log, "optimize", scene.c_str(), "--resolution", "256x256x128",
+                          "--threads", "1", "--out", out.c_str());
   ASSERT_GT(pid, 0);
   std::this_thread::sleep_for(std::chrono::milliseconds(700));
   const auto sent = std::chrono::steady_clock::now();
