@@ -1,6 +1,10 @@
 // `camplace compare`: the voxel pipeline against the exact one for one configuration (SPEC §8).
 #include <algorithm>
+#include <array>
 #include <iostream>
+#include <mutex>
+#include <string>
+#include <vector>
 
 #include "camplace/compare/optimizer_validation.hpp"
 #include "camplace/compare/voxel_vs_exact.hpp"
@@ -11,6 +15,9 @@
 #include "camplace/voxel/evaluator.hpp"
 #include "cli_checks.hpp"
 #include "commands.hpp"
+#include "interrupt.hpp"
+#include "memory_estimate.hpp"
+#include "progress.hpp"
 
 namespace camplace::app {
 
@@ -18,8 +25,28 @@ namespace {
 
 struct CompareArgs {
   std::string scene, cameras, resolutions, refine, out;
-  bool resolutions_given = false;
+  bool resolutions_given = false, progress = false;
 };
+
+/// "16x12x12".
+std::string resolution_name(const std::array<int, 3>& n) {
+  return std::to_string(n[0]) + "x" + std::to_string(n[1]) + "x" + std::to_string(n[2]);
+}
+
+/// The memory estimate of each resolution's voxel pipeline (the finest refinement level, the
+/// largest need) against what is available; `option` sized the grids.
+void check_compare_memory(const core::Scene& scene, std::vector<std::array<int, 3>> resolutions,
+                          const std::vector<int>& levels, const std::string& option,
+                          const std::string& command) {
+  if (resolutions.empty()) resolutions.push_back(scene.voxels);
+  const int level = levels.empty() ? 0 : *std::max_element(levels.begin(), levels.end());
+  std::string sizes;
+  for (const auto& n : resolutions) sizes += (sizes.empty() ? "" : ",") + resolution_name(n);
+  set_work_description(command + " " + option + " " + sizes + " with " +
+                       std::to_string(scene.cameras.domains.size()) + " cameras" +
+                       (level > 0 ? ", --refine up to " + std::to_string(level) : ""));
+  for (const auto& n : resolutions) check_memory(voxel_work(scene, n, level, 1, false), option);
+}
 
 /// "0,1,3" → refinement levels, each 0..voxel::kMaxRefine; an empty list or item is an error.
 std::vector<int> parse_level_list(const std::string& text) {
@@ -65,19 +92,56 @@ std::vector<std::array<int, 3>> parse_resolution_list(const std::string& text) {
 }
 
 void run_compare(const CompareArgs& args, const std::string& command) {
+  const InterruptSignals signals;  // a signal before the work starts: StopAtOnce ends it there
   const core::Scene scene = core::load_scene(args.scene);
   const core::CameraConfig config = core::load_camera_config(args.cameras, scene);
   compare::CompareOptions options;
   if (args.resolutions_given) options.resolutions = parse_resolution_list(args.resolutions);
   if (!args.refine.empty()) options.refine_levels = parse_level_list(args.refine);
   options.command = command;
+  check_compare_memory(scene, options.resolutions, options.refine_levels,
+                       args.resolutions_given ? "--resolutions" : "the scene's voxels", "compare");
   core::create_output_directory(args.out, "--out");
-  const compare::CompareResult result = compare::compare_voxel_exact(scene, config, options);
+  ProgressLine progress("compare", args.progress);
+  if (progress.enabled()) {
+    options.on_progress = [&progress](int done, int total) {
+      progress.update(done == 0 ? "exact pipeline, evaluations" : "voxel pipelines, evaluations",
+                      done, total);
+    };
+  }
+  compare::CompareResult result;
+  {
+    // Neither pipeline can stop inside an evaluation: a signal ends the process within a second,
+    // keeping the report of the evaluations done (rewritten after each, marked incomplete).
+    StopAtOnce::Options stop;
+    stop.kept = "nothing was written (the exact pipeline had not finished)";
+    stop.temp_dirs.push_back(args.out);
+    const StopAtOnce at_once(stop);
+    result = compare::compare_voxel_exact(
+        scene, config, options, [&](const compare::CompareResult& partial) {
+          if (partial.evaluations_done == partial.evaluations_total) return;  // written below
+          const std::lock_guard<std::mutex> lock(StopAtOnce::writing());
+          compare::write_compare_report(scene, partial, options, args.out);
+          StopAtOnce::set_kept(args.out + "/report.md and its files hold " +
+                               std::to_string(partial.evaluations_done) + " of " +
+                               std::to_string(partial.evaluations_total) +
+                               " evaluations (marked incomplete); rerun the command for all");
+        });
+  }
+  progress.finish();
   compare::write_compare_report(scene, result, options, args.out);
   std::cout << "conservative-mode violations: " << result.conservative_violations
-            << "\ncenter-mode violations: " << result.center_violations << "\nErr:";
-  for (const auto& e : result.errs) std::cout << "  " << e.pipeline << " " << e.err;
+            << "\ncenter-mode violations: " << result.center_violations << "\nErr [m²]:";
+  // Each number with the resolution it belongs to (and its refinement levels).
+  for (const auto& e : result.errs) {
+    std::cout << "\n  " << e.pipeline;
+    if (e.pipeline != "exact") std::cout << " at " << resolution_name(e.resolution);
+    std::cout << ": " << e.err;
+  }
   std::cout << "\nreport: " << args.out << "/report.md\n";
+  if (InterruptSignals::flag().load()) {
+    throw Interrupted("compare: a signal came while the report was written; it is complete");
+  }
 }
 
 }  // namespace
@@ -96,6 +160,11 @@ void register_compare_command(CLI::App& app) {
       "comma-separated refinement levels of conservative mode at every resolution, e.g. "
       "0,1,2,3 (default: 0)");
   cmd->add_option("--out", args->out, "output directory")->required();
+  cmd->add_flag("--progress", args->progress,
+                "progress on stderr also when it is not a terminal (on a terminal: always)");
+  cmd->footer(
+      "Ctrl-C (or SIGTERM, SIGHUP) stops within a second; the report then holds the evaluations\n"
+      "done, marked incomplete, and the exit status is 128 + the signal.");
   cmd->callback([args, resolutions, refine] {
     args->resolutions_given = resolutions->count() > 0;
     if (refine->count() > 0 && args->refine.empty()) args->refine = ",";  // an empty list: refused
@@ -111,6 +180,7 @@ void register_compare_optimizer_command(CLI::App& app) {
     std::string scene, runs, resolutions, out;
     int samples = 12;
     unsigned seed = 1;
+    bool progress = false;
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
@@ -126,21 +196,50 @@ void register_compare_optimizer_command(CLI::App& app) {
       cmd->add_option("--resolutions", args->resolutions,
                       "comma-separated voxel resolutions (default: the scene's)");
   cmd->add_option("--out", args->out, "output directory")->required();
+  cmd->add_flag("--progress", args->progress,
+                "progress on stderr also when it is not a terminal (on a terminal: always)");
+  cmd->footer(
+      "Ctrl-C (or SIGTERM, SIGHUP) stops within a second, keeping runs.csv once every run's\n"
+      "exact Err is known; the exit status is then 128 + the signal.");
   cmd->callback([args, resolutions] {
+    const InterruptSignals signals;
     const core::Scene scene = core::load_scene(args->scene);
     compare::OptimizerValidationOptions options;
     options.runs_dir = args->runs;
     options.samples = args->samples;
     options.seed = args->seed;
     if (resolutions->count() > 0) options.resolutions = parse_resolution_list(args->resolutions);
+    check_compare_memory(scene, options.resolutions, {},
+                         resolutions->count() > 0 ? "--resolutions" : "the scene's voxels",
+                         "compare-optimizer");
     core::create_output_directory(args->out, "--out");
     options.command = "camplace compare-optimizer " + args->scene + " --runs " + args->runs +
                       " --samples " + std::to_string(args->samples) + " --seed " +
                       std::to_string(args->seed) +
                       (args->resolutions.empty() ? "" : " --resolutions " + args->resolutions) +
                       " --out " + args->out;
-    compare::validate_optimizer(scene, options, args->out);
+    ProgressLine progress("compare-optimizer", args->progress);
+    if (progress.enabled()) {
+      options.on_progress = [&progress](int done, int total) {
+        progress.update("evaluations", done, total);
+      };
+    }
+    options.writing = &StopAtOnce::writing();
+    options.on_written = [](const std::string& kept) { StopAtOnce::set_kept(kept); };
+    {
+      // No evaluation can stop half-way: a signal ends the process within a second, keeping
+      // what was written (StopAtOnce).
+      StopAtOnce::Options stop;
+      stop.temp_dirs.push_back(args->out);
+      const StopAtOnce at_once(stop);
+      compare::validate_optimizer(scene, options, args->out);
+    }
+    progress.finish();
     std::cout << "report: " << args->out << "/report.md\n";
+    if (InterruptSignals::flag().load()) {
+      throw Interrupted(
+          "compare-optimizer: a signal came while the report was written; it is complete");
+    }
   });
 }
 

@@ -1,10 +1,12 @@
 // `camplace evaluate`: Err of one camera configuration, per state, in the voxel and/or the
 // exact pipeline.
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 #include "camplace/compare/evaluation_json.hpp"
 #include "camplace/core/camera.hpp"
@@ -14,6 +16,9 @@
 #include "camplace/voxel/evaluator.hpp"
 #include "cli_checks.hpp"
 #include "commands.hpp"
+#include "interrupt.hpp"
+#include "memory_estimate.hpp"
+#include "progress.hpp"
 
 namespace camplace::app {
 
@@ -23,9 +28,10 @@ struct EvaluateArgs {
   std::string scene, cameras, mode = "conservative", resolution, pipeline = "voxel", export_dir;
   std::string voxels_out;
   bool voxels_out_given = false, export_given = false;
-  bool json = false, exact_fractions = false;
-  int threads = 0;  // 0 = one per core (both pipelines)
-  int refine = 0;   // voxel::VoxelOptions::refine
+  bool json = false, exact_fractions = false, progress = false;
+  double max_seconds = 0.0;  // 0 = no limit
+  int threads = 0;           // 0 = one per core (both pipelines)
+  int refine = 0;            // voxel::VoxelOptions::refine
 };
 
 void print_table(const nlohmann::json& r) {
@@ -102,7 +108,17 @@ void write_voxels(const compare::EvaluationJson& evaluation, const std::string& 
   }
 }
 
+/// "evaluate --max-seconds 5 --resolution ..." as the messages name the work.
+std::string max_seconds_text(double seconds) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%g", seconds);
+  return text;
+}
+
 void run_evaluate(const EvaluateArgs& args) {
+  // The first SIGINT, SIGTERM or SIGHUP ends the evaluation at once (nothing to keep yet), also
+  // while the scene loads and an evaluator is set up (interrupt.hpp, StopAtOnce below).
+  const InterruptSignals signals;
   const core::Scene scene = core::load_scene(args.scene);
   const core::CameraConfig config = core::load_camera_config(args.cameras, scene);
   compare::EvaluationOptions options;
@@ -129,7 +145,47 @@ void run_evaluate(const EvaluateArgs& args) {
   options.exact_fractions = args.exact_fractions;
   options.cameras_file = args.cameras;
   options.voxel_models = !args.voxels_out.empty();
-  const compare::EvaluationJson evaluation = compare::evaluate_json(scene, config, options);
+  const std::string resolution_option =
+      args.resolution.empty() ? "the scene's voxels" : "--resolution";
+  const VoxelWork work = voxel_work(
+      scene, options.resolution, args.refine,
+      args.threads > 0 ? args.threads
+                       : static_cast<int>(std::max(std::thread::hardware_concurrency(), 1u)),
+      true);
+  set_work_description("evaluate " + resolution_option + " " + std::to_string(work.n[0]) + "x" +
+                       std::to_string(work.n[1]) + "x" + std::to_string(work.n[2]) + " with " +
+                       std::to_string(config.size()) + " cameras" +
+                       (args.refine > 0 ? ", --refine " + std::to_string(args.refine) : "") +
+                       ", --pipeline " + args.pipeline);
+  if (want_voxel) check_memory(work, resolution_option);
+  ProgressLine progress("evaluate", args.progress);
+  if (progress.enabled()) {
+    options.on_progress = [&progress](const std::string& stage, int done, int total) {
+      if (total > 0) {
+        progress.update(stage + ", states", done, total);
+      } else {
+        progress.stage(stage);
+      }
+    };
+  }
+  compare::EvaluationJson evaluation;
+  {
+    // Nothing is written until the evaluation ends: a signal or --max-seconds ends the process
+    // at once, removing the temporary files of --export-mesh's unfinished writes.
+    StopAtOnce::Options stop;
+    stop.kept = args.export_given ? "the mesh files in " + args.export_dir + " may be incomplete"
+                                  : "nothing was written";
+    if (args.export_given) stop.temp_dirs.push_back(args.export_dir);
+    stop.deadline_seconds = args.max_seconds;
+    stop.deadline_message =
+        "evaluate stopped: --max-seconds " + max_seconds_text(args.max_seconds) + " exceeded";
+    const StopAtOnce at_once(stop);
+    evaluation = compare::evaluate_json(scene, config, options);
+  }
+  progress.finish();
+  if (InterruptSignals::flag().load()) {
+    throw Interrupted("evaluate stopped before printing its result; nothing was written");
+  }
   const nlohmann::json& out = evaluation.result;
   if (options.voxel_models) write_voxels(evaluation, args.voxels_out);
   if (args.json) {
@@ -151,6 +207,9 @@ void run_evaluate(const EvaluateArgs& args) {
   } else {
     print_table(out);
   }
+  if (InterruptSignals::flag().load()) {
+    throw Interrupted("evaluate: a signal came while the results were written; they are complete");
+  }
 }
 
 }  // namespace
@@ -158,6 +217,10 @@ void run_evaluate(const EvaluateArgs& args) {
 void register_evaluate_command(CLI::App& app) {
   auto args = std::make_shared<EvaluateArgs>();
   CLI::App* cmd = app.add_subcommand("evaluate", "Err of one camera configuration, state by state");
+  cmd->footer(
+      "Progress on stderr when it is a terminal (or with --progress). Ctrl-C, SIGTERM or SIGHUP\n"
+      "end an evaluation within a second (exit status 128 + the signal); nothing is written\n"
+      "until it ends. Work that would need more memory than available is refused first.");
   cmd->add_option("scene", args->scene, "scene JSON file")->required();
   cmd->add_option("--cameras", args->cameras, "camera configuration JSON file")->required();
   cmd->add_option("--mode", args->mode, "voxel labelling mode")->check(one_of<core::LabelMode>());
@@ -170,6 +233,12 @@ void register_evaluate_command(CLI::App& app) {
   cmd->add_option("--pipeline", args->pipeline, "voxel, exact or both")
       ->check(one_of<core::Pipeline>());
   cmd->add_flag("--json", args->json, "print one JSON object on stdout");
+  cmd->add_flag("--progress", args->progress,
+                "progress on stderr also when it is not a terminal (on a terminal: always)");
+  cmd->add_option("--max-seconds", args->max_seconds,
+                  "stop with exit status 1 when the evaluation takes longer than S seconds "
+                  "(default 0: no limit)")
+      ->check(in_range(1e-3, 1e9, "must be a number of seconds in [0.001, 1e9]"));
   cmd->add_flag("--exact-fractions", args->exact_fractions,
                 "exact pipeline: add squared distances as exact fractions \"p/q\"");
   cmd->add_option("--threads", args->threads,

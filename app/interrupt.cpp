@@ -1,8 +1,14 @@
 #include "interrupt.hpp"
 
 #include <signal.h>
+#include <unistd.h>
 
+#include <chrono>
+#include <condition_variable>
 #include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <thread>
 
 namespace camplace::app {
 namespace {
@@ -22,6 +28,11 @@ extern "C" void on_interrupt(int sig) {
   g_flag.store(true);
   const int pid = g_forward.load();
   if (pid > 0 && sig != SIGINT) ::kill(pid, sig);  // Ctrl-C reaches the run by itself
+}
+
+std::string& description() {
+  static std::string text;
+  return text;
 }
 
 }  // namespace
@@ -50,5 +61,104 @@ int interrupted_exit_status() {
   const int sig = InterruptSignals::received();
   return 128 + (sig > 0 ? sig : SIGINT);
 }
+
+// The watcher polls the flag every 50 ms rather than being woken by the handler: a signal
+// handler may touch only lock-free atomics (above), and 50 ms keeps "within a second" with room.
+struct StopAtOnce::State {
+  Options options;
+  std::mutex mutex;  // guards stop and options.kept
+  std::condition_variable wake;
+  bool stop = false;
+  std::thread watcher;
+
+  static State*& current() {
+    static State* state = nullptr;
+    return state;
+  }
+
+  [[noreturn]] void end(bool deadline) {
+    std::unique_lock<std::mutex> lock(writing());  // never in the middle of a write
+    const std::string suffix = ".tmp" + std::to_string(::getpid());
+    for (const std::string& dir : options.temp_dirs) {
+      std::error_code ec;
+      for (auto it = std::filesystem::directory_iterator(dir, ec);
+           !ec && it != std::filesystem::directory_iterator(); it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        if (name.size() > suffix.size() &&
+            name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0) {
+          std::error_code removed;
+          std::filesystem::remove(it->path(), removed);
+        }
+      }
+    }
+    std::string kept;
+    {
+      const std::lock_guard<std::mutex> guard(mutex);
+      kept = options.kept;
+    }
+    if (::isatty(STDERR_FILENO) == 1) std::fputs("\n", stderr);
+    if (deadline) {
+      std::fprintf(stderr, "error: %s; %s\n", options.deadline_message.c_str(), kept.c_str());
+    } else {
+      std::fprintf(stderr, "interrupted: %s\n", kept.c_str());
+    }
+    std::fflush(stderr);
+    std::fflush(stdout);
+    ::_exit(deadline ? 1 : interrupted_exit_status());
+  }
+
+  void watch() {
+    using Clock = std::chrono::steady_clock;
+    const Clock::time_point start = Clock::now();
+    const bool has_deadline = options.deadline_seconds > 0.0;
+    const Clock::time_point deadline =
+        start + std::chrono::duration_cast<Clock::duration>(
+                    std::chrono::duration<double>(has_deadline ? options.deadline_seconds : 0.0));
+    std::unique_lock<std::mutex> lock(mutex);
+    while (!stop) {
+      if (g_flag.load()) {
+        lock.unlock();
+        end(false);
+      }
+      if (has_deadline && Clock::now() >= deadline) {
+        lock.unlock();
+        end(true);
+      }
+      wake.wait_for(lock, std::chrono::milliseconds(50));
+    }
+  }
+};
+
+StopAtOnce::StopAtOnce(Options options) : state_(new State{}) {
+  state_->options = std::move(options);
+  State::current() = state_;
+  state_->watcher = std::thread([this] { state_->watch(); });
+}
+
+StopAtOnce::~StopAtOnce() {
+  {
+    const std::lock_guard<std::mutex> guard(state_->mutex);
+    state_->stop = true;
+  }
+  state_->wake.notify_all();
+  state_->watcher.join();
+  State::current() = nullptr;
+  delete state_;
+}
+
+void StopAtOnce::set_kept(const std::string& kept) {
+  State* state = State::current();
+  if (state == nullptr) return;
+  const std::lock_guard<std::mutex> guard(state->mutex);
+  state->options.kept = kept;
+}
+
+std::mutex& StopAtOnce::writing() {
+  static std::mutex mutex;
+  return mutex;
+}
+
+void set_work_description(const std::string& text) { description() = text; }
+const std::string& work_description() { return description(); }
 
 }  // namespace camplace::app

@@ -1,14 +1,20 @@
 #pragma once
-/// How the long commands (optimize, study, validate) stop on a signal (issue 16): the first
-/// SIGINT (Ctrl-C), SIGTERM (kill, a batch system's time limit) or SIGHUP (a closed terminal)
-/// sets one flag; the command finishes what is under way, writes its results and throws
-/// Interrupted, which main turns into the exit status 128 + the signal's number (130, 143, 129),
-/// as a shell reports a process the signal ended. A second Ctrl-C ends the process at once;
-/// repeated SIGTERM or SIGHUP change nothing (a study forwards them to its run, which may have
-/// had its own already).
+/// How the long commands stop on a signal (issue 16): the first SIGINT (Ctrl-C), SIGTERM (kill,
+/// a batch system's time limit) or SIGHUP (a closed terminal) sets one flag; the command
+/// finishes what is under way, writes its results and throws Interrupted, which main turns into
+/// the exit status 128 + the signal's number (130, 143, 129), as a shell reports a process the
+/// signal ended. A second Ctrl-C ends the process at once; repeated SIGTERM or SIGHUP change
+/// nothing (a study forwards them to its run, which may have had its own already).
+///
+/// Work that cannot stop in between (an evaluator's set-up, one exact evaluation) runs inside a
+/// StopAtOnce scope: a signal then ends the process within a second, from a watcher thread,
+/// keeping what was written before (StopAtOnce::writing() guards the writes), removing the
+/// temporary files of unfinished atomic writes, and saying what was kept.
 #include <atomic>
+#include <mutex>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace camplace::app {
 
@@ -36,5 +42,43 @@ struct Interrupted : std::runtime_error {
 
 /// The exit status for an interrupted command: 128 + the signal's number.
 int interrupted_exit_status();
+
+/// While one lives (inside an InterruptSignals), a signal, or the deadline, ends the process
+/// within a second: a watcher thread waits until no write is under way (writing()), removes
+/// the files `<name>.tmp<pid>` that core::write_file_atomically leaves in `temp_dirs`, prints
+/// "interrupted: <kept>" (exit status 128 + the signal) or, at the deadline, "error:
+/// <deadline_message>" (exit status 1) on stderr and calls _exit. A signal that came before
+/// the scope began ends the process when it begins. Nest none.
+class StopAtOnce {
+ public:
+  struct Options {
+    /// What the process has written so far, for the message ("nothing was written").
+    std::string kept = "nothing was written";
+    /// Folders whose temporary files an unfinished write may leave.
+    std::vector<std::string> temp_dirs;
+    /// Seconds from construction until the process ends with deadline_message; ≤ 0: none.
+    double deadline_seconds = 0.0;
+    std::string deadline_message;
+  };
+  explicit StopAtOnce(Options options);
+  ~StopAtOnce();
+  StopAtOnce(const StopAtOnce&) = delete;
+  StopAtOnce& operator=(const StopAtOnce&) = delete;
+
+  /// Updates what the message says was kept (e.g. after a checkpoint was written).
+  static void set_kept(const std::string& kept);
+  /// Hold this lock while writing files that must not be cut short: the watcher ends the
+  /// process only between writes.
+  static std::mutex& writing();
+
+ private:
+  struct State;
+  State* state_;
+};
+
+/// What the command is doing, with the options that size the work ("evaluate --resolution
+/// 100x100x100 (the scene's), 256 cameras, --refine 0"): main names it when memory runs out.
+void set_work_description(const std::string& description);
+const std::string& work_description();
 
 }  // namespace camplace::app

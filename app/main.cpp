@@ -1,14 +1,47 @@
 // The camplace command-line tool: parse, call the modules, print. Errors → message, exit 1.
 #include <CLI/CLI.hpp>
+#include <cstdlib>
 #include <exception>
 #include <iostream>
+#include <new>
 #include <string>
 
 #include "camplace/core/error.hpp"
 #include "commands.hpp"
 #include "interrupt.hpp"
 
+namespace {
+
+/// "error: out of memory: <the work> asked for more memory than the machine could give; ..."
+void print_out_of_memory(const std::string& command) {
+  const std::string& work = camplace::app::work_description();
+  std::cerr << "error: out of memory: " << (work.empty() ? "camplace " + command : work)
+            << " asked for more memory than the machine could give; use a coarser "
+               "--resolution, fewer cameras or fewer --refine levels\n";
+}
+
+std::string g_command;                                 // argv[1], for the terminate handler
+std::terminate_handler g_default_terminate = nullptr;  // the runtime's (prints the exception)
+
+}  // namespace
+
 int main(int argc, char** argv) {
+  g_command = argc > 1 ? argv[1] : "";
+  // std::bad_alloc in a worker thread (the pipelines evaluate states in parallel) ends in
+  // std::terminate, not in the catch below: say the same there.
+  g_default_terminate = std::set_terminate([] {
+    if (const std::exception_ptr e = std::current_exception()) {
+      try {
+        std::rethrow_exception(e);
+      } catch (const std::bad_alloc&) {
+        print_out_of_memory(g_command);
+        std::_Exit(1);
+      } catch (...) {
+      }
+    }
+    if (g_default_terminate != nullptr) g_default_terminate();
+    std::abort();
+  });
   CLI::App app{"camplace: camera placement for human-robot work cells (visual hull distance)"};
   app.require_subcommand(1);
   // Every option's help shows its default (inherited by the subcommands registered below).
@@ -54,6 +87,10 @@ int main(int argc, char** argv) {
     // Positional arguments keep their upper-case name (FAMILY); options are --name.
     const std::string flag = e.option() == "family" ? "FAMILY" : "--" + e.option();
     std::cerr << "error: command line: " << flag << ": " << e.reason() << "\n";
+    return 1;
+  } catch (const std::bad_alloc&) {
+    // Commands name the work and the options that sized it (set_work_description).
+    print_out_of_memory(g_command);
     return 1;
   } catch (const camplace::app::Interrupted& e) {
     std::cerr << "interrupted: " << e.what() << "\n";

@@ -13,6 +13,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "camplace/compare/evaluation_json.hpp"
@@ -27,6 +28,7 @@
 #include "cli_checks.hpp"
 #include "commands.hpp"
 #include "interrupt.hpp"
+#include "memory_estimate.hpp"
 #ifdef CAMPLACE_HAVE_STUDY
 #include "camplace/compare/run_validation.hpp"
 #endif
@@ -98,8 +100,8 @@ int discard_output(const std::string& dir) {
 
 void run_optimize(const OptimizeArgs& args) {
   // The first SIGINT, SIGTERM or SIGHUP stops the run and writes its result (interrupt.hpp).
-  // Installed first, so a signal while the scene loads still ends with a (one-evaluation) run
-  // file.
+  // Until the evaluator is set up nothing is written, and a signal ends the process at once
+  // (StopAtOnce below).
   const InterruptSignals signals;
   std::atomic<bool>& stop = InterruptSignals::flag();
 
@@ -133,7 +135,22 @@ void run_optimize(const OptimizeArgs& args) {
     options.start = {optimize::StartKind::file, args.start};
   }
 
+  // The memory estimate before the set-up; the set-up itself (up to minutes on fine grids)
+  // ends at once on a signal: nothing is written yet.
+  const std::string resolution_option =
+      args.resolution.empty() ? "the scene's voxels" : "--resolution";
+  const unsigned cores = std::max(std::thread::hardware_concurrency(), 1u);
+  const VoxelWork work =
+      voxel_work(scene, voxel_options.resolution, args.refine,
+                 args.threads > 0 ? args.threads : static_cast<int>(cores), false);
+  set_work_description("optimize " + resolution_option + " " + std::to_string(work.n[0]) + "x" +
+                       std::to_string(work.n[1]) + "x" + std::to_string(work.n[2]) + " with " +
+                       std::to_string(work.cameras) + " cameras" +
+                       (args.refine > 0 ? ", --refine " + std::to_string(args.refine) : ""));
+  check_memory(work, resolution_option);
+  auto set_up_at_once = std::make_unique<StopAtOnce>(StopAtOnce::Options{});
   const optimize::VoxelObjective objective(scene, voxel_options);
+  set_up_at_once.reset();
   optimize::RunContext context;
   context.scene_file = args.scene;
   context.mode = args.mode;
@@ -189,12 +206,16 @@ void run_optimize(const OptimizeArgs& args) {
   }
   const bool interrupted = stop.load();
   const std::filesystem::path out(args.out);
-  auto summary = optimize::summary_json(results, context, interrupted);
+  // Other optimize processes may write runs into the same folder (a study on a cluster): the
+  // summary covers every run file there, rebuilt under the folder's lock (issue 16).
+  const optimize::FolderLock lock(args.out);
+  const std::vector<optimize::RunResult> all_runs = optimize::runs_in_folder(args.out, results);
+  auto summary = optimize::summary_json(all_runs, context, interrupted);
   // The diagnostics of `evaluate` for the best configuration (issue 12), in the summary and below
   // the table.
   nlohmann::json diagnostics;
   if (summary.contains("best")) {
-    const auto best = std::min_element(results.begin(), results.end(),
+    const auto best = std::min_element(all_runs.begin(), all_runs.end(),
                                        [](const auto& a, const auto& b) { return a.err < b.err; });
     compare::EvaluationOptions eval;
     eval.mode = voxel_options.mode;
@@ -205,11 +226,15 @@ void run_optimize(const OptimizeArgs& args) {
     summary["best"]["diagnostics"] = diagnostics;
   }
   core::write_file_atomically((out / "summary.json").string(), summary.dump(2) + "\n");
-  core::write_file_atomically((out / "summary.csv").string(), optimize::summary_csv(results));
+  core::write_file_atomically((out / "summary.csv").string(), optimize::summary_csv(all_runs));
   if (interrupted) {
     std::cout << "interrupted: the best result so far is in " << args.out << "\n\n";
   }
-  optimize::print_summary(std::cout, results);
+  if (all_runs.size() > results.size()) {
+    std::cout << "summary of all " << all_runs.size() << " runs in " << args.out << " ("
+              << results.size() << " by this process):\n";
+  }
+  optimize::print_summary(std::cout, all_runs);
   if (!diagnostics.is_null()) {
     std::cout << "\nbest configuration:\n";
     for (const auto& s : diagnostics["states"]) {

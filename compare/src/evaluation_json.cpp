@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -59,8 +60,9 @@ nlohmann::json voxel_json(const voxel::VoxelEvaluator& evaluator, const voxel::E
 /// voxels: 0 = no camera sees that region, the usual reason for d = 0), per camera the fraction
 /// of S's voxel centres inside its FOV and of the targets' voxel centres it labels occupied,
 /// and warnings for d(C, M) = 0 in every state and for empty models.
-nlohmann::json voxel_diagnostics(const voxel::VoxelEvaluator& evaluator,
-                                 const core::CameraConfig& config) {
+nlohmann::json voxel_diagnostics(
+    const voxel::VoxelEvaluator& evaluator, const core::CameraConfig& config,
+    const std::function<void(const std::string&, int, int)>& progress) {
   const core::Scene& scene = evaluator.scene();
   const voxel::Grid& grid = evaluator.grid();
   const bool boxes = evaluator.options().mode == core::LabelMode::conservative;
@@ -70,16 +72,24 @@ nlohmann::json voxel_diagnostics(const voxel::VoxelEvaluator& evaluator,
   nlohmann::json states = nlohmann::json::array();
   int zero_distance = 0, empty = 0;
   for (std::size_t s = 0; s < all.size(); ++s) {
+    progress("voxel diagnostics", static_cast<int>(s), static_cast<int>(all.size()));
     const std::vector<std::uint8_t> model = evaluator.model(config, static_cast<int>(s));
     const std::vector<int> component = voxel::component_labels(model, grid);
     std::vector<std::vector<voxel::Label>> labels;
     for (const auto& camera : config) labels.push_back(evaluator.labels(camera, int(s)));
-    // The targets' voxels (centre inside a target of the state).
+    // The targets' voxels (centre inside a target of the state). The winding-number test only
+    // inside a target's bounding box (closed: a centre on it is tested): outside it cannot hold.
+    const auto& targets = scene.time_steps[all[s].time_step].events[all[s].event].targets;
+    std::vector<core::Box3> target_boxes;
+    for (const auto& t : targets) target_boxes.push_back(core::bounding_box(t.mesh));
     for (int v = 0; v < grid.count(); ++v) {
       const core::Vec3 c = grid.voxel_center(v);
       bool in_target = false;
-      for (const auto& t : scene.time_steps[all[s].time_step].events[all[s].event].targets)
-        in_target = in_target || core::inside_mesh(t.mesh, c);
+      for (std::size_t t = 0; t < targets.size() && !in_target; ++t) {
+        const core::Box3& b = target_boxes[t];
+        in_target = (c.array() >= b.min.array()).all() && (c.array() <= b.max.array()).all() &&
+                    core::inside_mesh(targets[t].mesh, c);
+      }
       if (!in_target) continue;
       ++targets_total;
       for (std::size_t c2 = 0; c2 < config.size(); ++c2)
@@ -122,6 +132,7 @@ nlohmann::json voxel_diagnostics(const voxel::VoxelEvaluator& evaluator,
     }
     states.push_back(entry);
   }
+  progress("voxel diagnostics", static_cast<int>(all.size()), static_cast<int>(all.size()));
   nlohmann::json cameras = nlohmann::json::array();
   for (std::size_t c = 0; c < config.size(); ++c) {
     const core::Fov fov(config[c], scene.cameras);
@@ -217,6 +228,10 @@ EvaluationJson evaluate_json(const core::Scene& scene, const core::CameraConfig&
 #endif
   EvaluationJson out;
   nlohmann::json vox, ex;
+  auto progress = [&options](const std::string& stage, int done, int total) {
+    if (options.on_progress) options.on_progress(stage, done, total);
+  };
+  const int state_count = static_cast<int>(core::states(scene).size());
   if (want_voxel) {
     voxel::VoxelOptions voxel_options;
     voxel_options.mode = options.mode;
@@ -229,10 +244,17 @@ EvaluationJson evaluate_json(const core::Scene& scene, const core::CameraConfig&
     // inscribed pyramid.
     core::Scene voxel_scene = scene;
     if (want_exact) voxel_scene.cameras.fov = core::FovShape::pyramid;
+    const std::array<int, 3> n =
+        options.resolution == std::array<int, 3>{0, 0, 0} ? scene.voxels : options.resolution;
+    progress("voxel set-up " + std::to_string(n[0]) + "x" + std::to_string(n[1]) + "x" +
+                 std::to_string(n[2]),
+             0, 0);
     const voxel::VoxelEvaluator evaluator(voxel_scene, voxel_options);
+    progress("voxel evaluation", 0, state_count);
     const voxel::Evaluation evaluation = evaluator.evaluate(config);
+    progress("voxel evaluation", state_count, state_count);
     vox = voxel_json(evaluator, evaluation);
-    vox["diagnostics"] = voxel_diagnostics(evaluator, config);
+    vox["diagnostics"] = voxel_diagnostics(evaluator, config, progress);
     vox["fov"] = core::name_of(voxel_scene.cameras.fov);
     if (options.voxel_models) {
       out.grid = evaluator.grid();
@@ -248,18 +270,25 @@ EvaluationJson evaluate_json(const core::Scene& scene, const core::CameraConfig&
     exact::ExactOptions exact_options;
     exact_options.export_dir = options.export_dir;
     exact_options.threads = options.threads;
+    progress("exact evaluation", 0, state_count);
     ex = exact_json(exact::evaluate_exact(scene, config, exact_options), options.exact_fractions);
   }
+  if (want_exact) progress("exact evaluation", state_count, state_count);
+#endif
+  // One shape for every pipeline (docs/files.md): "voxel", "exact" and "differences" always,
+  // null where nothing ran; one pipeline's members also at the top level.
   if (want_voxel && want_exact) {
-    out.result = {{"pipeline", core::name_of(core::Pipeline::both)},
-                  {"voxel", vox},
-                  {"exact", ex},
-                  {"differences", differences(vox, ex)}};
+    out.result = {{"pipeline", core::name_of(core::Pipeline::both)}};
   } else {
     out.result = want_voxel ? vox : ex;
   }
+  out.result["voxel"] = want_voxel ? vox : nlohmann::json(nullptr);
+  out.result["exact"] = want_exact ? ex : nlohmann::json(nullptr);
+#ifdef CAMPLACE_HAVE_EXACT
+  out.result["differences"] =
+      want_voxel && want_exact ? differences(vox, ex) : nlohmann::json(nullptr);
 #else
-  out.result = vox;
+  out.result["differences"] = nullptr;
 #endif
   out.result["scene"] = scene.file;
   out.result["cameras_file"] = options.cameras_file;

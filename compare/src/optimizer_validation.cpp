@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
+#include <mutex>
 #include <random>
 #include <sstream>
 
@@ -118,6 +120,21 @@ void validate_optimizer(const core::Scene& original, const OptimizerValidationOp
   }
   std::vector<std::array<int, 3>> resolutions = options.resolutions;
   if (resolutions.empty()) resolutions.push_back(scene.voxels);
+  // Progress: one exact evaluation per run file and per sample, one voxel set-up (and its
+  // cheap evaluations) per resolution and mode.
+  const int total = static_cast<int>(run_files.size()) + options.samples +
+                    2 * static_cast<int>(resolutions.size());
+  int done = 0;
+  auto progress = [&] {
+    if (options.on_progress) options.on_progress(done, total);
+  };
+  // Writes under options.writing (never cut short by a caller's signal handling).
+  auto write_locked = [&options](const std::function<void()>& write, const std::string& kept) {
+    std::unique_lock<std::mutex> lock;
+    if (options.writing != nullptr) lock = std::unique_lock<std::mutex>(*options.writing);
+    write();
+    if (options.on_written) options.on_written(kept);
+  };
   // The optima's voxel Err as the optimizer saw it (the scene's own FOV), their exact Err, and
   // the rank agreement with like-for-like pyramid FOVs.
   const voxel::VoxelEvaluator conservative(original,
@@ -129,6 +146,7 @@ void validate_optimizer(const core::Scene& original, const OptimizerValidationOp
   std::ostringstream md_runs;
   std::vector<core::CameraConfig> optima;
   for (const std::string& file : run_files) {
+    progress();
     const core::CameraConfig config = core::load_camera_config(file, scene);
     optima.push_back(config);
     const double voxel_err = conservative.err(config);
@@ -138,8 +156,10 @@ void validate_optimizer(const core::Scene& original, const OptimizerValidationOp
              << num(exact_err - voxel_err, 9) << "\n";
     md_runs << "| " << name << " | " << num(voxel_err) << " | " << num(exact_err) << " | "
             << num(exact_err - voxel_err) << " |\n";
+    ++done;
   }
-  core::write_file_atomically(dir + "/runs.csv", runs_csv.str());
+  write_locked([&] { core::write_file_atomically(dir + "/runs.csv", runs_csv.str()); },
+               dir + "/runs.csv (the exact Err of every run); the rank agreement was not finished");
 
   // 2. Rank agreement over a seeded sample of random configurations.
   std::mt19937 rng(options.seed);
@@ -151,7 +171,11 @@ void validate_optimizer(const core::Scene& original, const OptimizerValidationOp
                                 : perturb(scene, optima[(i / 2) % optima.size()], rng));
   }
   std::vector<double> exact_errs;
-  for (const auto& config : sample) exact_errs.push_back(exact::evaluate_exact(scene, config).err);
+  for (const auto& config : sample) {
+    progress();
+    exact_errs.push_back(exact::evaluate_exact(scene, config).err);
+    ++done;
+  }
   std::ostringstream samples_csv, rank_csv, dat, md_rank;
   samples_csv << "sample,mode,resolution,voxel_err_m2,exact_err_m2\n";
   rank_csv << "mode,resolution,samples,kendall_tau_b\n";
@@ -160,7 +184,9 @@ void validate_optimizer(const core::Scene& original, const OptimizerValidationOp
   for (const auto& n : resolutions) {
     for (voxel::LabelMode mode : {voxel::LabelMode::center, voxel::LabelMode::conservative}) {
       const std::string mode_name = core::name_of(mode);
+      progress();
       const voxel::VoxelEvaluator evaluator(scene, {mode, n});
+      ++done;
       std::vector<double> voxel_errs;
       dat << "# " << mode_name << " " << resolution_text(n)
           << ": exact_err voxel_err (m², 0 written as 1e-6)\n";
@@ -188,6 +214,9 @@ void validate_optimizer(const core::Scene& original, const OptimizerValidationOp
                   std::to_string(ri + 1) + " title '" + mode_name + " " + resolution_text(n) + "'";
     }
   }
+  progress();
+  std::unique_lock<std::mutex> lock;  // the rest is written as one
+  if (options.writing != nullptr) lock = std::unique_lock<std::mutex>(*options.writing);
   core::write_file_atomically(dir + "/samples.csv", samples_csv.str());
   core::write_file_atomically(dir + "/rank_agreement.csv", rank_csv.str());
   core::write_file_atomically(dir + "/voxel_err_vs_exact_err.dat", dat.str());
@@ -235,6 +264,8 @@ void validate_optimizer(const core::Scene& original, const OptimizerValidationOp
         "10⁻⁶ m².\n\n"
      << "Data: `runs.csv`, `samples.csv`, `rank_agreement.csv`.\n";
   core::write_file_atomically(dir + "/report.md", md.str());
+  lock = {};
+  if (options.on_written) options.on_written("the complete report in " + dir);
 }
 
 }  // namespace camplace::compare

@@ -101,7 +101,7 @@ core::Scene with_pyramid_fov(const core::Scene& scene) {
 }
 
 CompareResult compare_voxel_exact(const core::Scene& original, const core::CameraConfig& config,
-                                  const CompareOptions& options) {
+                                  const CompareOptions& options, const ComparePartial& on_partial) {
   const core::Scene scene = with_pyramid_fov(original);
   std::vector<std::array<int, 3>> resolutions = options.resolutions;
   if (resolutions.empty()) resolutions.push_back(scene.voxels);
@@ -123,15 +123,22 @@ CompareResult compare_voxel_exact(const core::Scene& original, const core::Camer
   }
   CompareResult result;
   result.started = core::now_iso8601();
+  // Center mode once per resolution, conservative mode at every refinement level.
+  std::vector<std::pair<voxel::LabelMode, int>> runs{{voxel::LabelMode::center, 0}};
+  for (int level : levels) runs.push_back({voxel::LabelMode::conservative, level});
+  result.evaluations_total = 1 + static_cast<int>(resolutions.size() * runs.size());
+  auto progress = [&] {
+    if (options.on_progress) options.on_progress(result.evaluations_done, result.evaluations_total);
+  };
+  progress();
   exact::ExactOptions exact_options;
   exact_options.keep_models = true;
   const exact::ExactEvaluation ex = exact::evaluate_exact(scene, config, exact_options);
   result.errs.push_back({"exact", {0, 0, 0}, 0, ex.err, ex.timing.total_ms});
-  // Center mode once per resolution, conservative mode at every refinement level.
-  std::vector<std::pair<voxel::LabelMode, int>> runs{{voxel::LabelMode::center, 0}};
-  for (int level : levels) runs.push_back({voxel::LabelMode::conservative, level});
+  ++result.evaluations_done;
   for (const auto& n : resolutions) {
     for (const auto& [mode, level] : runs) {
+      progress();
       const bool conservative = mode == voxel::LabelMode::conservative;
       voxel::VoxelOptions voxel_options;
       voxel_options.mode = mode;
@@ -168,8 +175,11 @@ CompareResult compare_voxel_exact(const core::Scene& original, const core::Camer
         (conservative ? result.conservative_violations : result.center_violations) += violation;
         result.rows.push_back(row);
       }
+      ++result.evaluations_done;
+      if (on_partial) on_partial(result);
     }
   }
+  progress();
   return result;
 }
 
@@ -373,8 +383,14 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
              {"refine", level_list.empty() ? "0" : level_list},
              {"modes", "center, conservative"},
              {"FOV", std::to_string(scene.cameras.sides) + "-sided pyramid (SPEC §1)"}},
-            options.command, result.started.empty() ? core::now_iso8601() : result.started)
-     << "The exact pipeline (CGAL Nef polyhedra, SPEC §6) is the reference. Both pipelines use the "
+            options.command, result.started.empty() ? core::now_iso8601() : result.started);
+  if (result.evaluations_done < result.evaluations_total) {
+    md << "**Incomplete**: interrupted after " << result.evaluations_done << " of "
+       << result.evaluations_total
+       << " evaluations (the exact one first, then the voxel pipelines in the order of the "
+          "tables); rerun the command for all.\n\n";
+  }
+  md << "The exact pipeline (CGAL Nef polyhedra, SPEC §6) is the reference. Both pipelines use the "
      << scene.cameras.sides << "-sided pyramid inscribed in each camera's "
      << scene.cameras.half_angle / core::kDegree
      << "° cone (SPEC §1: whenever voxel and exact results are compared).\n\n## Checks (SPEC "

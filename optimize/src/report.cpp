@@ -1,12 +1,19 @@
 #include "camplace/optimize/report.hpp"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 
@@ -408,6 +415,43 @@ int discard_runs(const std::string& dir) {
   return runs;
 }
 
+std::vector<RunResult> runs_in_folder(const std::string& dir, const std::vector<RunResult>& mine) {
+  namespace fs = std::filesystem;
+  std::map<unsigned, RunResult> by_seed;
+  std::error_code ec;
+  for (auto it = fs::directory_iterator(dir, ec); !ec && it != fs::directory_iterator();
+       it.increment(ec)) {
+    const std::optional<unsigned> seed = run_file_seed(it->path().filename().string());
+    if (!seed || !it->is_regular_file()) continue;
+    try {
+      by_seed[*seed] = read_run_file(it->path().string()).run;
+    } catch (const std::exception&) {
+      // Not a run file this version reads (check_resume reported it when the job started).
+    }
+  }
+  for (const RunResult& run : mine) by_seed[run.seed] = run;
+  std::vector<RunResult> out;
+  for (auto& [seed, run] : by_seed) out.push_back(std::move(run));
+  return out;
+}
+
+FolderLock::FolderLock(const std::string& dir) {
+  // The folder itself is locked (flock works on a directory's descriptor on Linux): no lock
+  // file joins the user's files.
+  fd_ = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd_ < 0) throw std::runtime_error("cannot open " + dir + ": " + std::strerror(errno));
+  while (::flock(fd_, LOCK_EX) != 0) {
+    if (errno == EINTR) continue;  // a signal (its flag is seen after the summary is written)
+    const int error = errno;
+    ::close(fd_);
+    throw std::runtime_error("cannot lock " + dir + ": " + std::strerror(error));
+  }
+}
+
+FolderLock::~FolderLock() {
+  if (fd_ >= 0) ::close(fd_);  // releases the lock
+}
+
 Summary summarize(const std::vector<RunResult>& runs) {
   Summary s;
   s.runs = static_cast<int>(runs.size());
@@ -504,14 +548,19 @@ void print_summary(std::ostream& out, const std::vector<RunResult>& runs) {
   }
   const Summary s = summarize(runs);
   out << std::left << std::setw(6) << "seed" << std::right << std::setw(12) << "Err [m²]"
-      << std::setw(13) << "evaluations" << std::setw(10) << "seconds" << std::setw(11) << "ms/eval"
+      << std::setw(13) << "evaluations" << std::setw(10) << "seconds" << std::setw(9) << "ms/eval"
+      << std::setw(10) << "wall/eval"
       << "  "
       << "stop\n";
   for (const RunResult& r : runs) {
     out << std::left << std::setw(6) << r.seed << std::right << std::setw(11) << fixed(r.err, 5)
-        << std::setw(13) << r.evaluations << std::setw(10) << fixed(r.seconds, 1) << std::setw(11)
-        << fixed(r.mean_timing.total_ms, 2) << "  " << to_string(r.stop_reason) << '\n';
+        << std::setw(13) << r.evaluations << std::setw(10) << fixed(r.seconds, 1) << std::setw(9)
+        << fixed(r.mean_timing.total_ms, 2) << std::setw(10) << fixed(r.wall_ms_per_evaluation, 2)
+        << "  " << to_string(r.stop_reason) << '\n';
   }
+  // Issue 16: say which time each column is (threads evaluate in parallel, so they differ).
+  out << "ms/eval: mean duration of one evaluation (wall clock on the thread running it); "
+         "wall/eval: the run's wall-clock time per evaluation (seconds / evaluations, ms)\n";
   const double rate = 100.0 * s.reached / s.runs;
   out << "\nreached tolerance " << fixed(runs.front().tolerance, 4) << " m²: " << s.reached << "/"
       << s.runs << " (" << fixed(rate, 0) << "%)\n";

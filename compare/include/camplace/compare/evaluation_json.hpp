@@ -4,6 +4,7 @@
 /// The command-line tool and the Python module (python/) both print or return this object.
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -33,14 +34,20 @@ struct EvaluationOptions {
   std::string cameras_file;
   /// Voxel pipeline: also return each state's filtered model (Evaluation::voxel_models).
   bool voxel_models = false;
+  /// Called from the calling thread as the work advances: the stage ("voxel set-up 16x12x12",
+  /// "voxel evaluation", "voxel diagnostics", "exact evaluation"), the states done in it and
+  /// their total (0: the stage reports no count). Empty: none.
+  std::function<void(const std::string& stage, int done, int total)> on_progress;
 };
 
 /// What evaluate_json returns.
 struct EvaluationJson {
-  /// The object `camplace evaluate --json` prints: for one pipeline its result (voxel: with
-  /// "mode", "fov", "resolution", "voxel_diagonal", "tolerance" and "err_lower_bound"), for both
-  /// {"pipeline": "both", "voxel", "exact", "differences"}; always with "scene" (the scene's
-  /// path as loaded) and "cameras_file". Every number is finite.
+  /// The object `camplace evaluate --json` prints, of one shape for every pipeline:
+  /// {"pipeline", "scene" (the scene's path as loaded), "cameras_file", "voxel", "exact",
+  /// "differences"}, where "voxel" and "exact" are each pipeline's result (voxel: with "mode",
+  /// "fov", "resolution", "voxel_diagonal", "tolerance" and "err_lower_bound") or null when it
+  /// did not run, and "differences" is null unless both ran. With one pipeline its result's
+  /// members also stand at the top level ("err", "states", ...). Every number is finite.
   nlohmann::json result;
   /// With EvaluationOptions::voxel_models and a voxel pipeline: the voxel grid and each state's
   /// filtered model (1 = in M, index i + nx·(j + ny·k)), what `--voxels-out` writes

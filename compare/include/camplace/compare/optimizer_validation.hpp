@@ -3,6 +3,8 @@
 /// voxel optimum, and the rank agreement (Kendall's τ-b) between voxel Err and exact Err over a
 /// seeded sample of random configurations, per labelling mode and resolution.
 #include <array>
+#include <functional>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -16,6 +18,15 @@ struct OptimizerValidationOptions {
   unsigned seed = 1;     ///< seeds the sample
   std::vector<std::array<int, 3>> resolutions;  ///< empty = the scene's
   std::string command;                          ///< quoted in the report
+  /// Called before each exact evaluation and each voxel pipeline's set-up: the evaluations
+  /// done and their total (one exact per run file and per sample, one voxel pipeline per
+  /// resolution and mode). Empty: none.
+  std::function<void(int done, int total)> on_progress;
+  /// Held while files are written, so that a caller ending the process on a signal never cuts
+  /// one short; nullptr: none.
+  std::mutex* writing = nullptr;
+  /// Called after files are written with what DIR then holds ("DIR/runs.csv ..."). Empty: none.
+  std::function<void(const std::string& kept)> on_written;
 };
 
 /// Kendall's τ-b of two equally long samples (ties handled); NaN when undefined (one sample

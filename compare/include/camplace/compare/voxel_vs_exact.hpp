@@ -3,6 +3,7 @@
 /// (SPEC §8): per state and per (mode, resolution) the distances, volumes, Err, and the checks
 /// that the conservative voxel model contains the exact model and never over-estimates d.
 #include <array>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,9 @@ struct CompareOptions {
   std::vector<int> refine_levels;
   /// The command that produced the report, quoted in report.md.
   std::string command;
+  /// Called before each evaluation (the exact one first, then each voxel pipeline): the
+  /// evaluations done and their total. Empty: none.
+  std::function<void(int done, int total)> on_progress;
 };
 
 /// One state at one (mode, resolution) against the exact pipeline. Metres, m³.
@@ -52,7 +56,14 @@ struct ErrRow {
   double ms = 0.0;
 };
 
+struct CompareResult;
+/// Called after each voxel evaluation with the result so far (a checkpoint to write).
+using ComparePartial = std::function<void(const CompareResult&)>;
+
 struct CompareResult {
+  /// Evaluations done and planned (1 exact + per resolution one center and one conservative
+  /// per refinement level); the report marks itself incomplete while done < total.
+  int evaluations_done = 0, evaluations_total = 0;
   std::vector<CompareRow> rows;
   std::vector<ErrRow> errs;
   int conservative_violations = 0;  ///< rows of conservative mode failing either check
@@ -63,9 +74,11 @@ struct CompareResult {
 /// Runs the exact pipeline once and the voxel pipeline in both modes at every resolution (and in
 /// conservative mode at every refinement level), all with the scene's inscribed k-sided pyramid
 /// as FOV (SPEC §1). Throws core::OptionError("refine", ...) before any work when a level is
-/// one voxel::refine_problem() refuses at some resolution.
+/// one voxel::refine_problem() refuses at some resolution. `on_partial` (if set) receives the
+/// result after each voxel evaluation, the last time complete.
 CompareResult compare_voxel_exact(const core::Scene& scene, const core::CameraConfig& config,
-                                  const CompareOptions& options);
+                                  const CompareOptions& options,
+                                  const ComparePartial& on_partial = {});
 
 /// The scene with its cone FOV replaced by the inscribed pyramid (SPEC §1).
 core::Scene with_pyramid_fov(const core::Scene& scene);
@@ -74,7 +87,8 @@ core::Scene with_pyramid_fov(const core::Scene& scene);
 /// DIR/error_vs_resolution.png (against the finest cell's diagonal: the effective resolution)
 /// and DIR/d_voxel_vs_d_exact.png; with refinement levels also
 /// DIR/time_vs_effective_resolution.png. Timing only in err.csv's `ms` column, the report's
-/// timing table and that plot.
+/// timing table and that plot. A result with evaluations_done < evaluations_total (an
+/// interrupted compare) is marked incomplete at the top of report.md.
 void write_compare_report(const core::Scene& scene, const CompareResult& result,
                           const CompareOptions& options, const std::string& dir);
 

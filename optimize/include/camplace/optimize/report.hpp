@@ -119,6 +119,26 @@ void check_resume(const std::string& dir, const RunSettings& now);
 /// remove.
 int discard_runs(const std::string& dir);
 
+/// Every run of the folder `dir`: its run files (run-<seed>.json) read back, with `mine` (this
+/// process's runs) instead of the files of their seeds, in ascending seed order. Files that
+/// cannot be read are left out. What a summary of `dir` covers when several `optimize`
+/// processes write runs into one folder (a study on a cluster): each rebuilds the summary from
+/// all of them, under FolderLock, so that none loses another's runs.
+std::vector<RunResult> runs_in_folder(const std::string& dir, const std::vector<RunResult>& mine);
+
+/// An exclusive lock (flock) on the folder `dir` for its lifetime; waits for another
+/// process's. Throws std::runtime_error naming the folder when it cannot be opened or locked.
+class FolderLock {
+ public:
+  explicit FolderLock(const std::string& dir);
+  ~FolderLock();
+  FolderLock(const FolderLock&) = delete;
+  FolderLock& operator=(const FolderLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
+
 /// Aggregates over R runs.
 struct Summary {
   int runs = 0;

@@ -1,0 +1,81 @@
+#include "memory_estimate.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+
+#include "camplace/voxel/evaluator.hpp"
+
+namespace camplace::app {
+
+VoxelWork voxel_work(const core::Scene& scene, std::array<int, 3> n, int refine, int threads,
+                     bool diagnostics) {
+  VoxelWork w;
+  w.n = n == std::array<int, 3>{0, 0, 0} ? scene.voxels : n;
+  w.cameras = static_cast<int>(scene.cameras.domains.size());
+  w.time_steps = static_cast<int>(scene.time_steps.size());
+  auto count = [&w](const std::vector<core::SceneObject>& objects) {
+    for (const auto& o : objects) w.triangles += static_cast<long>(o.mesh.triangles.size());
+  };
+  count(scene.static_obstacles);
+  for (const auto& step : scene.time_steps) {
+    w.states += static_cast<int>(step.events.size());
+    count(step.dynamic_obstacles);  // the critical objects are (by default) these
+    for (const auto& event : step.events) count(event.targets);
+  }
+  w.refine = refine;
+  w.threads = std::max(threads, 1);
+  w.diagnostics = diagnostics;
+  return w;
+}
+
+double voxel_memory_bytes(const VoxelWork& w) {
+  const double v = static_cast<double>(w.n[0]) * w.n[1] * w.n[2];
+  double bytes =
+      v * w.time_steps * 17.0 + v * w.states + w.threads * v * 16.0 +
+      static_cast<double>(w.cameras) * w.threads * static_cast<double>(w.triangles) * 320.0;
+  if (w.diagnostics) bytes += v * (w.cameras + 6.0);
+  bytes += voxel::refine_memory_estimate(w.n, w.refine, w.time_steps, w.states);
+  return bytes;
+}
+
+std::optional<double> available_memory_bytes() {
+  if (const char* fake = std::getenv("CAMPLACE_MEM_AVAILABLE_KB")) {
+    char* end = nullptr;
+    const double kb = std::strtod(fake, &end);
+    if (end != fake && kb >= 0) return kb * 1024.0;
+  }
+  std::ifstream in("/proc/meminfo");
+  std::string key;
+  double kb = 0;
+  std::string unit;
+  while (in >> key >> kb >> unit) {
+    if (key == "MemAvailable:") return kb * 1024.0;
+  }
+  return std::nullopt;
+}
+
+void check_memory(const VoxelWork& work, const std::string& option) {
+  const std::optional<double> available = available_memory_bytes();
+  const double need = voxel_memory_bytes(work);
+  if (!available || need <= *available) return;
+  // GiB from 0.1 GiB on, MiB below (a test's tiny fake MemAvailable).
+  const bool gib = std::max(need, *available) >= 0.1 * 1024 * 1024 * 1024;
+  const double unit = gib ? 1024.0 * 1024.0 * 1024.0 : 1024.0 * 1024.0;
+  const char* unit_name = gib ? "GiB" : "MiB";
+  const std::string refine =
+      work.refine > 0 ? " and --refine " + std::to_string(work.refine) : std::string();
+  char text[512];
+  std::snprintf(text, sizeof text,
+                "%s %dx%dx%d with %d cameras%s needs about %.2f %s, more than the %.2f %s "
+                "available; use a coarser grid%s",
+                option.c_str(), work.n[0], work.n[1], work.n[2], work.cameras, refine.c_str(),
+                need / unit, unit_name, *available / unit, unit_name,
+                work.refine > 0 ? " or fewer levels" : "");
+  throw std::runtime_error(text);
+}
+
+}  // namespace camplace::app
