@@ -137,11 +137,11 @@ void run_evaluate(const EvaluateArgs& args) {
     return;
   }
   if (want_voxel && want_exact) {
-    if (scene.cameras.fov == core::FovShape::cone) {
+    if (scene.cameras.models.front().fov == core::FovShape::cone) {
       std::printf(
           "note: the scene's FOV is a cone; both pipelines use its inscribed %d-sided pyramid "
           "here so that they compare like with like (--pipeline voxel uses the cone)\n\n",
-          scene.cameras.sides);
+          scene.cameras.models.front().sides);
     }
     print_table(out["voxel"]);
     std::printf("\n");

@@ -73,7 +73,9 @@ nlohmann::json voxel_diagnostics(const voxel::VoxelEvaluator& evaluator,
     const std::vector<std::uint8_t> model = evaluator.model(config, static_cast<int>(s));
     const std::vector<int> component = voxel::component_labels(model, grid);
     std::vector<std::vector<voxel::Label>> labels;
-    for (const auto& camera : config) labels.push_back(evaluator.labels(camera, int(s)));
+    for (std::size_t c = 0; c < config.size(); ++c) {
+      labels.push_back(evaluator.labels(config[c], int(s), int(c)));
+    }
     // The targets' voxels (centre inside a target of the state).
     for (int v = 0; v < grid.count(); ++v) {
       const core::Vec3 c = grid.voxel_center(v);
@@ -124,11 +126,14 @@ nlohmann::json voxel_diagnostics(const voxel::VoxelEvaluator& evaluator,
   }
   nlohmann::json cameras = nlohmann::json::array();
   for (std::size_t c = 0; c < config.size(); ++c) {
-    const core::Fov fov(config[c], scene.cameras);
+    const core::Fov fov(config[c], scene.cameras.models.at(c));
     long inside = 0;
     for (int v = 0; v < grid.count(); ++v) inside += fov.contains(grid.voxel_center(v));
     cameras.push_back(
         {{"index", c},
+         {"model", scene.cameras.models.at(c).name},
+         {"fov", core::name_of(scene.cameras.models.at(c).fov)},
+         {"roll_deg", config[c].roll / core::kDegree},
          {"fov_fraction", static_cast<double>(inside) / grid.count()},
          {"target_seen_fraction",
           targets_total > 0 ? nlohmann::json(static_cast<double>(target_seen[c]) / targets_total)
@@ -228,12 +233,12 @@ EvaluationJson evaluate_json(const core::Scene& scene, const core::CameraConfig&
     // SPEC §1: when voxel and exact results are compared, the voxel pipeline also uses the
     // inscribed pyramid.
     core::Scene voxel_scene = scene;
-    if (want_exact) voxel_scene.cameras.fov = core::FovShape::pyramid;
+    if (want_exact) core::use_exact_models(voxel_scene.cameras);
     const voxel::VoxelEvaluator evaluator(voxel_scene, voxel_options);
     const voxel::Evaluation evaluation = evaluator.evaluate(config);
     vox = voxel_json(evaluator, evaluation);
     vox["diagnostics"] = voxel_diagnostics(evaluator, config);
-    vox["fov"] = core::name_of(voxel_scene.cameras.fov);
+    vox["fov"] = core::name_of(voxel_scene.cameras.models.front().fov);
     if (options.voxel_models) {
       out.grid = evaluator.grid();
       const auto all = core::states(evaluator.scene());

@@ -196,9 +196,8 @@ void validate_optimizer(const core::Scene& original, const OptimizerValidationOp
      << "| run | voxel Err (conservative, " << resolution_text(scene.voxels)
      << ") [m²] | exact Err [m²] | exact − voxel [m²] |\n|---|---|---|---|\n"
      << md_runs.str()
-     << "\nVoxel Err with the scene's own FOV (as the optimizer saw it); exact Err with the "
-        "inscribed "
-     << scene.cameras.sides << "-sided pyramid.\n\n## Rank agreement over " << sample.size()
+     << "\nVoxel Err with the scene's own FOV (as the optimizer saw it); exact Err with "
+     << core::fov_description(scene.cameras) << ".\n\n## Rank agreement over " << sample.size()
      << " random configurations (seed " << options.seed
      << ": even ones uniform in the camera domains, odd ones the optima moved by up to ±0.3 m and "
         "±15°; voxel pipeline with the same pyramid FOV)\n\n| mode | resolution | samples | "

@@ -389,9 +389,11 @@ GeneratedScene basic_scene() {
   s.area = kArea;
   s.voxels = kBasicVoxels;
   s.cameras.count = kBasicCameras;
-  s.cameras.half_angle = 30.0 * core::kDegree;  // "half_angle_deg": 30, as the loader reads it
-  s.cameras.fov = core::FovShape::cone;
-  s.cameras.sides = 16;
+  core::CameraModel model;
+  model.half_angle = 30.0 * core::kDegree;  // "half_angle_deg": 30, as the loader reads it
+  model.fov = core::FovShape::cone;
+  model.sides = 16;
+  s.cameras.models.assign(s.cameras.count, model);
   s.static_obstacles = finer_all(basic_static(), 4);
   for (int h = 0; h < 2; ++h) {
     s.time_steps.push_back(time_step(finer_all(robot_pose(h), 4), person_events(3, 4)));
@@ -414,6 +416,7 @@ void finish(GeneratedScene& g) {
   const std::optional<core::CameraDomain> domain = core::domain_preset(s.area, g.domain);
   CAMPLACE_ASSERT(domain.has_value());
   s.cameras.domains.assign(s.cameras.count, *domain);
+  s.cameras.models.resize(s.cameras.count, s.cameras.models.front());
   for (std::size_t h = 0; h < s.time_steps.size(); ++h) {
     s.time_steps[h].t = static_cast<double>(h);
     s.time_steps[h].critical = s.time_steps[h].dynamic_obstacles;

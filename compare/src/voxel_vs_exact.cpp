@@ -95,7 +95,7 @@ int exact_outside_voxel_model(const exact::ExactModel& model, const voxel::Grid&
 core::Scene with_pyramid_fov(const core::Scene& scene) {
   // SPEC §1: whenever voxel and exact results are compared, both use the inscribed pyramid.
   core::Scene out = scene;
-  out.cameras.fov = core::FovShape::pyramid;
+  core::use_exact_models(out.cameras);
   return out;
 }
 
@@ -314,10 +314,9 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
   md << "# Voxel pipeline against the exact pipeline\n\n"
      << "Scene: `" << scene.file << "`\n\n"
      << "Made by:\n\n    " << options.command << "\n\n"
-     << "The exact pipeline (CGAL Nef polyhedra, SPEC §6) is the reference. Both pipelines use the "
-     << scene.cameras.sides << "-sided pyramid inscribed in each camera's "
-     << scene.cameras.half_angle / core::kDegree
-     << "° cone (SPEC §1: whenever voxel and exact results are compared).\n\n## Checks (SPEC "
+     << "The exact pipeline (CGAL Nef polyhedra, SPEC §6) is the reference. Both pipelines use "
+     << core::fov_description(scene.cameras)
+     << " (SPEC §1: whenever voxel and exact results are compared).\n\n## Checks (SPEC "
         "§8)\n\n"
      << "| mode | rows | exact model outside voxel model | d_voxel > d_exact | violations "
         "|\n|---|---|---|---|---|\n";

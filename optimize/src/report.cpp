@@ -74,11 +74,14 @@ core::CameraConfig read_cameras(const core::JsonNode& node) {
   core::CameraConfig config;
   for (std::size_t i = 0; i < node.array_size(); ++i) {
     const core::JsonNode entry = node.at(i);
-    entry.only_keys({"position", "yaw_deg", "pitch_deg"});
+    // Run files before roll (issue 14) have no roll_deg: roll 0.
+    entry.only_keys({"position", "yaw_deg", "pitch_deg", "roll_deg", "model"});
     core::CameraSetting camera;
     camera.position = entry.at("position").vec3();
     camera.yaw = entry.at("yaw_deg").number_in(-180.0, 180.0) * kDeg;
     camera.pitch = entry.at("pitch_deg").number_in(-90.0, 90.0) * kDeg;
+    if (entry.has("roll_deg")) camera.roll = entry.at("roll_deg").number_in(-180.0, 180.0) * kDeg;
+    if (entry.has("model")) (void)entry.at("model").string();
     config.push_back(camera);
   }
   return config;
@@ -536,13 +539,13 @@ void print_summary(std::ostream& out, const std::vector<RunResult>& runs) {
   out << "best configuration (seed " << best.seed << "), Err = " << fixed(best.err, 5) << " m²\n";
   out << std::left << std::setw(8) << "camera" << std::right << std::setw(9) << "x [m]"
       << std::setw(9) << "y [m]" << std::setw(9) << "z [m]" << std::setw(11) << "yaw [°]"
-      << std::setw(12) << "pitch [°]" << '\n';
+      << std::setw(12) << "pitch [°]" << std::setw(11) << "roll [°]" << '\n';
   for (std::size_t i = 0; i < best.best.size(); ++i) {
     const core::CameraSetting& c = best.best[i];
     out << std::left << std::setw(8) << i << std::right << std::setw(9) << fixed(c.position.x(), 3)
         << std::setw(9) << fixed(c.position.y(), 3) << std::setw(9) << fixed(c.position.z(), 3)
         << std::setw(10) << fixed(c.yaw * kRadToDeg, 2) << std::setw(11)
-        << fixed(c.pitch * kRadToDeg, 2) << '\n';
+        << fixed(c.pitch * kRadToDeg, 2) << std::setw(10) << fixed(c.roll * kRadToDeg, 2) << '\n';
   }
 }
 

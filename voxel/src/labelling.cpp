@@ -84,10 +84,11 @@ BinRange bin_range(const CameraSetup& cam, double xlo, double xhi, double ylo, d
 
 }  // namespace
 
-CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera) const {
+CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera,
+                                               const core::CameraModel& model) const {
   CameraSetup cam;
   cam.setting = camera;
-  cam.fov.emplace(camera, scene.cameras);
+  cam.fov.emplace(camera, model);
   const core::Fov& fov = *cam.fov;
   const Vec3& c = camera.position;
   cam.c = c;
@@ -100,12 +101,16 @@ CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera
   cam.box_x = cam.abs_ex.dot(half_step);
   cam.box_y = cam.abs_ey.dot(half_step);
   cam.box_z = cam.abs_axis.dot(half_step);
-  cam.pyramid = scene.cameras.fov == core::FovShape::pyramid;
+  cam.pyramid = !fov.is_cone();
   cam.normals = fov.pyramid_normals();
-  cam.range = scene.cameras.range;
-  cam.cos_half = std::cos(scene.cameras.half_angle);  // as core::Fov computes it
-  cam.sin_half = std::sin(scene.cameras.half_angle);
-  const double widened = scene.cameras.half_angle + 1e-6;
+  cam.near = model.near;
+  cam.range = model.range;
+  // The cone's, or the bounding cone's half angle: every test that uses it proves a point
+  // outside the FOV (or, for a cone, inside), and the pyramid and the frustum lie in it.
+  const double half_angle = model.bounding_half_angle();
+  cam.cos_half = std::cos(half_angle);  // as core::Fov computes it
+  cam.sin_half = std::sin(half_angle);
+  const double widened = half_angle + 1e-6;
   cam.row_cos_sq = widened < 0.5 * core::kPi ? std::cos(widened) * std::cos(widened) : 0.0;
 
   // SPEC §3.3 with one convention in both pipelines (issue 16): a camera in the closed object,
@@ -197,8 +202,9 @@ CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera
       cam.triangles[t].touch = cull;
     }
   }
-  // Bins over the FOV's section at unit depth (the cone's; the pyramid is inscribed).
-  cam.image_half = std::tan(scene.cameras.half_angle);
+  // Bins over the FOV's section at unit depth (the bounding cone's, which holds the pyramid and
+  // the frustum's rectangle; bins only sort, a triangle outside them lands in an edge bin).
+  cam.image_half = std::tan(half_angle);
   // Center mode looks up one bin per voxel: fine bins. Conservative mode looks up the bins under
   // the box's projection and then each triangle's rectangle: coarse bins (fewer repeats).
   const int n_max = *std::max_element(grid.n.begin(), grid.n.end());
@@ -324,6 +330,7 @@ bool VoxelEvaluator::Impl::in_fov(const CameraSetup& cam, int i, int j, int k, c
     if (!(d > 0)) return false;
     const double axial = w.dot(cam.axis);
     if (cam.range && axial > *cam.range) return false;
+    if (axial < cam.near) return false;
     if (!cam.pyramid) return axial >= d * cam.cos_half;
     for (const Vec3& n : cam.normals) {
       if (n.dot(w) < 0.0) return false;
@@ -347,6 +354,10 @@ bool VoxelEvaluator::Impl::box_in_fov(const CameraSetup& cam, const Vec3& lo, co
   if (cam.range) {
     if (axial > *cam.range + tol) return false;
     ball_inside = axial + r < *cam.range - tol;
+  }
+  if (cam.near > 0.0) {
+    if (axial < cam.near - tol) return false;
+    ball_inside = ball_inside && axial - r > cam.near + tol;
   }
   if (!cam.pyramid) {
     if (axial < d * cam.cos_half - tol) return false;
@@ -720,6 +731,7 @@ void VoxelEvaluator::Impl::row_interval(const CameraSetup& cam, int j, int k, in
   double u_lo, u_hi;
   if (cam.row_cos_sq > 0.0 && cone_row(cam.axis, cam.row_cos_sq, dy, dz, u_lo, u_hi)) {
     if (cam.range) half_line(-a1, -b0, -*cam.range, u_lo, u_hi);
+    if (cam.near > 0.0) half_line(a1, b0, cam.near, u_lo, u_hi);
     if (u_lo > u_hi) {
       lo = nx;
       hi = -1;
@@ -750,6 +762,7 @@ void VoxelEvaluator::Impl::row_interval(const CameraSetup& cam, int j, int k, in
   }
   if (cam.range)
     half_line(-a1, -b0, -(*cam.range - r - pad - 1e-9 * std::abs(*cam.range)), u_lo, u_hi);
+  if (cam.near > 0.0) half_line(a1, b0, cam.near + r + pad + 1e-9 * cam.near, u_lo, u_hi);
   if (!(u_lo <= u_hi)) return;
   const double f_lo = index(u_lo) + 1.0, f_hi = index(u_hi) - 1.0;
   in_lo = f_lo <= 0 ? 0 : f_lo >= nx ? nx : static_cast<int>(std::ceil(f_lo));
@@ -842,7 +855,9 @@ void VoxelEvaluator::Impl::all_raw_models(const core::CameraConfig& config,
   std::vector<CameraSetup>& cameras = cameras_out ? *cameras_out : local;
   cameras.clear();
   cameras.reserve(config.size());
-  for (const auto& camera : config) cameras.push_back(camera_setup(camera));
+  for (std::size_t i = 0; i < config.size(); ++i) {
+    cameras.push_back(camera_setup(config[i], scene.cameras.models[i]));
+  }
   models.resize(states.size());
   for (auto& model : models) model.resize(grid.count());  // every byte is written below
   // Slices of a few z-layers each, shared out among the threads (results do not depend on it).
