@@ -313,7 +313,12 @@ std::string state_glb(const core::Scene& scene, const core::CameraConfig& config
     if (spec.range) far = *spec.range;
     // yfov: the frustum's vertical opening, else the cone's (pyramid's) full angle.
     const double yfov = spec.fov == core::FovShape::frustum ? spec.vertical : 2.0 * spec.half_angle;
-    const int camera = gltf.perspective_camera(name, yfov, spec.near > 0.0 ? spec.near : 0.01, far);
+    // A frustum's image is tan(H/2) : tan(V/2) wide; a cone's is left to the viewer.
+    const double aspect = spec.fov == core::FovShape::frustum
+                              ? std::tan(0.5 * spec.horizontal) / std::tan(0.5 * spec.vertical)
+                              : 0.0;
+    const int camera =
+        gltf.perspective_camera(name, yfov, spec.near > 0.0 ? spec.near : 0.01, far, aspect);
     json camera_extras = {{"role", "camera"},
                           {"index", c},
                           {"model", spec.name},

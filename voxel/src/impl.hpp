@@ -115,15 +115,17 @@ struct CameraSetup {
   /// The cone's half angle, or the bounding cone's for a pyramid (the cone it is inscribed in)
   /// or a frustum (CameraModel::bounding_half_angle).
   double cos_half = 1.0, sin_half = 0.0;
-  double row_cos_sq = 0.0;     ///< cos² of the half angle widened by 1e-6 (row_interval); 0: none
-  int bins = 1;                ///< bins per image axis
-  double image_half = 1.0;     ///< the bins cover [−image_half, image_half]² of (X/Z, Y/Z)
-  double bin_scale = 1.0;      ///< bins per unit of image coordinate
-  std::vector<int> bin_start;  ///< bins² + 1 offsets into bin_items
-  std::vector<int> bin_items;  ///< triangle indices, ascending within a bin
+  double row_cos_sq = 0.0;  ///< cos² of the half angle widened by 1e-6 (row_interval); 0: none
+  int bins = 1;             ///< bins per image axis
+  /// The bins cover [−image_half[0], image_half[0]] × [−image_half[1], image_half[1]] of
+  /// (X/Z, Y/Z).
+  std::array<double, 2> image_half{1.0, 1.0};
+  std::array<double, 2> bin_scale{1.0, 1.0};  ///< bins per unit of image coordinate, per axis
+  std::vector<int> bin_start;                 ///< bins² + 1 offsets into bin_items
+  std::vector<int> bin_items;                 ///< triangle indices, ascending within a bin
   /// Conservative mode: a second, finer set of bins whose rectangles are widened by `widen`.
   int wide_bins = 1;
-  double wide_scale = 1.0, widen = 0.0;
+  std::array<double, 2> wide_scale{1.0, 1.0}, widen{0.0, 0.0};  ///< per image axis
   std::vector<int> wide_start;  ///< wide_bins² + 1 offsets into wide_items
   std::vector<int> wide_items;
   std::vector<int> everywhere;  ///< triangles not wholly in front of the camera: in every bin
