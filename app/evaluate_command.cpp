@@ -1,5 +1,6 @@
 // `camplace evaluate`: Err of one camera configuration, per state, in the voxel and/or the
 // exact pipeline.
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -137,11 +138,15 @@ void run_evaluate(const EvaluateArgs& args) {
     return;
   }
   if (want_voxel && want_exact) {
-    if (scene.cameras.models.front().fov == core::FovShape::cone) {
+    const auto& models = scene.cameras.models;
+    const auto cone = std::find_if(models.begin(), models.end(), [](const core::CameraModel& m) {
+      return m.fov == core::FovShape::cone;
+    });
+    if (cone != models.end()) {
       std::printf(
           "note: the scene's FOV is a cone; both pipelines use its inscribed %d-sided pyramid "
           "here so that they compare like with like (--pipeline voxel uses the cone)\n\n",
-          scene.cameras.models.front().sides);
+          cone->sides);
     }
     print_table(out["voxel"]);
     std::printf("\n");
