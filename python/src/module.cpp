@@ -425,6 +425,7 @@ py::dict optimize_run(const PyScene& scene, const std::string& algorithm, unsign
       context.time_limit = time_limit;
       context.max_evaluations = max_evaluations;
       context.provenance = core::make_provenance(*scene_ptr);
+      context.camera_models = optimize::camera_models(*scene_ptr);
       result = optimize::optimize(*scene_ptr, objective, options);
     } catch (...) {
       channel->error = std::current_exception();

@@ -65,7 +65,7 @@ TEST(Report, RunFileCamerasAreReadByTheEvaluateReaderAndReproduceErr) {
 }
 
 // Issue 14: a frustum scene with roll free in the domain. Roll is in the decision vector (one
-// per camera), the run file carries roll_deg, and `evaluate --cameras RUNFILE`
+// per camera), the run file carries roll_deg and the model names, and `evaluate --cameras RUNFILE`
 // (core::load_camera_config) reads the same poses back and reproduces Err exactly.
 TEST(Report, CameraPosesWithRollSurviveTheRunFileRoundTrip) {
   const core::Scene scene =
@@ -87,11 +87,15 @@ TEST(Report, CameraPosesWithRollSurviveTheRunFileRoundTrip) {
 
   const fs::path dir = fresh_dir("roll");
   const fs::path file = dir / "run-14.json";
-  core::write_file_atomically(file.string(), run_json(run, RunContext{}).dump(2));
+  RunContext context;
+  context.camera_models = camera_models(scene);
+  EXPECT_EQ(context.camera_models, (std::vector<std::string>{"rgb", "rgb", "depth"}));
+  core::write_file_atomically(file.string(), run_json(run, context).dump(2));
   std::ifstream in(file);
   const nlohmann::json j = nlohmann::json::parse(in);
   ASSERT_EQ(j.at("cameras").size(), 3u);
-  EXPECT_TRUE(j.at("cameras")[0].contains("roll_deg"));
+  EXPECT_EQ(j.at("cameras")[2].at("model"), "depth");
+  EXPECT_EQ(read_run_file(file.string()).context.camera_models, context.camera_models);
   const core::CameraConfig config = core::load_camera_config(file.string(), scene);
   ASSERT_EQ(config.size(), run.best.size());
   for (std::size_t i = 0; i < config.size(); ++i) {
