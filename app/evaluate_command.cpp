@@ -193,11 +193,15 @@ void run_evaluate(const EvaluateArgs& args) {
     return;
   }
   if (want_voxel && want_exact) {
-    if (scene.cameras.fov == core::FovShape::cone) {
+    const auto& models = scene.cameras.models;
+    const auto cone = std::find_if(models.begin(), models.end(), [](const core::CameraModel& m) {
+      return m.fov == core::FovShape::cone;
+    });
+    if (cone != models.end()) {
       std::printf(
           "note: the scene's FOV is a cone; both pipelines use its inscribed %d-sided pyramid "
           "here so that they compare like with like (--pipeline voxel uses the cone)\n\n",
-          scene.cameras.sides);
+          cone->sides);
     }
     print_table(out["voxel"]);
     std::printf("\n");

@@ -160,6 +160,7 @@ void run_optimize(const OptimizeArgs& args) {
   context.time_limit = args.time_limit;
   context.max_evaluations = static_cast<std::uint64_t>(args.max_evals);
   context.provenance = core::make_provenance(scene);
+  context.camera_models = optimize::camera_models(scene);
 
   // Runs already in --out must have been made like these (issue 13), or --restart discards them.
   if (args.restart) {

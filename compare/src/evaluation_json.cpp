@@ -76,7 +76,9 @@ nlohmann::json voxel_diagnostics(
     const std::vector<std::uint8_t> model = evaluator.model(config, static_cast<int>(s));
     const std::vector<int> component = voxel::component_labels(model, grid);
     std::vector<std::vector<voxel::Label>> labels;
-    for (const auto& camera : config) labels.push_back(evaluator.labels(camera, int(s)));
+    for (std::size_t c = 0; c < config.size(); ++c) {
+      labels.push_back(evaluator.labels(config[c], int(s), int(c)));
+    }
     // The targets' voxels (centre inside a target of the state). The winding-number test only
     // inside a target's bounding box (closed: a centre on it is tested): outside it cannot hold.
     const auto& targets = scene.time_steps[all[s].time_step].events[all[s].event].targets;
@@ -135,11 +137,14 @@ nlohmann::json voxel_diagnostics(
   progress("voxel diagnostics", static_cast<int>(all.size()), static_cast<int>(all.size()));
   nlohmann::json cameras = nlohmann::json::array();
   for (std::size_t c = 0; c < config.size(); ++c) {
-    const core::Fov fov(config[c], scene.cameras);
+    const core::Fov fov(config[c], scene.cameras.models.at(c));
     long inside = 0;
     for (int v = 0; v < grid.count(); ++v) inside += fov.contains(grid.voxel_center(v));
     cameras.push_back(
         {{"index", c},
+         {"model", scene.cameras.models.at(c).name},
+         {"fov", core::name_of(scene.cameras.models.at(c).fov)},
+         {"roll_deg", config[c].roll / core::kDegree},
          {"fov_fraction", static_cast<double>(inside) / grid.count()},
          {"target_seen_fraction",
           targets_total > 0 ? nlohmann::json(static_cast<double>(target_seen[c]) / targets_total)
@@ -243,7 +248,7 @@ EvaluationJson evaluate_json(const core::Scene& scene, const core::CameraConfig&
     // SPEC §1: when voxel and exact results are compared, the voxel pipeline also uses the
     // inscribed pyramid.
     core::Scene voxel_scene = scene;
-    if (want_exact) voxel_scene.cameras.fov = core::FovShape::pyramid;
+    if (want_exact) core::use_exact_models(voxel_scene.cameras);
     const std::array<int, 3> n =
         options.resolution == std::array<int, 3>{0, 0, 0} ? scene.voxels : options.resolution;
     progress("voxel set-up " + std::to_string(n[0]) + "x" + std::to_string(n[1]) + "x" +
@@ -255,7 +260,7 @@ EvaluationJson evaluate_json(const core::Scene& scene, const core::CameraConfig&
     progress("voxel evaluation", state_count, state_count);
     vox = voxel_json(evaluator, evaluation);
     vox["diagnostics"] = voxel_diagnostics(evaluator, config, progress);
-    vox["fov"] = core::name_of(voxel_scene.cameras.fov);
+    vox["fov"] = core::name_of(voxel_scene.cameras.models.front().fov);
     if (options.voxel_models) {
       out.grid = evaluator.grid();
       const auto all = core::states(evaluator.scene());

@@ -236,22 +236,20 @@ void validate_optimizer(const core::Scene& original, const OptimizerValidationOp
     resolution_list += (resolution_list.empty() ? "" : ", ") + resolution_text(n);
   }
   md << "# Optimizer results against the exact pipeline\n\n"
-     << detail::provenance_header(
-            {{"scene", scene.file, scene_hashes}},
-            {{"runs",
-              "`" + options.runs_dir + "` (" + std::to_string(run_files.size()) + " run files)"},
-             {"samples", std::to_string(options.samples)},
-             {"seed", std::to_string(options.seed)},
-             {"resolutions", resolution_list},
-             {"FOV", std::to_string(scene.cameras.sides) + "-sided pyramid (SPEC §1)"}},
-            options.command, started)
+     << detail::provenance_header({{"scene", scene.file, scene_hashes}},
+                                  {{"runs", "`" + options.runs_dir + "` (" +
+                                                std::to_string(run_files.size()) + " run files)"},
+                                   {"samples", std::to_string(options.samples)},
+                                   {"seed", std::to_string(options.seed)},
+                                   {"resolutions", resolution_list},
+                                   {"FOV", core::fov_description(scene.cameras)}},
+                                  options.command, started)
      << "## Exact Err of each voxel optimum\n\n"
      << "| run | voxel Err (conservative, " << resolution_text(scene.voxels)
      << ") [m²] | exact Err [m²] | exact − voxel [m²] |\n|---|---|---|---|\n"
      << md_runs.str()
-     << "\nVoxel Err with the scene's own FOV (as the optimizer saw it); exact Err with the "
-        "inscribed "
-     << scene.cameras.sides << "-sided pyramid.\n\n## Rank agreement over " << sample.size()
+     << "\nVoxel Err with the scene's own FOV (as the optimizer saw it); exact Err with "
+     << core::fov_description(scene.cameras) << ".\n\n## Rank agreement over " << sample.size()
      << " random configurations (seed " << options.seed
      << ": even ones uniform in the camera domains, odd ones the optima moved by up to ±0.3 m and "
         "±15°; voxel pipeline with the same pyramid FOV)\n\n| mode | resolution | samples | "

@@ -84,7 +84,7 @@ class SceneCache {
     auto loaded = std::make_shared<LoadedScene>();
     loaded->scene = core::load_scene(path);
     loaded->pyramid_scene = loaded->scene;
-    loaded->pyramid_scene.cameras.fov = core::FovShape::pyramid;
+    core::use_exact_models(loaded->pyramid_scene.cameras);
     loaded->hashes = core::hash_scene(loaded->scene);
     scenes_.emplace(path, loaded);
     return loaded;

@@ -404,9 +404,11 @@ GeneratedScene basic_scene() {
   s.area = kArea;
   s.voxels = kBasicVoxels;
   s.cameras.count = kBasicCameras;
-  s.cameras.half_angle = 30.0 * core::kDegree;  // "half_angle_deg": 30, as the loader reads it
-  s.cameras.fov = core::FovShape::cone;
-  s.cameras.sides = 16;
+  core::CameraModel model;
+  model.half_angle = 30.0 * core::kDegree;  // "half_angle_deg": 30, as the loader reads it
+  model.fov = core::FovShape::cone;
+  model.sides = 16;
+  s.cameras.models.assign(s.cameras.count, model);
   s.static_obstacles = finer_all(basic_static(), 4);
   for (int h = 0; h < 2; ++h) {
     s.time_steps.push_back(time_step(finer_all(robot_pose(h), 4), person_events(3, 4)));
@@ -429,6 +431,7 @@ void finish(GeneratedScene& g) {
   const std::optional<core::CameraDomain> domain = core::domain_preset(s.area, g.domain);
   CAMPLACE_ASSERT(domain.has_value());
   s.cameras.domains.assign(s.cameras.count, *domain);
+  s.cameras.models.resize(s.cameras.count, s.cameras.models.front());
   for (std::size_t h = 0; h < s.time_steps.size(); ++h) {
     s.time_steps[h].t = static_cast<double>(h);
     s.time_steps[h].critical = s.time_steps[h].dynamic_obstacles;
@@ -691,16 +694,21 @@ GeneratedScene build_on_base(const SceneFamily& family, int i, unsigned seed,
       const bool same = d.x.lo == d0.x.lo && d.x.hi == d0.x.hi && d.y.lo == d0.y.lo &&
                         d.y.hi == d0.y.hi && d.z.lo == d0.z.lo && d.z.hi == d0.z.hi &&
                         d.yaw.lo == d0.yaw.lo && d.yaw.hi == d0.yaw.hi &&
-                        d.pitch.lo == d0.pitch.lo && d.pitch.hi == d0.pitch.hi;
+                        d.pitch.lo == d0.pitch.lo && d.pitch.hi == d0.pitch.hi &&
+                        d.roll.lo == d0.roll.lo && d.roll.hi == d0.roll.hi;
       if (!same) {
         not_applicable(family, base,
                        "its cameras have different domains (\"camera_domains\"); the family "
                        "needs one domain shared by every camera");
       }
     }
-    const core::CameraDomain shared = s.cameras.domains.front();
-    s.cameras.count = i;
-    s.cameras.domains.assign(i, shared);
+    if (!s.cameras.one_model()) {
+      not_applicable(family, base,
+                     "its cameras have different models (\"cameras.models\"); the family needs "
+                     "one model shared by every camera");
+    }
+    s.cameras.resize(1);
+    s.cameras.resize(i);
   } else if (f == "domain_ceiling") {
     g.domain = "ceiling";
   } else if (f == "domain_upper_fourth") {

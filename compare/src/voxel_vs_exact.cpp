@@ -96,7 +96,7 @@ int exact_outside_voxel_model(const exact::ExactModel& model, const voxel::Grid&
 core::Scene with_pyramid_fov(const core::Scene& scene) {
   // SPEC §1: whenever voxel and exact results are compared, both use the inscribed pyramid.
   core::Scene out = scene;
-  out.cameras.fov = core::FovShape::pyramid;
+  core::use_exact_models(out.cameras);
   return out;
 }
 
@@ -382,7 +382,7 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
                                  : resolution_list},
              {"refine", level_list.empty() ? "0" : level_list},
              {"modes", "center, conservative"},
-             {"FOV", std::to_string(scene.cameras.sides) + "-sided pyramid (SPEC §1)"}},
+             {"FOV", core::fov_description(scene.cameras)}},
             options.command, result.started.empty() ? core::now_iso8601() : result.started);
   if (result.evaluations_done < result.evaluations_total) {
     md << "**Incomplete**: interrupted after " << result.evaluations_done << " of "
@@ -390,10 +390,9 @@ void write_compare_report(const core::Scene& scene, const CompareResult& result,
        << " evaluations (the exact one first, then the voxel pipelines in the order of the "
           "tables); rerun the command for all.\n\n";
   }
-  md << "The exact pipeline (CGAL Nef polyhedra, SPEC §6) is the reference. Both pipelines use the "
-     << scene.cameras.sides << "-sided pyramid inscribed in each camera's "
-     << scene.cameras.half_angle / core::kDegree
-     << "° cone (SPEC §1: whenever voxel and exact results are compared).\n\n## Checks (SPEC "
+  md << "The exact pipeline (CGAL Nef polyhedra, SPEC §6) is the reference. Both pipelines use "
+     << core::fov_description(scene.cameras)
+     << " (SPEC §1: whenever voxel and exact results are compared).\n\n## Checks (SPEC "
         "§8)\n\n"
      << "| mode | rows | exact model outside voxel model | d_voxel > d_exact | violations "
         "|\n|---|---|---|---|---|\n";

@@ -142,7 +142,7 @@ class SceneParser {
     if (node.is_string()) {
       preset = node.string();
     } else {
-      node.only_keys({"preset", "x", "y", "z", "yaw_deg", "pitch_deg"});
+      node.only_keys({"preset", "x", "y", "z", "yaw_deg", "pitch_deg", "roll_deg"});
       if (node.has("preset")) preset = node.at("preset").string();
     }
     const std::optional<CameraDomain> base = domain_preset(s, preset);
@@ -160,37 +160,168 @@ class SceneParser {
       if (node.has("pitch_deg")) {
         d.pitch = parse_interval(node.at("pitch_deg"), -kPi / 2, kPi / 2, kDeg);
       }
+      if (node.has("roll_deg")) d.roll = parse_interval(node.at("roll_deg"), -kPi, kPi, kDeg);
     }
     return d;
   }
 
-  void parse_cameras(const JsonNode& node) {
-    node.only_keys(
-        {"count", "half_angle_deg", "fov", "sides", "range", "domain", "camera_domains"});
-    CameraSpec& c = scene_.cameras;
-    c.count = node.at("count").integer_in(1, 256);
-    const JsonNode half = node.at("half_angle_deg");
-    const double half_deg = half.number();
-    if (!(half_deg > 0.0 && half_deg < 90.0)) half.fail("half_angle_deg must lie in (0, 90)");
-    c.half_angle = half_deg * kDeg;
+  /// A range: a far plane `far` (> 0) or [near, far] with 0 ≤ near < far (m).
+  static void parse_range(const JsonNode& r, CameraModel& m) {
+    if (r.value().is_array()) {
+      if (r.array_size() != 2) r.fail("expected a far depth or [near, far] (m)");
+      const double near = r.at(std::size_t{0}).number(), far = r.at(std::size_t{1}).number();
+      if (!(near >= 0.0)) r.at(std::size_t{0}).fail("near must not be negative");
+      if (!(far > 0.0)) r.at(std::size_t{1}).fail("range must be positive");
+      if (!(near < far)) {
+        r.fail("near " + format_number(near) + " must lie below far " + format_number(far));
+      }
+      if (far > kMaxCoordinate)
+        r.at(std::size_t{1}).fail("far exceeds " + format_number(kMaxCoordinate) + " m");
+      m.near = near;
+      m.range = far;
+      return;
+    }
+    const double range = r.number();
+    if (!(range > 0.0)) r.fail("range must be positive");
+    m.range = range;
+  }
+
+  /// The model keys of `node` (a model of "models", or the cameras block itself in the
+  /// single-model form).
+  static CameraModel parse_model(const JsonNode& node) {
+    CameraModel m;
     if (node.has("fov")) {
       const JsonNode f = node.at("fov");
       const std::string fov = f.string();
       const auto parsed = from_name<FovShape>(fov);
       if (!parsed)
         f.fail("unknown fov \"" + fov + "\" (expected " + names_listed<FovShape>() + ")");
-      c.fov = *parsed;
+      m.fov = *parsed;
     }
-    if (node.has("sides")) c.sides = node.at("sides").integer_in(3, 1024);
-    if (node.has("range")) {
-      const JsonNode r = node.at("range");
-      const double range = r.number();
-      if (!(range > 0.0)) r.fail("range must be positive");
-      c.range = range;
+    if (m.fov == FovShape::frustum) {
+      for (const char* key : {"half_angle_deg", "sides"}) {
+        if (node.has(key)) node.at(key).fail(std::string(key) + " is not used by a frustum");
+      }
+      auto full_angle = [&](const char* key) {
+        const JsonNode a = node.at(key);
+        const double deg = a.number();
+        if (!(deg > 0.0 && deg < 180.0)) {
+          a.fail(std::string(key) + " (a full opening angle) must lie in (0, 180)");
+        }
+        return deg * kDeg;
+      };
+      m.horizontal = full_angle("horizontal_deg");
+      m.vertical = full_angle("vertical_deg");
+    } else {
+      for (const char* key : {"horizontal_deg", "vertical_deg"}) {
+        if (node.has(key)) node.at(key).fail(std::string(key) + " is used only by a frustum");
+      }
+      const JsonNode half = node.at("half_angle_deg");
+      const double half_deg = half.number();
+      if (!(half_deg > 0.0 && half_deg < 90.0)) half.fail("half_angle_deg must lie in (0, 90)");
+      m.half_angle = half_deg * kDeg;
+      if (node.has("sides")) m.sides = node.at("sides").integer_in(3, 1024);
     }
+    if (node.has("range")) parse_range(node.at("range"), m);
+    return m;
+  }
+
+  void parse_cameras(const JsonNode& node) {
+    node.only_keys({"count", "half_angle_deg", "fov", "sides", "range", "horizontal_deg",
+                    "vertical_deg", "models", "list", "domain", "camera_domains"});
+    CameraSpec& c = scene_.cameras;
+    // 0: not given.
+    const int count = node.has("count") ? node.at("count").integer_in(1, 256) : 0;
     const CameraDomain shared = node.has("domain") ? parse_domain(node.at("domain"))
                                                    : parse_domain(JsonNode(kRoom, path_, ""));
+    std::vector<std::optional<CameraDomain>> own;  // per-camera domains of "list"
+    if (!node.has("models")) {
+      // The single-model form: the model's keys in the cameras block.
+      for (const char* key : {"list"}) {
+        if (node.has(key)) node.at(key).fail("\"list\" needs \"models\" to name");
+      }
+      if (count == 0) node.fail("\"count\" is required (or give \"models\")");
+      c.count = count;
+      c.models.assign(c.count, parse_model(node));
+    } else {
+      for (const char* key :
+           {"half_angle_deg", "fov", "sides", "range", "horizontal_deg", "vertical_deg"}) {
+        if (node.has(key)) {
+          node.at(key).fail(std::string(key) +
+                            " belongs in a model of \"models\" when \"models\" is given");
+        }
+      }
+      const JsonNode list = node.at("models");
+      if (list.array_size() == 0) list.fail("expected at least one model");
+      std::vector<CameraModel> models;
+      std::vector<std::optional<int>> counts;
+      for (std::size_t i = 0; i < list.array_size(); ++i) {
+        const JsonNode m = list.at(i);
+        m.only_keys({"name", "fov", "half_angle_deg", "sides", "horizontal_deg", "vertical_deg",
+                     "range", "count"});
+        CameraModel model = parse_model(m);
+        const JsonNode name = m.at("name");
+        model.name = name.string();
+        if (model.name.empty()) name.fail("a model's name must not be empty");
+        for (const CameraModel& other : models) {
+          if (other.name == model.name) name.fail("model \"" + model.name + "\" is named twice");
+        }
+        counts.push_back(m.has("count") ? std::optional<int>(m.at("count").integer_in(0, 256))
+                                        : std::nullopt);
+        models.push_back(std::move(model));
+      }
+      if (node.has("list")) {
+        if (node.has("camera_domains")) {
+          node.at("camera_domains")
+              .fail("give per-camera domains in \"list\" when \"list\" is given");
+        }
+        for (std::size_t i = 0; i < counts.size(); ++i) {
+          if (counts[i]) list.at(i).at("count").fail("a model's count is not used with \"list\"");
+        }
+        const JsonNode cams = node.at("list");
+        if (cams.array_size() == 0) cams.fail("expected at least one camera");
+        if (cams.array_size() > 256) cams.fail("at most 256 cameras");
+        for (std::size_t i = 0; i < cams.array_size(); ++i) {
+          const JsonNode cam = cams.at(i);
+          cam.only_keys({"model", "domain"});
+          const JsonNode name = cam.at("model");
+          const std::string wanted = name.string();
+          auto it = std::find_if(models.begin(), models.end(),
+                                 [&](const CameraModel& m) { return m.name == wanted; });
+          if (it == models.end()) {
+            std::string known;
+            for (const CameraModel& m : models)
+              known += (known.empty() ? "\"" : ", \"") + m.name + "\"";
+            name.fail("unknown model \"" + wanted + "\" (the models are " + known + ")");
+          }
+          c.models.push_back(*it);
+          own.push_back(cam.has("domain") ? std::optional(parse_domain(cam.at("domain")))
+                                          : std::nullopt);
+        }
+      } else if (models.size() == 1 && !counts[0]) {
+        if (count == 0) node.fail("\"count\" is required (or give the model a \"count\")");
+        c.models.assign(count, models[0]);
+      } else {
+        for (std::size_t i = 0; i < counts.size(); ++i) {
+          if (!counts[i]) {
+            list.at(i).fail("model \"" + models[i].name +
+                            "\" needs a \"count\" (or give \"list\")");
+          }
+          c.models.insert(c.models.end(), *counts[i], models[i]);
+        }
+        if (c.models.empty()) list.fail("the models' counts sum to 0: a scene needs a camera");
+        if (c.models.size() > 256) list.fail("the models' counts sum to more than 256 cameras");
+      }
+      c.count = static_cast<int>(c.models.size());
+      if (count != 0 && count != c.count) {
+        node.at("count").fail("count " + std::to_string(count) + " does not match the " +
+                              std::to_string(c.count) + " cameras the models give");
+      }
+    }
     c.domains.assign(c.count, shared);
+    for (std::size_t i = 0; i < own.size(); ++i) {
+      if (own[i]) c.domains[i] = *own[i];
+    }
     if (node.has("camera_domains")) {
       const JsonNode list = node.at("camera_domains");
       if (list.array_size() != static_cast<std::size_t>(c.count)) {
@@ -348,6 +479,72 @@ class SceneParser {
   mutable std::vector<std::string> mesh_files_;  ///< filled while objects are parsed
 };
 }  // namespace
+
+double CameraModel::bounding_half_angle() const {
+  if (fov != FovShape::frustum) return half_angle;
+  const double tx = std::tan(0.5 * horizontal), ty = std::tan(0.5 * vertical);
+  return std::atan(std::hypot(tx, ty));
+}
+
+void CameraSpec::resize(int n) {
+  CAMPLACE_ASSERT(n >= 1 && !models.empty() && !domains.empty());
+  models.resize(n, models.back());
+  domains.resize(n, domains.back());
+  count = n;
+}
+
+bool CameraSpec::one_model() const {
+  for (const CameraModel& m : models) {
+    if (m.name != models.front().name || m.fov != models.front().fov ||
+        m.half_angle != models.front().half_angle || m.sides != models.front().sides ||
+        m.horizontal != models.front().horizontal || m.vertical != models.front().vertical ||
+        m.near != models.front().near || m.range != models.front().range) {
+      return false;
+    }
+  }
+  return true;
+}
+
+CameraModel exact_model(const CameraModel& model) {
+  CameraModel out = model;
+  if (out.fov == FovShape::cone) out.fov = FovShape::pyramid;
+  return out;
+}
+
+void use_exact_models(CameraSpec& cameras) {
+  for (CameraModel& m : cameras.models) m = exact_model(m);
+}
+
+std::string fov_description(const CameraSpec& cameras) {
+  std::ostringstream out;
+  const CameraModel& first = cameras.models.front();
+  if (cameras.one_model() && first.fov == FovShape::cone) {
+    out << "the " << first.sides << "-sided pyramid inscribed in each camera's "
+        << first.half_angle / kDeg << "° cone";
+    return out.str();
+  }
+  std::vector<std::string> seen;
+  for (const CameraModel& m : cameras.models) {
+    const std::string key = m.name;
+    if (std::find(seen.begin(), seen.end(), key) != seen.end()) continue;
+    seen.push_back(key);
+    const auto uses = std::count_if(cameras.models.begin(), cameras.models.end(),
+                                    [&](const CameraModel& k) { return k.name == key; });
+    if (seen.size() > 1) out << "; ";
+    if (!m.name.empty()) out << "model \"" << m.name << "\" (" << uses << " cameras): ";
+    if (m.fov == FovShape::frustum) {
+      out << "a " << m.horizontal / kDeg << "° × " << m.vertical / kDeg << "° frustum";
+    } else if (m.fov == FovShape::pyramid) {
+      out << "a " << m.sides << "-sided pyramid of half angle " << m.half_angle / kDeg << "°";
+    } else {
+      out << "the " << m.sides << "-sided pyramid inscribed in a " << m.half_angle / kDeg
+          << "° cone";
+    }
+    if (m.near > 0.0) out << ", near " << m.near << " m";
+    if (m.range) out << ", far " << *m.range << " m";
+  }
+  return out.str();
+}
 
 std::vector<StateIndex> states(const Scene& scene) {
   std::vector<StateIndex> out;

@@ -76,7 +76,8 @@ bool same_interval(const Interval& a, const Interval& b) { return a.lo == b.lo &
 
 bool same_domain(const CameraDomain& a, const CameraDomain& b) {
   return same_interval(a.x, b.x) && same_interval(a.y, b.y) && same_interval(a.z, b.z) &&
-         same_interval(a.yaw, b.yaw) && same_interval(a.pitch, b.pitch);
+         same_interval(a.yaw, b.yaw) && same_interval(a.pitch, b.pitch) &&
+         same_interval(a.roll, b.roll);
 }
 
 /// A preset's name when the domain is exactly that preset, else {x, y, z[, yaw_deg, pitch_deg]}.
@@ -91,21 +92,82 @@ Json domain_json(const Box3& area, const CameraDomain& d) {
   j["z"] = interval_json(d.z);
   if (!same_interval(d.yaw, unrestricted.yaw)) j["yaw_deg"] = degrees_interval_json(d.yaw);
   if (!same_interval(d.pitch, unrestricted.pitch)) j["pitch_deg"] = degrees_interval_json(d.pitch);
+  if (!same_interval(d.roll, unrestricted.roll)) j["roll_deg"] = degrees_interval_json(d.roll);
   return j;
+}
+
+/// A model's keys (without name and count): the fov and its angles, the range (far, or
+/// [near, far] with a near plane).
+void add_model_json(Json& j, const CameraModel& m) {
+  if (m.fov == FovShape::frustum) {
+    j["fov"] = name_of(m.fov);
+    j["horizontal_deg"] = degrees_json(m.horizontal);
+    j["vertical_deg"] = degrees_json(m.vertical);
+  } else {
+    j["half_angle_deg"] = degrees_json(m.half_angle);
+    j["fov"] = name_of(m.fov);
+    j["sides"] = m.sides;
+  }
+  if (m.near > 0.0) {
+    CAMPLACE_ASSERT(m.range.has_value());
+    j["range"] = Json::array({m.near, *m.range});
+  } else if (m.range) {
+    j["range"] = *m.range;
+  }
 }
 
 Json cameras_json(const Scene& scene) {
   const CameraSpec& c = scene.cameras;
   CAMPLACE_ASSERT(c.count >= 1 && c.domains.size() == static_cast<std::size_t>(c.count));
+  CAMPLACE_ASSERT(c.models.size() == static_cast<std::size_t>(c.count));
   Json j;
   j["count"] = c.count;
-  j["half_angle_deg"] = degrees_json(c.half_angle);
-  j["fov"] = name_of(c.fov);
-  j["sides"] = c.sides;
-  if (c.range) j["range"] = *c.range;
+  bool listed = false;
+  if (c.one_model() && c.models.front().name.empty()) {
+    add_model_json(j, c.models.front());
+  } else {
+    // The catalogue in order of first use; per-model counts when the cameras come grouped in
+    // that order, else a list naming each camera's model.
+    std::vector<const CameraModel*> catalogue;
+    std::vector<int> uses;
+    bool grouped = true;
+    for (const CameraModel& m : c.models) {
+      CAMPLACE_ASSERT(!m.name.empty());
+      auto it = std::find_if(catalogue.begin(), catalogue.end(),
+                             [&](const CameraModel* k) { return k->name == m.name; });
+      if (it == catalogue.end()) {
+        catalogue.push_back(&m);
+        uses.push_back(1);
+      } else {
+        grouped = grouped && it + 1 == catalogue.end();
+        ++uses[it - catalogue.begin()];
+      }
+    }
+    Json models = Json::array();
+    for (std::size_t k = 0; k < catalogue.size(); ++k) {
+      Json m;
+      m["name"] = catalogue[k]->name;
+      add_model_json(m, *catalogue[k]);
+      if (grouped) m["count"] = uses[k];
+      models.push_back(m);
+    }
+    j["models"] = models;
+    if (!grouped) listed = true;
+  }
   bool shared = true;
   for (const CameraDomain& d : c.domains) shared = shared && same_domain(d, c.domains.front());
-  if (shared) {
+  if (listed) {
+    // The list names each camera's model and, when they differ, its domain.
+    Json list = Json::array();
+    for (int i = 0; i < c.count; ++i) {
+      Json entry;
+      entry["model"] = c.models[i].name;
+      if (!shared) entry["domain"] = domain_json(scene.area, c.domains[i]);
+      list.push_back(entry);
+    }
+    j["list"] = list;
+    if (shared) j["domain"] = domain_json(scene.area, c.domains.front());
+  } else if (shared) {
     j["domain"] = domain_json(scene.area, c.domains.front());
   } else {
     Json list = Json::array();

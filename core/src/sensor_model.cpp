@@ -44,6 +44,8 @@ void check_configuration(const Scene& scene, const CameraConfig& config) {
                      "the configuration has " + std::to_string(config.size()) +
                          " cameras, the scene " + std::to_string(scene.cameras.count));
   }
+  // A scene built in code keeps one model per camera (CameraSpec::resize keeps it so).
+  CAMPLACE_ASSERT(scene.cameras.models.size() == config.size());
 }
 
 }  // namespace camplace::core

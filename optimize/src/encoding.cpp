@@ -20,6 +20,8 @@ const core::Interval& interval(const core::CameraDomain& domain, Component c) {
       return domain.yaw;
     case Component::pitch:
       return domain.pitch;
+    case Component::roll:
+      return domain.roll;
   }
   return domain.x;
 }
@@ -36,6 +38,8 @@ double& component(core::CameraSetting& camera, Component c) {
       return camera.yaw;
     case Component::pitch:
       return camera.pitch;
+    case Component::roll:
+      return camera.roll;
   }
   return camera.position.x();
 }
@@ -44,8 +48,8 @@ double component(const core::CameraSetting& camera, Component c) {
   return component(const_cast<core::CameraSetting&>(camera), c);
 }
 
-constexpr Component kComponents[] = {Component::x, Component::y, Component::z, Component::yaw,
-                                     Component::pitch};
+constexpr Component kComponents[] = {Component::x,   Component::y,     Component::z,
+                                     Component::yaw, Component::pitch, Component::roll};
 
 }  // namespace
 
@@ -54,7 +58,9 @@ Encoding::Encoding(const core::Scene& scene) {
   CAMPLACE_ASSERT(static_cast<int>(domains.size()) == scene.cameras.count);
   fixed_.resize(domains.size());
   for (std::size_t i = 0; i < domains.size(); ++i) {
+    const bool has_roll = scene.cameras.models.at(i).has_roll();
     for (Component c : kComponents) {
+      if (c == Component::roll && !has_roll) continue;  // a cone's roll stays 0
       const core::Interval& range = interval(domains[i], c);
       CAMPLACE_ASSERT(range.lo <= range.hi);
       component(fixed_[i], c) = range.lo;
@@ -124,6 +130,8 @@ core::CameraConfig corner_start(const core::Scene& scene) {
     config[i].position = p;
     config[i].yaw = std::clamp(yaw, d.yaw.lo, d.yaw.hi);
     config[i].pitch = std::clamp(pitch, d.pitch.lo, d.pitch.hi);
+    if (scene.cameras.models.at(i).has_roll())
+      config[i].roll = std::clamp(0.0, d.roll.lo, d.roll.hi);
   }
   return config;
 }

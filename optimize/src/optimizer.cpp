@@ -69,6 +69,10 @@ void check_inside_domains(const core::CameraConfig& config, const core::Scene& s
       throw core::InputError(file, entry + "/pitch_deg",
                              "lies outside the placement domain" + where);
     }
+    if (scene.cameras.models[i].has_roll() && !inside(d.roll, c.roll)) {
+      throw core::InputError(file, entry + "/roll_deg",
+                             "lies outside the placement domain" + where);
+    }
   }
 }
 

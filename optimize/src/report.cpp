@@ -31,9 +31,15 @@ constexpr double kDeg = core::kDegree;
 constexpr int kIntMin = std::numeric_limits<int>::min();
 constexpr int kIntMax = std::numeric_limits<int>::max();
 
-nlohmann::ordered_json cameras_json(const core::CameraConfig& config) {
-  // The same text `camplace evaluate --cameras` reads (core::load_camera_config).
-  return nlohmann::ordered_json::parse(core::camera_config_json(config)).at("cameras");
+nlohmann::ordered_json cameras_json(const core::CameraConfig& config,
+                                    const std::vector<std::string>& models) {
+  // The same text `camplace evaluate --cameras` reads (core::load_camera_config), keys in
+  // alphabetical order ("model" first when the models are named).
+  nlohmann::json cameras = nlohmann::json::parse(core::camera_config_json(config)).at("cameras");
+  if (models.size() == config.size()) {
+    for (std::size_t i = 0; i < config.size(); ++i) cameras[i]["model"] = models[i];
+  }
+  return nlohmann::ordered_json::parse(cameras.dump());
 }
 
 nlohmann::ordered_json context_json(const RunContext& context) {
@@ -77,15 +83,19 @@ StopReason read_stop_reason(const core::JsonNode& node) {
   node.fail("unknown stop reason \"" + text + "\" (expected one of: " + names + ")");
 }
 
-core::CameraConfig read_cameras(const core::JsonNode& node) {
+core::CameraConfig read_cameras(const core::JsonNode& node, std::vector<std::string>& models) {
   core::CameraConfig config;
+  models.clear();
   for (std::size_t i = 0; i < node.array_size(); ++i) {
     const core::JsonNode entry = node.at(i);
-    entry.only_keys({"position", "yaw_deg", "pitch_deg"});
+    // Run files before roll (issue 14) have no roll_deg: roll 0.
+    entry.only_keys({"position", "yaw_deg", "pitch_deg", "roll_deg", "model"});
     core::CameraSetting camera;
     camera.position = entry.at("position").vec3();
     camera.yaw = entry.at("yaw_deg").number_in(-180.0, 180.0) * kDeg;
     camera.pitch = entry.at("pitch_deg").number_in(-90.0, 90.0) * kDeg;
+    if (entry.has("roll_deg")) camera.roll = entry.at("roll_deg").number_in(-180.0, 180.0) * kDeg;
+    if (entry.has("model")) models.push_back(entry.at("model").string());
     config.push_back(camera);
   }
   return config;
@@ -115,6 +125,15 @@ std::string fixed(double value, int digits) {
 
 }  // namespace
 
+std::vector<std::string> camera_models(const core::Scene& scene) {
+  std::vector<std::string> out;
+  for (const core::CameraModel& m : scene.cameras.models) {
+    if (m.name.empty()) return {};
+    out.push_back(m.name);
+  }
+  return out;
+}
+
 nlohmann::ordered_json run_json(const RunResult& run, const RunContext& context) {
   nlohmann::ordered_json history = nlohmann::ordered_json::array();
   for (const HistoryPoint& h : run.history) {
@@ -122,7 +141,7 @@ nlohmann::ordered_json run_json(const RunResult& run, const RunContext& context)
   }
   nlohmann::ordered_json j;
   j["format_version"] = kRunFileFormat;
-  j["cameras"] = cameras_json(run.best);
+  j["cameras"] = cameras_json(run.best, context.camera_models);
   j["err"] = run.err;
   j["evaluations"] = run.evaluations;
   j["reached_tolerance"] = run.reached_tolerance;
@@ -173,7 +192,8 @@ RunFile run_from_json(const nlohmann::json& j, const std::string& file) {
                   "memory_kb",      "provenance"});
   RunFile out;
   RunResult& run = out.run;
-  run.best = read_cameras(root.at("cameras"));
+  std::vector<std::string> models;
+  run.best = read_cameras(root.at("cameras"), models);
   run.err = root.at("err").number();
   run.evaluations = read_count(root.at("evaluations"));
   run.reached_tolerance = read_bool(root.at("reached_tolerance"));
@@ -193,6 +213,7 @@ RunFile run_from_json(const nlohmann::json& j, const std::string& file) {
   run.dimension = static_cast<std::size_t>(
       read_count(root.at("dimension"), std::numeric_limits<std::size_t>::max()));
   out.context = read_context(root.at("context"));
+  if (models.size() == run.best.size()) out.context.camera_models = std::move(models);
   if (root.has("provenance")) {
     out.context.provenance = core::provenance_from_json(root.at("provenance"));
   }
@@ -518,7 +539,9 @@ nlohmann::ordered_json summary_json(const std::vector<RunResult>& runs, const Ru
       s.reached > 0 ? nlohmann::ordered_json(s.median_seconds_reached) : nullptr;
   if (s.best_run >= 0) {
     const RunResult& best = runs[static_cast<std::size_t>(s.best_run)];
-    j["best"] = {{"seed", best.seed}, {"err", best.err}, {"cameras", cameras_json(best.best)}};
+    j["best"] = {{"seed", best.seed},
+                 {"err", best.err},
+                 {"cameras", cameras_json(best.best, context.camera_models)}};
   }
   j["per_run"] = rows;
   return j;
@@ -585,13 +608,13 @@ void print_summary(std::ostream& out, const std::vector<RunResult>& runs) {
   out << "best configuration (seed " << best.seed << "), Err = " << fixed(best.err, 5) << " m²\n";
   out << std::left << std::setw(8) << "camera" << std::right << std::setw(9) << "x [m]"
       << std::setw(9) << "y [m]" << std::setw(9) << "z [m]" << std::setw(11) << "yaw [°]"
-      << std::setw(12) << "pitch [°]" << '\n';
+      << std::setw(12) << "pitch [°]" << std::setw(11) << "roll [°]" << '\n';
   for (std::size_t i = 0; i < best.best.size(); ++i) {
     const core::CameraSetting& c = best.best[i];
     out << std::left << std::setw(8) << i << std::right << std::setw(9) << fixed(c.position.x(), 3)
         << std::setw(9) << fixed(c.position.y(), 3) << std::setw(9) << fixed(c.position.z(), 3)
         << std::setw(10) << fixed(c.yaw * kRadToDeg, 2) << std::setw(11)
-        << fixed(c.pitch * kRadToDeg, 2) << '\n';
+        << fixed(c.pitch * kRadToDeg, 2) << std::setw(10) << fixed(c.roll * kRadToDeg, 2) << '\n';
   }
 }
 

@@ -128,7 +128,17 @@ int state_argument(const core::Scene& scene, const std::pair<int, int>& state) {
 /// The scene with the voxel pipeline's FOV: the scene's, or `fov` ("cone", "pyramid").
 core::Scene scene_with_fov(const core::Scene& scene, const std::optional<std::string>& fov) {
   core::Scene out = scene;
-  if (fov) out.cameras.fov = enum_argument<core::FovShape>("fov", *fov);
+  if (fov) {
+    const core::FovShape shape = enum_argument<core::FovShape>("fov", *fov);
+    for (core::CameraModel& model : out.cameras.models) {
+      // A cone and its inscribed pyramid share the half angle; a frustum has neither.
+      if ((model.fov == core::FovShape::frustum) != (shape == core::FovShape::frustum)) {
+        throw core::OptionError("fov", "\"" + *fov + "\" does not apply to the scene's " +
+                                           core::name_of(model.fov) + " model");
+      }
+      model.fov = shape;
+    }
+  }
   return out;
 }
 
@@ -310,7 +320,7 @@ py::array_t<std::uint8_t> labels(const PyScene& scene, const py::object& cameras
     n = evaluator.grid().n;
     for (std::size_t c = 0; c < config.size(); ++c) {
       if (!camera || *camera == static_cast<int>(c)) {
-        per_camera.push_back(evaluator.labels(config[c], index));
+        per_camera.push_back(evaluator.labels(config[c], index, static_cast<int>(c)));
       }
     }
   }
@@ -415,6 +425,7 @@ py::dict optimize_run(const PyScene& scene, const std::string& algorithm, unsign
       context.time_limit = time_limit;
       context.max_evaluations = max_evaluations;
       context.provenance = core::make_provenance(*scene_ptr);
+      context.camera_models = optimize::camera_models(*scene_ptr);
       result = optimize::optimize(*scene_ptr, objective, options);
     } catch (...) {
       channel->error = std::current_exception();
@@ -599,7 +610,8 @@ pointer) and the reason, exactly as `camplace evaluate` reports it.)");
         R"(Reads a camera file (docs/files.md, "Camera files"; a run file is one too).
 
 Returns the cameras as a list of dicts, as the file has them: {'position': [x, y, z] (m),
-'yaw_deg': ψ, 'pitch_deg': θ (degrees), and 'name' where given}. With `scene` the count must be
+'yaw_deg': ψ, 'pitch_deg': θ, 'roll_deg': ρ (degrees; roll_deg optional, default 0), and 'name'
+and 'model' where given}. With `scene` the count must be
 the scene's camera count. Raises ValueError (file, entry, reason) on a bad file. Every function
 taking `cameras` accepts this list, a camera file's path or a dict with a 'cameras' list.)");
 

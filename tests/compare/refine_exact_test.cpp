@@ -54,8 +54,7 @@ TEST(RefineExact, RandomScenesStayConservative) {
   int moved = 0;  // rows where refinement changed d(C, M): the check is not vacuous
   for (int n = 0; n < 4; ++n) {
     core::Scene scene = random_scene(rng, {8, 6, 6});
-    scene.cameras.count = 6;
-    scene.cameras.domains.resize(6, scene.cameras.domains.front());
+    scene.cameras.resize(6);
     for (core::TimeStep& step : scene.time_steps) {
       const core::Vec3 lo(0.2 + 3.4 * unit(rng), 0.2 + 2.4 * unit(rng), 0.2 + 2.4 * unit(rng));
       step.critical = {box_object("critical", lo, lo + core::Vec3::Constant(0.2))};

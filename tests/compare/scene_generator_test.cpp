@@ -262,7 +262,7 @@ TEST(SceneGenerator, FirstScenesOfTheSweepsAreThePapersBasicSetup) {
     const core::Scene s = generate(family, i);
     EXPECT_EQ(s.voxels, basic.voxels) << what;
     EXPECT_EQ(s.cameras.count, basic.cameras.count) << what;
-    EXPECT_EQ(s.cameras.half_angle, basic.cameras.half_angle) << what;
+    EXPECT_EQ(s.cameras.models[0].half_angle, basic.cameras.models[0].half_angle) << what;
     EXPECT_EQ(s.plausibility.min_volume, basic.plausibility.min_volume) << what;
     EXPECT_EQ(s.plausibility.min_height, basic.plausibility.min_height) << what;
     expect_same_objects(s.static_obstacles, basic.static_obstacles, what + " static");

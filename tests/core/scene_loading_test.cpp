@@ -35,9 +35,9 @@ const std::vector<std::array<int, 3>> kTetT = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, 
 TEST(SceneLoading, BaseSceneLoadsWithDefaults) {
   const core::Scene s = core::load_scene(write_scene(base_scene(), "base"));
   EXPECT_EQ(s.cameras.count, 2);
-  EXPECT_EQ(s.cameras.fov, core::FovShape::cone);
-  EXPECT_EQ(s.cameras.sides, 16);
-  EXPECT_FALSE(s.cameras.range.has_value());
+  EXPECT_EQ(s.cameras.models[0].fov, core::FovShape::cone);
+  EXPECT_EQ(s.cameras.models[0].sides, 16);
+  EXPECT_FALSE(s.cameras.models[0].range.has_value());
   ASSERT_EQ(s.cameras.domains.size(), 2u);
   EXPECT_EQ(s.cameras.domains[1].z.hi, 3.0);
   EXPECT_EQ(s.dynamic_mode, core::DynamicMode::masked);
@@ -101,9 +101,9 @@ TEST(SceneLoading, CameraBlockPresetsAndPerCameraDomains) {
   scene["dynamic_mode"] = "modelled";
   scene["plausibility"] = {{"min_volume", 0.01}, {"min_height", 0.5}};
   const core::Scene s = core::load_scene(write_scene(scene, "cameras"));
-  EXPECT_EQ(s.cameras.fov, core::FovShape::pyramid);
-  EXPECT_EQ(s.cameras.sides, 8);
-  EXPECT_EQ(*s.cameras.range, 6.0);
+  EXPECT_EQ(s.cameras.models[0].fov, core::FovShape::pyramid);
+  EXPECT_EQ(s.cameras.models[0].sides, 8);
+  EXPECT_EQ(*s.cameras.models[0].range, 6.0);
   EXPECT_DOUBLE_EQ(s.cameras.domains[0].z.lo, 2.25);
   EXPECT_TRUE(s.cameras.domains[1].z.fixed());
   EXPECT_DOUBLE_EQ(s.cameras.domains[1].z.lo, 3.0);
@@ -203,6 +203,110 @@ TEST(SceneRejection, UnknownFieldIsNamed) {
   json s = base_scene();
   s["plausability"] = {{"min_volume", 0.1}};
   expect_rejected(s, "typo", "/plausability", "unknown field");
+}
+
+// Issue 14: named camera models, per-model counts or a list of cameras, frusta, [near, far].
+TEST(SceneLoading, CameraModelsWithCountsOrAList) {
+  json scene = base_scene();
+  scene["cameras"] = json::parse(R"({"count": 3, "models": [
+      {"name": "rgb", "fov": "frustum", "horizontal_deg": 90, "vertical_deg": 59, "range": [0.2, 8],
+       "count": 2},
+      {"name": "cone", "half_angle_deg": 25, "range": 6, "count": 1}],
+      "domain": {"preset": "room", "roll_deg": [-45, 45]}})");
+  const core::Scene s = core::load_scene(write_scene(scene, "models"));
+  ASSERT_EQ(s.cameras.count, 3);
+  ASSERT_EQ(s.cameras.models.size(), 3u);
+  const double deg = 3.14159265358979323846 / 180;
+  for (int i = 0; i < 2; ++i) {
+    const core::CameraModel& m = s.cameras.models[i];
+    EXPECT_EQ(m.name, "rgb");
+    EXPECT_EQ(m.fov, core::FovShape::frustum);
+    EXPECT_DOUBLE_EQ(m.horizontal, 90 * deg);
+    EXPECT_DOUBLE_EQ(m.vertical, 59 * deg);
+    EXPECT_DOUBLE_EQ(m.near, 0.2);
+    EXPECT_EQ(*m.range, 8.0);
+    // atan(√(tan²45° + tan²29.5°)) = atan(√(1 + 0.565773²)) = atan(1.148959) = 48.965°.
+    EXPECT_NEAR(m.bounding_half_angle() / deg, 48.9652, 1e-3);
+  }
+  EXPECT_EQ(s.cameras.models[2].name, "cone");
+  EXPECT_EQ(s.cameras.models[2].fov, core::FovShape::cone);
+  EXPECT_EQ(s.cameras.models[2].near, 0.0);
+  EXPECT_DOUBLE_EQ(s.cameras.domains[1].roll.lo, -45 * deg);
+  EXPECT_DOUBLE_EQ(s.cameras.domains[1].roll.hi, 45 * deg);
+  // Without roll_deg the roll is fixed at 0.
+  scene["cameras"]["domain"] = "room";
+  EXPECT_TRUE(core::load_scene(write_scene(scene, "models-roll")).cameras.domains[0].roll.fixed());
+  // A list naming each camera's model.
+  scene["cameras"] = json::parse(R"({"models": [
+      {"name": "a", "fov": "frustum", "horizontal_deg": 60, "vertical_deg": 40},
+      {"name": "b", "fov": "pyramid", "half_angle_deg": 20, "sides": 4}],
+      "list": [{"model": "b"}, {"model": "a", "domain": "ceiling"}]})");
+  const core::Scene l = core::load_scene(write_scene(scene, "list"));
+  ASSERT_EQ(l.cameras.count, 2);
+  EXPECT_EQ(l.cameras.models[0].name, "b");
+  EXPECT_EQ(l.cameras.models[1].name, "a");
+  EXPECT_FALSE(l.cameras.domains[0].z.fixed());
+  EXPECT_TRUE(l.cameras.domains[1].z.fixed());
+  // The single-model form may be a frustum too, with a far-only range.
+  scene["cameras"] = json::parse(
+      R"({"count": 2, "fov": "frustum", "horizontal_deg": 87, "vertical_deg": 58, "range": 5})");
+  const core::Scene f = core::load_scene(write_scene(scene, "single-frustum"));
+  EXPECT_EQ(f.cameras.models[1].fov, core::FovShape::frustum);
+  EXPECT_EQ(f.cameras.models[1].near, 0.0);
+  EXPECT_EQ(*f.cameras.models[1].range, 5.0);
+  EXPECT_EQ(f.cameras.models[1].name, "");
+}
+
+TEST(SceneRejection, BadCameraModels) {
+  const json good = json::parse(R"({"models": [
+      {"name": "a", "fov": "frustum", "horizontal_deg": 60, "vertical_deg": 40, "count": 1},
+      {"name": "b", "half_angle_deg": 20, "count": 1}]})");
+  auto with = [&](const std::string& pointer, const json& value) {
+    json s = base_scene();
+    s["cameras"] = good;
+    s["cameras"][json::json_pointer(pointer)] = value;
+    return s;
+  };
+  expect_rejected(with("/models/0/horizontal_deg", 180), "h180", "/cameras/models/0/horizontal_deg",
+                  "must lie in (0, 180)");
+  expect_rejected(with("/models/0/vertical_deg", 0), "v0", "/cameras/models/0/vertical_deg",
+                  "must lie in (0, 180)");
+  expect_rejected(with("/models/0/vertical_deg", -5), "vneg", "/cameras/models/0/vertical_deg",
+                  "must lie in (0, 180)");
+  expect_rejected(with("/models/1/half_angle_deg", 90), "half90",
+                  "/cameras/models/1/half_angle_deg", "must lie in (0, 90)");
+  expect_rejected(with("/models/0/half_angle_deg", 30), "frustum-half",
+                  "/cameras/models/0/half_angle_deg", "not used by a frustum");
+  expect_rejected(with("/models/1/vertical_deg", 30), "cone-vertical",
+                  "/cameras/models/1/vertical_deg", "used only by a frustum");
+  expect_rejected(with("/models/0/range", json::array({2, 2})), "near-far",
+                  "/cameras/models/0/range", "must lie below far");
+  expect_rejected(with("/models/0/range", json::array({-1, 2})), "near-neg",
+                  "/cameras/models/0/range/0", "must not be negative");
+  expect_rejected(with("/models/0/range", json::array({1, 2, 3})), "range3",
+                  "/cameras/models/0/range", "[near, far]");
+  expect_rejected(with("/models/1/name", "a"), "dup", "/cameras/models/1/name", "named twice");
+  expect_rejected(with("/count", 3), "count", "/cameras/count", "does not match the 2 cameras");
+  expect_rejected(with("/half_angle_deg", 30), "mixed", "/cameras/half_angle_deg",
+                  "belongs in a model");
+  json s = base_scene();
+  s["cameras"] = json::parse(R"({"models": [{"name": "a", "half_angle_deg": 20}, {"name": "b",
+      "half_angle_deg": 20}], "list": [{"model": "a"}, {"model": "c"}]})");
+  expect_rejected(s, "unknown", "/cameras/list/1/model", "unknown model \"c\"");
+  s["cameras"]["models"][0]["count"] = 1;
+  expect_rejected(s, "count-list", "/cameras/models/0/count", "not used with \"list\"");
+  s = base_scene();
+  s["cameras"] = json::parse(R"({"models": [{"name": "a", "half_angle_deg": 20, "count": 1},
+      {"name": "b", "half_angle_deg": 20}]})");
+  expect_rejected(s, "nocount", "/cameras/models/1", "needs a \"count\"");
+  s["cameras"]["models"][1]["count"] = 0;
+  s["cameras"]["models"][0]["count"] = 0;
+  expect_rejected(s, "zero", "/cameras/models", "sum to 0");
+  s = base_scene();
+  s["cameras"]["domain"] = {{"roll_deg", {-190, 0}}};
+  expect_rejected(s, "roll", "/cameras/domain/roll_deg", "leaves the allowed range");
+  s["cameras"]["domain"] = {{"roll_deg", {10, 0}}};
+  expect_rejected(s, "roll-empty", "/cameras/domain/roll_deg", "lo > hi");
 }
 
 TEST(SceneRejection, CameraCountAndResolutionBelowOne) {

@@ -69,10 +69,20 @@ void expect_same_scene(const core::Scene& a, const core::Scene& b, bool entries 
   EXPECT_EQ(a.area.max, b.area.max);
   EXPECT_EQ(a.voxels, b.voxels);
   EXPECT_EQ(a.cameras.count, b.cameras.count);
-  EXPECT_EQ(a.cameras.half_angle, b.cameras.half_angle);
-  EXPECT_EQ(a.cameras.fov, b.cameras.fov);
-  EXPECT_EQ(a.cameras.sides, b.cameras.sides);
-  EXPECT_EQ(a.cameras.range, b.cameras.range);
+  ASSERT_EQ(a.cameras.models.size(), b.cameras.models.size());
+  for (std::size_t i = 0; i < a.cameras.models.size(); ++i) {
+    const core::CameraModel& ma = a.cameras.models[i];
+    const core::CameraModel& mb = b.cameras.models[i];
+    const std::string what = "model of camera " + std::to_string(i);
+    EXPECT_EQ(ma.name, mb.name) << what;
+    EXPECT_EQ(ma.half_angle, mb.half_angle) << what;
+    EXPECT_EQ(ma.fov, mb.fov) << what;
+    EXPECT_EQ(ma.sides, mb.sides) << what;
+    EXPECT_EQ(ma.horizontal, mb.horizontal) << what;
+    EXPECT_EQ(ma.vertical, mb.vertical) << what;
+    EXPECT_EQ(ma.near, mb.near) << what;
+    EXPECT_EQ(ma.range, mb.range) << what;
+  }
   ASSERT_EQ(a.cameras.domains.size(), b.cameras.domains.size());
   for (std::size_t i = 0; i < a.cameras.domains.size(); ++i) {
     const std::string what = "domain " + std::to_string(i);
@@ -81,6 +91,7 @@ void expect_same_scene(const core::Scene& a, const core::Scene& b, bool entries 
     expect_same_interval(a.cameras.domains[i].z, b.cameras.domains[i].z, what + " z");
     expect_same_interval(a.cameras.domains[i].yaw, b.cameras.domains[i].yaw, what + " yaw");
     expect_same_interval(a.cameras.domains[i].pitch, b.cameras.domains[i].pitch, what + " pitch");
+    expect_same_interval(a.cameras.domains[i].roll, b.cameras.domains[i].roll, what + " roll");
   }
   expect_same_objects(a.static_obstacles, b.static_obstacles, "static", entries);
   ASSERT_EQ(a.time_steps.size(), b.time_steps.size());
@@ -250,6 +261,34 @@ TEST(SceneWriter, SceneWithEveryFeatureRoundTripsExactly) {
   EXPECT_TRUE(written["time_steps"][2].contains("critical"));
   EXPECT_EQ(written["time_steps"][1]["t"], 1.0);
   EXPECT_EQ(written["dynamic_mode"], "modelled");
+}
+
+// Camera models (issue 14): per-model counts, a list of cameras naming their models, frusta,
+// near planes and roll domains are written back as the loader reads them.
+TEST(SceneWriter, CameraModelsAndRollDomainsRoundTrip) {
+  json scene = json::parse(read_text(kBasicScene));
+  scene["cameras"] = json::parse(R"({"models": [
+      {"name": "rgb", "fov": "frustum", "horizontal_deg": 90, "vertical_deg": 59.5,
+       "range": [0.25, 7], "count": 2},
+      {"name": "wide", "half_angle_deg": 40, "fov": "pyramid", "sides": 5, "range": 6, "count": 1}],
+      "domain": {"preset": "room", "roll_deg": [-30, 45]}})");
+  const std::string dir = temp_dir("writer-models");
+  const core::Scene grouped = core::load_scene(write_file(dir + "/grouped.json", scene.dump()));
+  ASSERT_EQ(grouped.cameras.count, 3);
+  const core::Scene back = expect_round_trip(grouped, dir);
+  EXPECT_EQ(core::scene_json(back)["cameras"]["models"][0]["count"], 2);
+  // Not grouped: a list naming each camera's model, and per-camera domains.
+  scene["cameras"] = json::parse(R"({"models": [
+      {"name": "rgb", "fov": "frustum", "horizontal_deg": 90, "vertical_deg": 59.5},
+      {"name": "cone", "half_angle_deg": 30}],
+      "list": [{"model": "rgb"}, {"model": "cone"}, {"model": "rgb", "domain": "ceiling"}]})");
+  const core::Scene listed = core::load_scene(write_file(dir + "/listed.json", scene.dump()));
+  ASSERT_EQ(listed.cameras.count, 3);
+  EXPECT_EQ(listed.cameras.models[1].name, "cone");
+  EXPECT_EQ(listed.cameras.models[2].fov, core::FovShape::frustum);
+  EXPECT_TRUE(listed.cameras.domains[2].z.fixed());
+  const nlohmann::ordered_json written = core::scene_json(expect_round_trip(listed, dir));
+  EXPECT_EQ(written["cameras"]["list"].size(), 3u);
 }
 
 TEST(SceneWriter, SharedDomainIsWrittenOnceAndDefaultCriticalIsLeftOut) {

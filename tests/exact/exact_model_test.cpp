@@ -28,8 +28,8 @@ core::Scene axis_scene(int cameras, std::vector<core::SceneObject> critical,
   core::Box3 area{Vec3(0, 0, 0), Vec3(4, 1, 1)};
   core::Scene s = testing::simple_scene(area, {16, 4, 4}, cameras, 60.0, std::move(critical),
                                         std::move(targets));
-  s.cameras.fov = core::FovShape::pyramid;
-  s.cameras.sides = 4;
+  core::use_exact_models(s.cameras);
+  for (auto& m : s.cameras.models) m.sides = 4;
   return s;
 }
 

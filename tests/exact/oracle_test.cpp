@@ -26,12 +26,9 @@ struct Agreement {
   int checked = 0, inside = 0, mismatches = 0;
 };
 
-// Compares the kept models of every state at `samples` random points per state.
+// Compares the kept models of `eval` (every state) at `samples` random points per state.
 Agreement compare_with_oracle(const core::Scene& scene, const core::CameraConfig& config,
-                              int samples, std::mt19937& rng) {
-  exact::ExactOptions options;
-  options.keep_models = true;
-  const auto eval = exact::evaluate_exact(scene, config, options);
+                              const exact::ExactEvaluation& eval, int samples, std::mt19937& rng) {
   const auto states = core::states(scene);
   Agreement a;
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -44,9 +41,9 @@ Agreement compare_with_oracle(const core::Scene& scene, const core::CameraConfig
           scene.area.min +
           Vec3(unit(rng), unit(rng), unit(rng)).cwiseProduct(scene.area.max - scene.area.min);
       bool ambiguous = false, non_free = true;
-      for (const auto& cam : config) {
-        const auto label =
-            testing::reference_label(scene, states[s].time_step, states[s].event, cam, p, 1e-6);
+      for (int c = 0; c < int(config.size()); ++c) {
+        const auto label = testing::reference_label(scene, states[s].time_step, states[s].event,
+                                                    config[c], p, 1e-6, c);
         ambiguous |= label.ambiguous;
         if (label.label == voxel::Label::free) non_free = false;
       }
@@ -69,11 +66,91 @@ Agreement compare_with_oracle(const core::Scene& scene, const core::CameraConfig
   return a;
 }
 
+// The same for the exact evaluation of `config`.
+Agreement compare_with_oracle(const core::Scene& scene, const core::CameraConfig& config,
+                              int samples, std::mt19937& rng) {
+  exact::ExactOptions options;
+  options.keep_models = true;
+  return compare_with_oracle(scene, config, exact::evaluate_exact(scene, config, options), samples,
+                             rng);
+}
+
+// Issue 14: random scenes whose cameras mix frusta (with roll), pyramids and cones (the exact
+// pipeline's inscribed pyramids), with near and far planes. The exact model agrees with the
+// brute-force reference, and the conservative voxel model contains it (d_voxel ≤ d_exact, every
+// sampled exact model point in a model voxel). One exact evaluation per scene (Nef booleans are
+// slow).
+TEST(ExactOracle, RandomFrustumScenesWithRollAgreeAndTheConservativeVoxelModelContainsThem) {
+  std::mt19937 rng(1414);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int trial = 0; trial < 4; ++trial) {
+    SCOPED_TRACE(trial);
+    core::Scene scene = testing::random_scene(rng, {8, 6, 6});
+    testing::randomize_camera_models(rng, scene);
+    core::use_exact_models(scene.cameras);  // the reference sees what the exact pipeline sees
+    scene.plausibility = {};
+    scene.time_steps.resize(1);  // 2 states per trial
+    core::CameraConfig config = testing::random_config(rng, scene);
+    testing::randomize_rolls(rng, config);
+    exact::ExactOptions options;
+    options.keep_models = true;
+    const auto exact_eval = exact::evaluate_exact(scene, config, options);
+    const auto a = compare_with_oracle(scene, config, exact_eval, 300, rng);
+    EXPECT_GT(a.checked, 250);
+    EXPECT_EQ(a.mismatches, 0);
+
+    const voxel::VoxelEvaluator voxels(scene, {});
+    const auto voxel_eval = voxels.evaluate(config);
+    const auto& grid = voxels.grid();
+    int in_exact = 0;
+    for (std::size_t s = 0; s < exact_eval.states.size(); ++s) {
+      EXPECT_LE(voxel_eval.states[s].d_model, exact_eval.states[s].d_model + 1e-9) << "state " << s;
+      const auto model = voxels.model(config, int(s));
+      for (int i = 0; i < 300; ++i) {
+        const Vec3 p =
+            scene.area.min +
+            Vec3(unit(rng), unit(rng), unit(rng)).cwiseProduct(scene.area.max - scene.area.min);
+        if (!exact_eval.models[s].contains(p)) continue;
+        ++in_exact;
+        std::array<int, 3> ijk{};
+        for (int k = 0; k < 3; ++k) {
+          ijk[k] = std::clamp(int(std::floor((p[k] - scene.area.min[k]) / grid.step[k])), 0,
+                              grid.n[k] - 1);
+        }
+        EXPECT_TRUE(model[ijk[0] + grid.n[0] * (ijk[1] + grid.n[1] * ijk[2])])
+            << "state " << s << " point " << p.transpose();
+      }
+    }
+    EXPECT_GT(in_exact, 20);  // the containment check is not vacuous
+  }
+}
+
+// Issue 14: a wide frustum (179° × 150°, rolled 30°) reaches beyond the far end of the area in
+// the exact pipeline as in the reference; with a near plane the space before it is not seen.
+TEST(ExactOracle, WideFrustumReachesTheFarEndOfTheArea) {
+  using testing::box_object;
+  const core::Box3 area{Vec3(0, 0, 0), Vec3(4, 1, 1)};
+  auto scene = testing::simple_scene(area, {8, 2, 2}, 1, 30.0,
+                                     {box_object("c", Vec3(0, 0.875, 0.375), Vec3(0.25, 1, 0.625))},
+                                     {box_object("target", Vec3(1, 0, 0), Vec3(1.25, 0.2, 0.2))});
+  core::CameraModel& m = scene.cameras.models[0];
+  m.fov = core::FovShape::frustum;
+  m.horizontal = 179.0 * core::kDegree;
+  m.vertical = 150.0 * core::kDegree;
+  m.near = 1.5;
+  core::CameraConfig config{testing::camera_at(Vec3(-1, 0.5, 0.5), 0.0, 0.0)};
+  config[0].roll = 30.0 * core::kDegree;
+  std::mt19937 rng(3);
+  const auto a = compare_with_oracle(scene, config, 1000, rng);
+  EXPECT_GT(a.checked, 900);
+  EXPECT_EQ(a.mismatches, 0);
+}
+
 TEST(ExactOracle, RandomScenesAgreeWithTheBruteForceSensorModel) {
   std::mt19937 rng(20240611);
   for (int trial = 0; trial < 10; ++trial) {
     core::Scene scene = testing::random_scene(rng, {8, 6, 6});
-    scene.cameras.fov = core::FovShape::pyramid;  // the exact pipeline's FOV
+    core::use_exact_models(scene.cameras);  // the exact pipeline's FOV
     scene.plausibility = {};
     const auto config = testing::random_config(rng, scene);
     const auto a = compare_with_oracle(scene, config, 300, rng);
@@ -109,8 +186,8 @@ TEST(ExactOracle, NonConvexObjectsAgreeWithTheBruteForceSensorModel) {
   auto scene = testing::simple_scene(
       area, {8, 6, 6}, 3, 30.0, {testing::box_object("c", Vec3(3.5, 0.2, 0), Vec3(3.8, 0.5, 1))},
       {l_prism("person", Vec3(1.8, 1.2, 0), 0.3, 1.7)});
-  scene.cameras.fov = core::FovShape::pyramid;
-  scene.cameras.sides = 7;
+  core::use_exact_models(scene.cameras);
+  for (auto& m : scene.cameras.models) m.sides = 7;
   ASSERT_GT(core::signed_volume(scene.time_steps[0].events[0].targets[0].mesh), 0.0);
   scene.static_obstacles.push_back(l_prism("shelf", Vec3(0.9, 0.6, 0), 0.35, 1.2));
   scene.time_steps[0].dynamic_obstacles.push_back(l_prism("arm", Vec3(2.6, 1.9, 0.5), 0.2, 0.6));
@@ -128,7 +205,7 @@ TEST(ExactOracle, NonConvexObjectsAgreeWithTheBruteForceSensorModel) {
 
 TEST(ExactOracle, PaperBasicAgreesWithTheBruteForceSensorModel) {
   core::Scene scene = core::load_scene(std::string(CAMPLACE_SOURCE_DIR) + "/data/paper_basic.json");
-  scene.cameras.fov = core::FovShape::pyramid;
+  core::use_exact_models(scene.cameras);
   scene.plausibility = {};
   const auto config = core::load_camera_config(
       std::string(CAMPLACE_SOURCE_DIR) + "/data/paper_basic_corners.json", scene);
@@ -147,8 +224,8 @@ TEST(ExactOracle, WidePyramidReachesTheFarEndOfTheArea) {
   auto scene = testing::simple_scene(area, {8, 2, 2}, 1, 75.0,
                                      {box_object("c", Vec3(0, 0.875, 0.375), Vec3(0.25, 1, 0.625))},
                                      {box_object("target", Vec3(1, 0, 0), Vec3(1.25, 0.2, 0.2))});
-  scene.cameras.fov = core::FovShape::pyramid;
-  scene.cameras.sides = 4;
+  core::use_exact_models(scene.cameras);
+  for (auto& m : scene.cameras.models) m.sides = 4;
   const core::CameraConfig config{testing::camera_at(Vec3(-1, 0.5, 0.5), 0.0, 0.0)};
   std::mt19937 rng(3);
   const auto a = compare_with_oracle(scene, config, 1000, rng);
@@ -171,8 +248,8 @@ TEST(ExactOracle, WideAnglesAgreeWithTheBruteForceSensorModelAndTheVoxelPipeline
         testing::simple_scene(area, {16, 12, 12}, 1, angle,
                               {box_object("cabinet", Vec3(2.6, 0.5, 0.0), Vec3(3.1, 1.0, 0.7))},
                               {box_object("person", Vec3(1.0, 1.5, 0.0), Vec3(1.4, 1.8, 1.75))});
-    scene.cameras.fov = core::FovShape::pyramid;
-    scene.cameras.sides = 8;
+    core::use_exact_models(scene.cameras);
+    for (auto& m : scene.cameras.models) m.sides = 8;
     const core::CameraConfig config{testing::camera_at(Vec3(0, 0, 3), 36.87, -35.0)};
     const auto a = compare_with_oracle(scene, config, 400, rng);
     EXPECT_GT(a.checked, 350);
@@ -220,8 +297,8 @@ TEST(ExactOracle, CamerasOnAnObjectsSurfaceAreBlindInBothPipelines) {
   core::SceneObject person = box_object("person", Vec3(2.5, 1.0, 0.0), Vec3(2.9, 1.4, 1.7));
   auto scene = testing::simple_scene(area, {16, 12, 12}, 2, 40.0,
                                      {box_object("box", Vec3(1, 1, 0), Vec3(2, 2, 1))}, {person});
-  scene.cameras.fov = core::FovShape::pyramid;
-  scene.cameras.sides = 8;
+  core::use_exact_models(scene.cameras);
+  for (auto& m : scene.cameras.models) m.sides = 8;
   const auto other = testing::camera_at(Vec3(4, 3, 3), -140.0, -35.0);
   const std::vector<std::pair<const char*, Vec3>> on_surface{
       {"box face", Vec3(1.5, 1.5, 1.0)},    {"box edge", Vec3(2.0, 1.5, 1.0)},
@@ -255,8 +332,8 @@ TEST(ExactModel, CamerasOnTheBoundaryOfTheArea) {
   const core::Box3 area{Vec3(0, 0, 0), Vec3(2, 2, 2)};
   auto scene = testing::simple_scene(
       area, {4, 4, 4}, 2, 35.0, {}, {box_object("person", Vec3(0.3, 0.3, 0), Vec3(0.7, 0.6, 1.6))});
-  scene.cameras.fov = core::FovShape::pyramid;
-  scene.cameras.sides = 4;
+  core::use_exact_models(scene.cameras);
+  for (auto& m : scene.cameras.models) m.sides = 4;
   scene.dynamic_mode = core::DynamicMode::modelled;
   auto& step = scene.time_steps[0];
   step.dynamic_obstacles = {box_object("robot", Vec3(1.5, 1.5, 0), Vec3(1.9, 1.9, 0.6))};
@@ -348,8 +425,9 @@ core::Scene small_room_scene(std::mt19937& rng) {
   const core::Box3 area{Vec3(0, 0, 0), Vec3(2, 2, 2)};
   auto scene = testing::simple_scene(area, {4, 4, 4}, 2 + int(rng() % 2), 25 + 20 * unit(rng), {},
                                      {box_in("person", quadrants[0], 1.6)});
-  scene.cameras.fov = core::FovShape::pyramid;
-  scene.cameras.sides = 3 + int(rng() % 6);
+  core::use_exact_models(scene.cameras);
+  const int sides = 3 + int(rng() % 6);
+  for (auto& m : scene.cameras.models) m.sides = sides;
   scene.dynamic_mode = unit(rng) < 0.5 ? core::DynamicMode::masked : core::DynamicMode::modelled;
   scene.static_obstacles.push_back(box_in("shelf", quadrants[3], 0.5 + unit(rng)));
   auto& step = scene.time_steps[0];
@@ -374,7 +452,7 @@ TEST(ExactOracle, CamerasOnTheBoundaryOfTheAreaAgreeWithTheBruteForceSensorModel
       scene = small_room_scene(rng);
     } else {
       scene = testing::random_scene(rng, {8, 6, 6});
-      scene.cameras.fov = core::FovShape::pyramid;
+      core::use_exact_models(scene.cameras);
       scene.plausibility = {};
       scene.time_steps.resize(1);  // 2 states per trial
     }

@@ -144,7 +144,7 @@ class PaperBasicPinned : public ::testing::Test {
   /// no obstacle), 0 not in M, −1 too close to a boundary to tell.
   static int reference_in_model(int s, const Vec3& p) {
     core::Scene scene = *scene_;
-    scene.cameras.fov = core::FovShape::pyramid;  // the exact pipeline's FOV (SPEC §1)
+    core::use_exact_models(scene.cameras);  // the exact pipeline's FOV (SPEC §1)
     const auto& r = eval_->states[s];
     bool non_free = true;
     for (const auto& cam : *config_) {

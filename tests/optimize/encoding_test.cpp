@@ -46,6 +46,41 @@ TEST(Encoding, ExplicitFixedYawIsRemovedAndKept) {
   }
 }
 
+// Issue 14: roll is a variable only where the domain frees it and the model is not a cone.
+TEST(Encoding, RollIsFreeOnlyForFreedNonConeCameras) {
+  const std::string roll = R"({"preset": "room", "roll_deg": [-30, 60]})";
+  // The small scene's cameras are cones: the roll domain changes nothing, roll stays 0.
+  const core::Scene cones = small_scene(roll);
+  const Encoding cone_encoding(cones);
+  EXPECT_EQ(cone_encoding.dimension(), 15u);
+  for (const core::CameraSetting& c : cone_encoding.decode(cone_encoding.bounds().second)) {
+    EXPECT_EQ(c.roll, 0.0);
+  }
+  // Frusta: 6 variables per camera, roll within [−30°, 60°].
+  core::Scene frusta = cones;
+  for (core::CameraModel& m : frusta.cameras.models) {
+    m.fov = core::FovShape::frustum;
+    m.horizontal = M_PI / 2;
+    m.vertical = M_PI / 3;
+  }
+  const Encoding encoding(frusta);
+  ASSERT_EQ(encoding.dimension(), 18u);
+  EXPECT_EQ(encoding.variables()[5].component, Component::roll);
+  EXPECT_NEAR(encoding.variables()[5].lo, -M_PI / 6, 1e-12);
+  EXPECT_NEAR(encoding.variables()[5].hi, M_PI / 3, 1e-12);
+  core::CameraConfig config(3);
+  config[1].roll = 0.5;
+  config[2].roll = 2.0;  // beyond 60°: clamped
+  const core::CameraConfig back = encoding.decode(encoding.encode(config));
+  EXPECT_EQ(back[0].roll, 0.0);
+  EXPECT_EQ(back[1].roll, 0.5);
+  EXPECT_NEAR(back[2].roll, M_PI / 3, 1e-12);
+  // Without roll_deg a frustum's roll is fixed at 0 and leaves the vector.
+  core::Scene fixed = frusta;
+  for (core::CameraDomain& d : fixed.cameras.domains) d.roll = {0.0, 0.0};
+  EXPECT_EQ(Encoding(fixed).dimension(), 15u);
+}
+
 TEST(Encoding, EncodeClampsIntoTheDomainAndDecodeInverts) {
   const core::Scene scene = small_scene();
   const Encoding encoding(scene);

@@ -64,6 +64,51 @@ TEST(Report, RunFileCamerasAreReadByTheEvaluateReaderAndReproduceErr) {
   fs::remove_all(dir);
 }
 
+// Issue 14: a frustum scene with roll free in the domain. Roll is in the decision vector (one
+// per camera), the run file carries roll_deg and the model names, and `evaluate --cameras RUNFILE`
+// (core::load_camera_config) reads the same poses back and reproduces Err exactly.
+TEST(Report, CameraPosesWithRollSurviveTheRunFileRoundTrip) {
+  const core::Scene scene =
+      core::load_scene(std::string(CAMPLACE_SOURCE_DIR) + "/tests/data/frustum_small.json");
+  ASSERT_EQ(scene.cameras.count, 3);
+  voxel::VoxelOptions center;
+  center.mode = voxel::LabelMode::center;
+  const VoxelObjective objective(scene, center);
+  OptimizeOptions o;
+  o.max_evaluations = 300;
+  o.seed = 14;
+  const RunResult run = optimize(scene, objective, o);
+  int rolled = 0;
+  for (const core::CameraSetting& c : run.best) {
+    EXPECT_LE(std::abs(c.roll), 45.0 * core::kDegree + 1e-12);
+    rolled += c.roll != 0.0;
+  }
+  EXPECT_GT(rolled, 0);  // roll is a decision variable here
+
+  const fs::path dir = fresh_dir("roll");
+  const fs::path file = dir / "run-14.json";
+  RunContext context;
+  context.camera_models = camera_models(scene);
+  EXPECT_EQ(context.camera_models, (std::vector<std::string>{"rgb", "rgb", "depth"}));
+  core::write_file_atomically(file.string(), run_json(run, context).dump(2));
+  std::ifstream in(file);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  ASSERT_EQ(j.at("cameras").size(), 3u);
+  EXPECT_EQ(j.at("cameras")[2].at("model"), "depth");
+  EXPECT_EQ(read_run_file(file.string()).context.camera_models, context.camera_models);
+  const core::CameraConfig config = core::load_camera_config(file.string(), scene);
+  ASSERT_EQ(config.size(), run.best.size());
+  for (std::size_t i = 0; i < config.size(); ++i) {
+    EXPECT_EQ(config[i].position, run.best[i].position) << i;
+    EXPECT_EQ(config[i].yaw, run.best[i].yaw) << i;
+    EXPECT_EQ(config[i].pitch, run.best[i].pitch) << i;
+    EXPECT_EQ(config[i].roll, run.best[i].roll) << i;
+  }
+  voxel::Timing timing;
+  EXPECT_EQ(objective.evaluate(config, timing), j.at("err").get<double>());
+  fs::remove_all(dir);
+}
+
 std::string read_text(const fs::path& path) {
   std::ifstream in(path);
   std::stringstream s;

@@ -37,7 +37,7 @@ def test_camera_file_errors_are_the_command_lines(tmp_path, paper):
     bad_yaw = [dict(c) for c in cameras]
     bad_yaw[2]["yaw_deg"] = 190
     bad_key = [dict(c) for c in cameras]
-    bad_key[0]["roll_deg"] = 0
+    bad_key[0]["tilt_deg"] = 0
     for name, value in [("yaw", bad_yaw), ("key", bad_key), ("count", cameras[:2])]:
         path = write_json(tmp_path / f"{name}.json", {"cameras": value})
         expected = cli_error("evaluate", SCENE, "--cameras", path)
@@ -80,7 +80,7 @@ def test_bad_arguments_name_the_keyword(paper):
          f"option: state: the scene {SCENE} has no state (2, 0) (time step h, event l; see "
          "Scene.states)"),
         (camplace.voxel_model, (paper, CORNERS), {"fov": "sphere"},
-         'option: fov: unknown fov "sphere" (expected "cone" or "pyramid")'),
+         'option: fov: unknown fov "sphere" (expected "cone", "pyramid" or "frustum")'),
         (camplace.labels, (paper, CORNERS), {"camera": 6},
          "option: camera: must lie in [0, 5] (one of the scene's 6 cameras)"),
         (camplace.optimize, (paper,), {"time_limit": -1},

@@ -105,3 +105,30 @@ def test_export_mesh_writes_the_command_lines_files(tiny_files, tmp_path):
     assert sorted(p.name for p in py_dir.iterdir()) == names
     for name in names:
         assert (py_dir / name).read_text() == (cli_dir / name).read_text()
+
+
+def test_frustum_models_and_roll_as_on_the_command_line(tmp_path):
+    # Issue 14: a scene with two frustum models; cameras with roll_deg and their model's name.
+    from conftest import ROOT, write_json
+    scene_file = str(ROOT / "tests" / "data" / "frustum_small.json")
+    cameras = [
+        {"model": "rgb", "position": [0.1, 0.1, 2.4], "yaw_deg": 45, "pitch_deg": -35,
+         "roll_deg": 20},
+        {"model": "rgb", "position": [2.9, 2.9, 2.4], "yaw_deg": -135, "pitch_deg": -35,
+         "roll_deg": -10},
+        {"model": "depth", "position": [2.9, 0.1, 2.4], "yaw_deg": 135, "pitch_deg": -40},
+    ]
+    cameras_file = write_json(tmp_path / "cameras.json", {"cameras": cameras})
+    scene = camplace.load_scene(scene_file)
+    expected = cli_json("evaluate", scene_file, "--cameras", cameras_file, "--mode", "center",
+                        "--json")
+    got = camplace.evaluate(scene, cameras, mode="center")
+    got["cameras_file"] = expected["cameras_file"]
+    assert without_timing(got) == without_timing(expected)
+    assert [c["model"] for c in got["diagnostics"]["cameras"]] == ["rgb", "rgb", "depth"]
+    assert [c["roll_deg"] for c in got["diagnostics"]["cameras"]] == pytest.approx([20, -10, 0])
+    assert camplace.load_cameras(cameras_file, scene)[0]["roll_deg"] == 20
+    # Roll turns a frustum: another roll sees another part of S.
+    turned = [dict(c, roll_deg=c.get("roll_deg", 0) + 60) for c in cameras]
+    fraction = camplace.evaluate(scene, turned, mode="center")["diagnostics"]["cameras"][0]
+    assert fraction["fov_fraction"] != got["diagnostics"]["cameras"][0]["fov_fraction"]

@@ -146,10 +146,10 @@ struct LegacyLabeller::Impl {
     return removed;
   }
 
-  CameraView view(const core::CameraSetting& camera) const {
+  CameraView view(const core::CameraSetting& camera, int camera_index = 0) const {
     CameraView view;
     view.setting = camera;
-    const core::Fov fov(camera, scene.cameras);
+    const core::Fov fov(camera, scene.cameras.models.at(camera_index));
     const Vec3& c = camera.position;
     const int n = grid.count();
     view.in_fov.assign(n, 0);
@@ -360,7 +360,7 @@ std::vector<std::vector<std::uint8_t>> LegacyLabeller::raw_models(
   core::check_configuration(m.scene, config);
   std::vector<CameraView> views;
   views.reserve(config.size());
-  for (const auto& camera : config) views.push_back(m.view(camera));
+  for (std::size_t i = 0; i < config.size(); ++i) views.push_back(m.view(config[i], int(i)));
   std::vector<std::vector<std::uint8_t>> out;
   for (const StateInfo& state : m.states) out.push_back(m.raw_model(views, state));
   return out;

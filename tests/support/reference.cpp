@@ -55,7 +55,9 @@ bool reference_inside(const core::TriangleMesh& mesh, const Vec3& p) {
 }
 
 ReferenceLabel reference_label(const core::Scene& scene, int time_step, int event,
-                               const core::CameraSetting& camera, const Vec3& p, double margin) {
+                               const core::CameraSetting& camera, const Vec3& p, double margin,
+                               int camera_index) {
+  const core::CameraModel& model = scene.cameras.models.at(camera_index);
   ReferenceLabel out;
   const bool masked = scene.dynamic_mode == core::DynamicMode::masked;
   std::vector<Object> objects;
@@ -76,13 +78,35 @@ ReferenceLabel reference_label(const core::Scene& scene, int time_step, int even
     out.ambiguous = true;
     return out;
   }
-  const double alpha = scene.cameras.half_angle;
+  const double alpha = model.half_angle;
   const double axial = v.dot(d);
-  if (scene.cameras.range) {
-    if (std::abs(axial - *scene.cameras.range) < margin) out.ambiguous = true;
-    if (axial > *scene.cameras.range) return out;
+  if (model.range) {
+    if (std::abs(axial - *model.range) < margin) out.ambiguous = true;
+    if (axial > *model.range) return out;
   }
-  if (scene.cameras.fov == core::FovShape::cone) {
+  if (model.near > 0.0) {
+    if (std::abs(axial - model.near) < margin) out.ambiguous = true;
+    if (axial < model.near) return out;
+  }
+  // The image axes: world z (or y) made orthogonal to d, then turned by the roll ρ about d
+  // (right-hand rule: the up axis turns toward the right axis).
+  Vec3 up0 = Vec3::UnitZ() - d.z() * d;
+  if (up0.norm() < 1e-9) up0 = Vec3::UnitY() - d.y() * d;
+  up0.normalize();
+  const Vec3 right0 = d.cross(up0);
+  const Vec3 up = std::cos(camera.roll) * up0 + std::sin(camera.roll) * right0;
+  const Vec3 right = std::cos(camera.roll) * right0 - std::sin(camera.roll) * up0;
+  if (model.fov == core::FovShape::frustum) {
+    // |right·v| ≤ tan(H/2)·axial and |up·v| ≤ tan(V/2)·axial; the side plane's distance is
+    // (t·axial − |s|)/√(1 + t²).
+    if (axial <= 0) return out;
+    const double tx = std::tan(0.5 * model.horizontal), ty = std::tan(0.5 * model.vertical);
+    const double sx = std::abs(v.dot(right)), sy = std::abs(v.dot(up));
+    const double gap_x = (tx * axial - sx) / std::sqrt(1 + tx * tx);
+    const double gap_y = (ty * axial - sy) / std::sqrt(1 + ty * ty);
+    if (std::abs(gap_x) < margin || std::abs(gap_y) < margin) out.ambiguous = true;
+    if (gap_x < 0 || gap_y < 0) return out;
+  } else if (model.fov == core::FovShape::cone) {
     const double angle = std::acos(std::clamp(axial / dist, -1.0, 1.0));
     if (std::abs(angle - alpha) * dist < margin) out.ambiguous = true;
     if (angle > alpha) return out;
@@ -90,12 +114,8 @@ ReferenceLabel reference_label(const core::Scene& scene, int time_step, int even
     // Project onto the image plane at depth 1 and test against the regular k-gon whose
     // vertices lie on the circle of radius tan α, the first one on the up axis.
     if (axial <= 0) return out;
-    Vec3 up = Vec3::UnitZ() - d.z() * d;
-    if (up.norm() < 1e-9) up = Vec3::UnitY() - d.y() * d;
-    up.normalize();
-    const Vec3 right = d.cross(up);
     const double x = v.dot(up) / axial, y = v.dot(right) / axial;
-    const int k = scene.cameras.sides;
+    const int k = model.sides;
     const double r = std::tan(alpha);
     for (int j = 0; j < k; ++j) {
       const double a0 = 2 * kPi * j / k, a1 = 2 * kPi * (j + 1) / k;

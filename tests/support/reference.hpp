@@ -15,10 +15,11 @@ struct ReferenceLabel {
   bool ambiguous = false;  ///< the point lies within `margin` of a boundary (tie)
 };
 
-/// κ(p) for one camera in state (h, l) of the scene; ties flagged within `margin` metres.
+/// κ(p) for one camera (with the model of the scene's camera `camera_index`) in state (h, l)
+/// of the scene; ties flagged within `margin` metres.
 ReferenceLabel reference_label(const core::Scene& scene, int time_step, int event,
                                const core::CameraSetting& camera, const core::Vec3& p,
-                               double margin = 1e-7);
+                               double margin = 1e-7, int camera_index = 0);
 
 /// True when p is inside the closed mesh, by counting crossings of a fixed skew ray.
 bool reference_inside(const core::TriangleMesh& mesh, const core::Vec3& p);

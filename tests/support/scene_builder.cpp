@@ -47,7 +47,9 @@ core::Scene simple_scene(const core::Box3& area, std::array<int, 3> voxels, int 
   s.area = area;
   s.voxels = voxels;
   s.cameras.count = count;
-  s.cameras.half_angle = half_angle_deg * kDeg;
+  core::CameraModel model;
+  model.half_angle = half_angle_deg * kDeg;
+  s.cameras.models.assign(count, model);
   core::CameraDomain domain;
   domain.x = {area.min.x(), area.max.x()};
   domain.y = {area.min.y(), area.max.y()};
@@ -121,9 +123,15 @@ core::Scene random_scene(std::mt19937& rng, std::array<int, 3> voxels) {
     }
     s.time_steps.push_back(step);
   }
-  s.cameras.fov = unit(rng) < 0.5 ? core::FovShape::cone : core::FovShape::pyramid;
-  s.cameras.sides = 3 + static_cast<int>(unit(rng) * 14);
-  if (unit(rng) < 0.3) s.cameras.range = 2.0 + 3.0 * unit(rng);
+  const core::FovShape shape = unit(rng) < 0.5 ? core::FovShape::cone : core::FovShape::pyramid;
+  const int sides = 3 + static_cast<int>(unit(rng) * 14);
+  const bool ranged = unit(rng) < 0.3;
+  const double range = 2.0 + 3.0 * unit(rng);
+  for (core::CameraModel& m : s.cameras.models) {
+    m.fov = shape;
+    m.sides = sides;
+    if (ranged) m.range = range;
+  }
   s.dynamic_mode = unit(rng) < 0.5 ? core::DynamicMode::masked : core::DynamicMode::modelled;
   return s;
 }
@@ -193,6 +201,31 @@ std::vector<core::CameraConfig> configs_around(const core::CameraConfig& base,
   }
   for (int n = 0; n < random; ++n) out.push_back(random_config(rng, scene));
   return out;
+}
+
+void randomize_camera_models(std::mt19937& rng, core::Scene& scene) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int i = 0; i < scene.cameras.count; ++i) {
+    core::CameraModel& m = scene.cameras.models[i];
+    m = core::CameraModel{};
+    m.name = "m" + std::to_string(i);
+    if (i % 3 < 2) {
+      m.fov = core::FovShape::frustum;
+      m.horizontal = (20.0 + 150.0 * unit(rng)) * kDeg;
+      m.vertical = (20.0 + 130.0 * unit(rng)) * kDeg;
+    } else {
+      m.fov = unit(rng) < 0.5 ? core::FovShape::pyramid : core::FovShape::cone;
+      m.half_angle = (15.0 + 50.0 * unit(rng)) * kDeg;
+      m.sides = 3 + static_cast<int>(unit(rng) * 14);
+    }
+    if (unit(rng) < 0.5) m.near = 0.05 + 0.75 * unit(rng);
+    if (unit(rng) < 0.33) m.range = 2.0 + 3.0 * unit(rng);
+  }
+}
+
+void randomize_rolls(std::mt19937& rng, core::CameraConfig& config) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (core::CameraSetting& c : config) c.roll = (-180.0 + 360.0 * unit(rng)) * kDeg;
 }
 
 }  // namespace camplace::testing

@@ -29,6 +29,13 @@ core::CameraSetting camera_at(const core::Vec3& position, double yaw_deg, double
 core::Scene random_scene(std::mt19937& rng, std::array<int, 3> voxels);
 /// Random camera configuration inside the scene's area.
 core::CameraConfig random_config(std::mt19937& rng, const core::Scene& scene);
+/// Gives the scene's cameras a mix of models (issue 14): camera i is a frustum when i % 3 is
+/// 0 or 1 (full angles H ∈ [20°, 170°], V ∈ [20°, 150°]), else a pyramid (3–16 sides) or a
+/// cone; each with a near plane (0.05–0.8 m) half of the time and a far plane (2–5 m) a third
+/// of the time. Models are named "m<i>".
+void randomize_camera_models(std::mt19937& rng, core::Scene& scene);
+/// A random roll in [−180°, 180°] for every camera of `config`.
+void randomize_rolls(std::mt19937& rng, core::CameraConfig& config);
 /// `base`, `jittered` copies of it moved by ~0.1 m and ~3° (near-optimal when `base` is) and
 /// `random` random configurations, all from `seed`.
 std::vector<core::CameraConfig> configs_around(const core::CameraConfig& base,

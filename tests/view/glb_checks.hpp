@@ -121,7 +121,8 @@ inline void check_state_file(const core::Scene& scene, const core::CameraConfig&
               .norm(),
           0, 1e-12);
       ASSERT_GE(node.camera, 0);
-      EXPECT_NEAR(m.cameras[node.camera].perspective.yfov, 2 * scene.cameras.half_angle, 1e-12);
+      EXPECT_NEAR(m.cameras[node.camera].perspective.yfov, 2 * scene.cameras.models[0].half_angle,
+                  1e-12);
       continue;
     }
     if (node.mesh < 0) continue;

@@ -72,7 +72,7 @@ double pyramid_volume(int k, double half_angle, double h) {
 }
 
 TEST(FovMesh, DownwardPyramidReachingTheFloor) {
-  core::CameraSpec spec;
+  core::CameraModel spec;
   spec.fov = core::FovShape::pyramid;
   spec.sides = 4;
   spec.half_angle = 30.0 * core::kDegree;
@@ -85,7 +85,7 @@ TEST(FovMesh, DownwardPyramidReachingTheFloor) {
 }
 
 TEST(FovMesh, RangeCutsThePyramid) {
-  core::CameraSpec spec;
+  core::CameraModel spec;
   spec.fov = core::FovShape::pyramid;
   spec.sides = 6;
   spec.half_angle = 25.0 * core::kDegree;
@@ -110,7 +110,7 @@ TEST(FovMesh, ClippedFovAgreesWithTheFovPointTest) {
                {{-1.0, 1.5, 1.0}, 10, 5, core::FovShape::pyramid, 3.0},
                {{2.0, 1.5, 0.5}, 0, 90, core::FovShape::cone, std::nullopt}};
   for (const Case& c : cases) {
-    core::CameraSpec spec;
+    core::CameraModel spec;
     spec.fov = c.shape;
     spec.sides = 16;
     spec.half_angle = 30.0 * core::kDegree;
@@ -145,7 +145,7 @@ TEST(FovMesh, ClippedFovAgreesWithTheFovPointTest) {
 }
 
 TEST(FovMesh, CameraLookingAwayFromSHasNoMesh) {
-  core::CameraSpec spec;
+  core::CameraModel spec;
   spec.half_angle = 30.0 * core::kDegree;
   EXPECT_TRUE(view::fov_mesh(camera_at({-1, 1.5, 1.5}, 180, 0), spec, kArea).triangles.empty());
 }

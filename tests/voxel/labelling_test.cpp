@@ -163,10 +163,10 @@ TEST(Labelling, InscribedTriangularPyramidIsNarrowerThanCone) {
   // triangle inscribed in the circle of radius r = tan 30°; its chord through the centre,
   // perpendicular to up, has half-width r/√3 = 1/3. So in the horizontal plane: slope < 1/3.
   core::Scene scene = planar_scene();
-  scene.cameras.fov = core::FovShape::pyramid;
-  scene.cameras.sides = 3;
+  core::use_exact_models(scene.cameras);
+  for (auto& m : scene.cameras.models) m.sides = 3;
   const auto pyramid = center_labels(scene);
-  scene.cameras.fov = core::FovShape::cone;
+  for (auto& m : scene.cameras.models) m.fov = core::FovShape::cone;
   const auto cone = center_labels(scene);
   int narrower = 0;
   for (int j = 0; j < 16; ++j) {
@@ -186,7 +186,7 @@ TEST(Labelling, InscribedTriangularPyramidIsNarrowerThanCone) {
 
 TEST(Labelling, RangeCutsTheFovAtAxialDepth) {
   core::Scene scene = planar_scene();
-  scene.cameras.range = 2.0;
+  for (auto& m : scene.cameras.models) m.range = 2.0;
   const auto labels = center_labels(scene);
   for (int j = 0; j < 16; ++j) {
     for (int i = 0; i < 16; ++i) {

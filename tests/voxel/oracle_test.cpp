@@ -2,6 +2,9 @@
 // scenes and configurations: every object kind, FOV shape, range and dynamic mode.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <random>
 
 #include "reference.hpp"
@@ -100,6 +103,137 @@ TEST(Oracle, ConservativeModelContainsCenterModel) {
       EXPECT_LE(eb.states[st].d_model, ea.states[st].d_model + 1e-12);
     }
   }
+}
+
+// Issue 14: mixed camera models (frusta, pyramids, cones, near and far planes) with random roll.
+// Center mode labels every voxel centre as the reference does; conservative mode's free voxels
+// are free at sampled points (conservative stays conservative); with refinement the model still
+// holds every sampled point the reference finds in M.
+core::Scene frustum_scene(std::mt19937& rng) {
+  core::Scene scene = random_scene(rng, {12, 9, 9});
+  randomize_camera_models(rng, scene);
+  return scene;
+}
+
+core::CameraConfig rolled_config(std::mt19937& rng, const core::Scene& scene) {
+  core::CameraConfig config = random_config(rng, scene);
+  randomize_rolls(rng, config);
+  return config;
+}
+
+TEST(Oracle, FrustaWithRollCenterLabelsEqualReference) {
+  std::mt19937 rng(1414);
+  long compared = 0, ties = 0, seen = 0;
+  for (int s = 0; s < 8; ++s) {
+    const core::Scene scene = frustum_scene(rng);
+    const voxel::VoxelEvaluator evaluator(scene, {LabelMode::center, {0, 0, 0}});
+    const core::CameraConfig config = rolled_config(rng, scene);
+    const auto all_states = core::states(scene);
+    for (std::size_t st = 0; st < all_states.size(); ++st) {
+      for (int c = 0; c < scene.cameras.count; ++c) {
+        const auto labels = evaluator.labels(config[c], static_cast<int>(st), c);
+        for (int v = 0; v < evaluator.grid().count(); ++v) {
+          const ReferenceLabel ref =
+              reference_label(scene, all_states[st].time_step, all_states[st].event, config[c],
+                              evaluator.grid().voxel_center(v), 1e-7, c);
+          if (ref.ambiguous) {
+            ++ties;
+            continue;
+          }
+          ++compared;
+          seen += ref.label != Label::undetectable;
+          ASSERT_EQ(labels[v], ref.label)
+              << "scene " << s << " state " << st << " camera " << c << " voxel " << v;
+        }
+      }
+    }
+  }
+  EXPECT_GT(compared, 100 * ties);
+  EXPECT_GT(seen, 1000);  // the frusta see something: not vacuous
+}
+
+TEST(Oracle, FrustaWithRollConservativeFreeVoxelsAreFree) {
+  std::mt19937 rng(1415);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  long free_voxels = 0;
+  for (int s = 0; s < 8; ++s) {
+    const core::Scene scene = frustum_scene(rng);
+    const voxel::VoxelEvaluator evaluator(scene, {LabelMode::conservative, {0, 0, 0}});
+    const core::CameraConfig config = rolled_config(rng, scene);
+    const auto all_states = core::states(scene);
+    for (std::size_t st = 0; st < all_states.size(); ++st) {
+      for (int c = 0; c < scene.cameras.count; ++c) {
+        const auto labels = evaluator.labels(config[c], static_cast<int>(st), c);
+        for (int v = 0; v < evaluator.grid().count(); ++v) {
+          if (labels[v] != Label::free) continue;
+          ++free_voxels;
+          const core::Box3 box = evaluator.grid().voxel_box(v);
+          std::vector<core::Vec3> points;
+          for (int a = 0; a < 27; ++a) {
+            points.push_back(box.min +
+                             box.size().cwiseProduct(core::Vec3(a % 3, (a / 3) % 3, a / 9) / 2.0));
+          }
+          for (int r = 0; r < 8; ++r) {
+            points.push_back(box.min +
+                             box.size().cwiseProduct(core::Vec3(unit(rng), unit(rng), unit(rng))));
+          }
+          for (const core::Vec3& p : points) {
+            const ReferenceLabel ref = reference_label(scene, all_states[st].time_step,
+                                                       all_states[st].event, config[c], p, 1e-7, c);
+            ASSERT_TRUE(ref.ambiguous || ref.label == Label::free)
+                << "scene " << s << " state " << st << " camera " << c << " voxel " << v
+                << " point " << p.transpose();
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(free_voxels, 500);
+}
+
+TEST(Oracle, FrustaWithRollRefinedModelHoldsEveryReferenceModelPoint) {
+  std::mt19937 rng(1416);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  long in_model = 0;
+  for (int s = 0; s < 4; ++s) {
+    core::Scene scene = frustum_scene(rng);
+    scene.plausibility = {};
+    voxel::VoxelOptions options{LabelMode::conservative, {0, 0, 0}};
+    options.refine = 2;
+    const voxel::VoxelEvaluator evaluator(scene, options);
+    const core::CameraConfig config = rolled_config(rng, scene);
+    const auto all_states = core::states(scene);
+    const voxel::Grid cells = evaluator.leaf_grid();
+    for (std::size_t st = 0; st < all_states.size(); ++st) {
+      const auto model = evaluator.leaf_model(config, static_cast<int>(st));
+      const auto& step = scene.time_steps[all_states[st].time_step];
+      for (int i = 0; i < 300; ++i) {
+        const core::Vec3 p =
+            scene.area.min +
+            core::Vec3(unit(rng), unit(rng), unit(rng)).cwiseProduct(scene.area.size());
+        bool ambiguous = false, non_free = true;
+        for (int c = 0; c < scene.cameras.count; ++c) {
+          const ReferenceLabel ref = reference_label(scene, all_states[st].time_step,
+                                                     all_states[st].event, config[c], p, 1e-7, c);
+          ambiguous |= ref.ambiguous;
+          non_free = non_free && ref.label != Label::free;
+        }
+        bool in_obstacle = false;
+        for (const auto& o : scene.static_obstacles) in_obstacle |= reference_inside(o.mesh, p);
+        for (const auto& o : step.dynamic_obstacles) in_obstacle |= reference_inside(o.mesh, p);
+        if (ambiguous || !non_free || in_obstacle) continue;
+        ++in_model;
+        std::array<int, 3> ijk{};
+        for (int k = 0; k < 3; ++k) {
+          ijk[k] = std::clamp(int(std::floor((p[k] - scene.area.min[k]) / cells.step[k])), 0,
+                              cells.n[k] - 1);
+        }
+        EXPECT_TRUE(model[ijk[0] + cells.n[0] * (ijk[1] + cells.n[1] * ijk[2])])
+            << "scene " << s << " state " << st << " point " << p.transpose();
+      }
+    }
+  }
+  EXPECT_GT(in_model, 100);
 }
 
 }  // namespace

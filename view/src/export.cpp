@@ -178,7 +178,7 @@ Evaluated evaluate_voxel(const core::Scene& scene, const core::CameraConfig& con
   out.evaluation = evaluator.evaluate(config);
   out.mode = core::name_of(options.voxel.mode);
   out.resolution = evaluator.grid().n;
-  out.fov = core::name_of(scene.cameras.fov);
+  out.fov = core::name_of(scene.cameras.models.front().fov);
   out.grid = evaluator.grid();
   const auto all = core::states(scene);
   // The model as d(C, M) sees it: with refinement its finest cells (leaf_grid(), leaf_model()),
@@ -288,14 +288,16 @@ std::string state_glb(const core::Scene& scene, const core::CameraConfig& config
   count("model");
 
   // Cameras: a glTF camera with the pose, and the FOV clipped to S (in the pipeline's shape).
-  core::CameraSpec spec = scene.cameras;
-  if (options.pipeline == core::Pipeline::exact) spec.fov = core::FovShape::pyramid;
+  core::CameraSpec cameras = scene.cameras;
+  if (options.pipeline == core::Pipeline::exact) core::use_exact_models(cameras);
   Eigen::Matrix3d to_gltf;  // camplace → glTF axes
   to_gltf << 1, 0, 0, 0, 0, 1, 0, -1, 0;
   const int glyph_mesh = gltf.triangle_mesh(
-      "camera symbol", camera_glyph(spec.half_angle, 0.03 * scene.area.diagonal()),
+      "camera symbol",
+      camera_glyph(cameras.models.front().bounding_half_angle(), 0.03 * scene.area.diagonal()),
       materials["camera"], false);
   for (std::size_t c = 0; c < config.size(); ++c) {
+    const core::CameraModel& spec = cameras.models[c];
     const std::string name = "camera " + std::to_string(c);
     const Vec3 d = core::view_direction(config[c]);
     const Vec3 u = core::up_vector(config[c]);
@@ -309,15 +311,29 @@ std::string state_glb(const core::Scene& scene, const core::CameraConfig& config
       far = std::max(far, (corner - config[c].position).norm() + 1.0);
     }
     if (spec.range) far = *spec.range;
-    const int camera = gltf.perspective_camera(name, 2.0 * spec.half_angle, 0.01, far);
-    gltf.node(name, glyph_mesh,
-              {{"role", "camera"},
-               {"index", c},
-               {"position", vec_json(config[c].position)},
-               {"yaw_deg", config[c].yaw / core::kDegree},
-               {"pitch_deg", config[c].pitch / core::kDegree},
-               {"half_angle_deg", spec.half_angle / core::kDegree}},
-              camera, {q[0], q[1], q[2], q[3]}, detail::to_gltf(config[c].position));
+    // yfov: the frustum's vertical opening, else the cone's (pyramid's) full angle.
+    const double yfov = spec.fov == core::FovShape::frustum ? spec.vertical : 2.0 * spec.half_angle;
+    // A frustum's image is tan(H/2) : tan(V/2) wide; a cone's is left to the viewer.
+    const double aspect = spec.fov == core::FovShape::frustum
+                              ? std::tan(0.5 * spec.horizontal) / std::tan(0.5 * spec.vertical)
+                              : 0.0;
+    const int camera =
+        gltf.perspective_camera(name, yfov, spec.near > 0.0 ? spec.near : 0.01, far, aspect);
+    json camera_extras = {{"role", "camera"},
+                          {"index", c},
+                          {"model", spec.name},
+                          {"position", vec_json(config[c].position)},
+                          {"yaw_deg", config[c].yaw / core::kDegree},
+                          {"pitch_deg", config[c].pitch / core::kDegree},
+                          {"roll_deg", config[c].roll / core::kDegree}};
+    if (spec.fov == core::FovShape::frustum) {
+      camera_extras["horizontal_deg"] = spec.horizontal / core::kDegree;
+      camera_extras["vertical_deg"] = spec.vertical / core::kDegree;
+    } else {
+      camera_extras["half_angle_deg"] = spec.half_angle / core::kDegree;
+    }
+    gltf.node(name, glyph_mesh, camera_extras, camera, {q[0], q[1], q[2], q[3]},
+              detail::to_gltf(config[c].position));
     count("camera");
     const core::TriangleMesh fov = fov_mesh(config[c], spec, scene.area);
     gltf.node(
@@ -326,7 +342,9 @@ std::string state_glb(const core::Scene& scene, const core::CameraConfig& config
         {{"role", "fov"},
          {"camera", c},
          {"shape", core::name_of(spec.fov)},
-         {"sides_drawn", spec.fov == core::FovShape::pyramid ? spec.sides : kConeDrawSides},
+         {"sides_drawn", spec.fov == core::FovShape::pyramid   ? spec.sides
+                         : spec.fov == core::FovShape::frustum ? 4
+                                                               : kConeDrawSides},
          {"clipped_to", "S"},
          {"empty", fov.triangles.empty()}});
     count("fov");

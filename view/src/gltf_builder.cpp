@@ -142,14 +142,15 @@ int GltfBuilder::segment_mesh(const std::string& name, const core::Vec3& a, cons
   return static_cast<int>(model_.meshes.size()) - 1;
 }
 
-int GltfBuilder::perspective_camera(const std::string& name, double yfov, double znear,
-                                    double zfar) {
+int GltfBuilder::perspective_camera(const std::string& name, double yfov, double znear, double zfar,
+                                    double aspect_ratio) {
   tinygltf::Camera camera;
   camera.name = name;
   camera.type = "perspective";
   camera.perspective.yfov = yfov;
   camera.perspective.znear = znear;
   camera.perspective.zfar = zfar;
+  if (aspect_ratio > 0.0) camera.perspective.aspectRatio = aspect_ratio;
   model_.cameras.push_back(camera);
   return static_cast<int>(model_.cameras.size()) - 1;
 }

@@ -34,8 +34,9 @@ class GltfBuilder {
   /// both ends.
   int segment_mesh(const std::string& name, const core::Vec3& a, const core::Vec3& b,
                    int line_material, int marker_material, double marker_radius);
-  /// A perspective camera (radians, metres).
-  int perspective_camera(const std::string& name, double yfov, double znear, double zfar);
+  /// A perspective camera (radians, metres); aspect_ratio: width / height, 0 = not given.
+  int perspective_camera(const std::string& name, double yfov, double znear, double zfar,
+                         double aspect_ratio = 0.0);
   /// A root node of the scene; mesh/camera −1 for none; rotation as x, y, z, w (glTF frame).
   int node(const std::string& name, int mesh, const nlohmann::ordered_json& extras, int camera = -1,
            const std::array<double, 4>& rotation = {0, 0, 0, 1},

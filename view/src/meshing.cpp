@@ -186,10 +186,15 @@ TriangleMesh triangulate(const Polyhedron& poly, double min_area) {
 
 }  // namespace
 
-core::TriangleMesh fov_mesh(const core::CameraSetting& camera, const core::CameraSpec& spec,
+core::TriangleMesh fov_mesh(const core::CameraSetting& camera, const core::CameraModel& model,
                             const core::Box3& area) {
-  const int sides = spec.fov == core::FovShape::pyramid ? spec.sides : kConeDrawSides;
-  const core::Fov fov(camera, core::FovShape::pyramid, spec.half_angle, sides, spec.range);
+  core::CameraModel drawn = model;
+  if (drawn.fov == core::FovShape::cone) {
+    drawn.fov = core::FovShape::pyramid;
+    drawn.sides = kConeDrawSides;
+  }
+  const core::CameraModel& spec = drawn;
+  const core::Fov fov(camera, drawn);
   const Vec3& apex = fov.apex();
   const Vec3& axis = fov.axis();
   // The pyramid is cut at the far plane (range), or just beyond S's farthest corner so that
@@ -209,6 +214,10 @@ core::TriangleMesh fov_mesh(const core::CameraSetting& camera, const core::Camer
     poly.push_back({apex, base[j], base[(j + 1) % base.size()]});
   }
   poly.push_back(base);
+  if (spec.near > 0.0) {  // keep (p − apex)·axis ≥ near
+    poly = clip(poly, -axis, -(spec.near + apex.dot(axis)), eps);
+    if (poly.empty()) return {};
+  }
   for (int a = 0; a < 3; ++a) {
     poly = clip(poly, Vec3::Unit(a), area.max[a], eps);
     poly = clip(poly, -Vec3::Unit(a), -area.min[a], eps);

@@ -56,6 +56,7 @@ std::string poses_json(const core::CameraConfig& config) {
     c["position"] = vec(pose.position);
     c["yaw_deg"] = config[i].yaw / core::kDegree;
     c["pitch_deg"] = config[i].pitch / core::kDegree;
+    c["roll_deg"] = config[i].roll / core::kDegree;
     c["view_direction"] = vec(core::view_direction(config[i]));
     c["up_vector"] = vec(core::up_vector(config[i]));
     c["optical_frame"] = {{"quaternion_xyzw", vec(quaternion_xyzw(pose.optical))},

@@ -103,10 +103,11 @@ Evaluation VoxelEvaluator::evaluate(const core::CameraConfig& config) const {
 
 double VoxelEvaluator::err(const core::CameraConfig& config) const { return evaluate(config).err; }
 
-std::vector<Label> VoxelEvaluator::labels(const core::CameraSetting& camera, int state) const {
+std::vector<Label> VoxelEvaluator::labels(const core::CameraSetting& camera, int state,
+                                          int camera_index) const {
   const Impl& m = *impl_;
   m.states.at(state);  // throws std::out_of_range on a bad index
-  return m.labels(m.camera_setup(camera), state);
+  return m.labels(m.camera_setup(camera, m.scene.cameras.models.at(camera_index)), state);
 }
 
 std::vector<std::uint8_t> VoxelEvaluator::model(const core::CameraConfig& config, int state) const {

@@ -108,19 +108,24 @@ struct CameraSetup {
   core::Vec3 abs_ex = core::Vec3::Zero(), abs_ey = core::Vec3::Zero(),
              abs_axis = core::Vec3::Zero();
   double box_x = 0.0, box_y = 0.0, box_z = 0.0;  ///< a voxel box's half extents in this frame
-  bool pyramid = false;
-  std::vector<core::Vec3> normals;  ///< pyramid side normals (core::Fov's)
+  bool pyramid = false;             ///< side planes (a pyramid or a frustum), not a cone
+  std::vector<core::Vec3> normals;  ///< pyramid (frustum) side normals (core::Fov's)
+  double near = 0.0;                ///< axial near plane (m), 0 = none
   std::optional<double> range;
+  /// The cone's half angle, or the bounding cone's for a pyramid (the cone it is inscribed in)
+  /// or a frustum (CameraModel::bounding_half_angle).
   double cos_half = 1.0, sin_half = 0.0;
-  double row_cos_sq = 0.0;     ///< cos² of the half angle widened by 1e-6 (row_interval); 0: none
-  int bins = 1;                ///< bins per image axis
-  double image_half = 1.0;     ///< the bins cover [−image_half, image_half]² of (X/Z, Y/Z)
-  double bin_scale = 1.0;      ///< bins per unit of image coordinate
-  std::vector<int> bin_start;  ///< bins² + 1 offsets into bin_items
-  std::vector<int> bin_items;  ///< triangle indices, ascending within a bin
+  double row_cos_sq = 0.0;  ///< cos² of the half angle widened by 1e-6 (row_interval); 0: none
+  int bins = 1;             ///< bins per image axis
+  /// The bins cover [−image_half[0], image_half[0]] × [−image_half[1], image_half[1]] of
+  /// (X/Z, Y/Z).
+  std::array<double, 2> image_half{1.0, 1.0};
+  std::array<double, 2> bin_scale{1.0, 1.0};  ///< bins per unit of image coordinate, per axis
+  std::vector<int> bin_start;                 ///< bins² + 1 offsets into bin_items
+  std::vector<int> bin_items;                 ///< triangle indices, ascending within a bin
   /// Conservative mode: a second, finer set of bins whose rectangles are widened by `widen`.
   int wide_bins = 1;
-  double wide_scale = 1.0, widen = 0.0;
+  std::array<double, 2> wide_scale{1.0, 1.0}, widen{0.0, 0.0};  ///< per image axis
   std::vector<int> wide_start;  ///< wide_bins² + 1 offsets into wide_items
   std::vector<int> wide_items;
   std::vector<int> everywhere;  ///< triangles not wholly in front of the camera: in every bin
@@ -329,7 +334,7 @@ struct VoxelEvaluator::Impl {
   void refine_node(detail::RefineContext& ctx, int level, int morton, long I, long J, long K,
                    detail::StateMask fixed, detail::StateMask open, std::uint64_t in_view) const;
   /// Whether the FOV of `cam` surely misses the ball of radius r about the point at w from the
-  /// camera (d = |w|): outside the cone (which holds the pyramid) or beyond the far plane, by
+  /// camera (d = |w|): outside the (bounding) cone, before the near or beyond the far plane, by
   /// a margin.
   /// The states of `interest` holding triangle t's object when t is occupying and its cone
   /// holds the whole cell of size `size` at w from the camera (d = |w|) by judge()'s `sure`
@@ -351,7 +356,9 @@ struct VoxelEvaluator::Impl {
   double node_sq(int time_step, int v, int level, int morton) const;
 
   // Labelling (labelling.cpp): SPEC §3 per camera, voxel and state.
-  detail::CameraSetup camera_setup(const core::CameraSetting& camera) const;
+  /// `model`: the camera's (one of scene.cameras.models).
+  detail::CameraSetup camera_setup(const core::CameraSetting& camera,
+                                   const core::CameraModel& model) const;
   /// Unfiltered models of all states (1 = no camera sees the voxel free, minus obstacle
   /// interiors), for voxel slices k ∈ [k_begin, k_end); `models[s]` holds grid.count() bytes.
   void raw_models(const std::vector<detail::CameraSetup>& cameras, int k_begin, int k_end,

@@ -55,16 +55,17 @@ constexpr double kMargin = 1e-9;
 /// Relative gap below which a triangle's cone and a box are a touching configuration.
 constexpr double kTouch = 1e-12;
 
-/// The bin of image coordinate x (clamped: clamping keeps overlapping intervals overlapping).
-int bin_of(const CameraSetup& cam, double x) {
-  const double f = (x + cam.image_half) * cam.bin_scale;
+/// The bin of image coordinate x (axis 0) or y (axis 1) (clamped: clamping keeps overlapping
+/// intervals overlapping).
+int bin_of(const CameraSetup& cam, double x, int axis = 0) {
+  const double f = (x + cam.image_half[axis]) * cam.bin_scale[axis];
   if (!(f > 0.0)) return 0;
   if (f >= cam.bins) return cam.bins - 1;
   return static_cast<int>(f);
 }
 
-int wide_of(const CameraSetup& cam, double x) {
-  const double f = (x + cam.image_half) * cam.wide_scale;
+int wide_of(const CameraSetup& cam, double x, int axis = 0) {
+  const double f = (x + cam.image_half[axis]) * cam.wide_scale[axis];
   if (!(f > 0.0)) return 0;
   if (f >= cam.wide_bins) return cam.wide_bins - 1;
   return static_cast<int>(f);
@@ -78,16 +79,17 @@ struct BinRange {
 BinRange bin_range(const CameraSetup& cam, double xlo, double xhi, double ylo, double yhi) {
   const double px = kMargin * (1.0 + std::max(std::abs(xlo), std::abs(xhi)));
   const double py = kMargin * (1.0 + std::max(std::abs(ylo), std::abs(yhi)));
-  return {bin_of(cam, xlo - px), bin_of(cam, xhi + px), bin_of(cam, ylo - py),
-          bin_of(cam, yhi + py)};
+  return {bin_of(cam, xlo - px), bin_of(cam, xhi + px), bin_of(cam, ylo - py, 1),
+          bin_of(cam, yhi + py, 1)};
 }
 
 }  // namespace
 
-CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera) const {
+CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera,
+                                               const core::CameraModel& model) const {
   CameraSetup cam;
   cam.setting = camera;
-  cam.fov.emplace(camera, scene.cameras);
+  cam.fov.emplace(camera, model);
   const core::Fov& fov = *cam.fov;
   const Vec3& c = camera.position;
   cam.c = c;
@@ -100,12 +102,16 @@ CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera
   cam.box_x = cam.abs_ex.dot(half_step);
   cam.box_y = cam.abs_ey.dot(half_step);
   cam.box_z = cam.abs_axis.dot(half_step);
-  cam.pyramid = scene.cameras.fov == core::FovShape::pyramid;
+  cam.pyramid = !fov.is_cone();
   cam.normals = fov.pyramid_normals();
-  cam.range = scene.cameras.range;
-  cam.cos_half = std::cos(scene.cameras.half_angle);  // as core::Fov computes it
-  cam.sin_half = std::sin(scene.cameras.half_angle);
-  const double widened = scene.cameras.half_angle + 1e-6;
+  cam.near = model.near;
+  cam.range = model.range;
+  // The cone's, or the bounding cone's half angle: every test that uses it proves a point
+  // outside the FOV (or, for a cone, inside), and the pyramid and the frustum lie in it.
+  const double half_angle = model.bounding_half_angle();
+  cam.cos_half = std::cos(half_angle);  // as core::Fov computes it
+  cam.sin_half = std::sin(half_angle);
+  const double widened = half_angle + 1e-6;
   cam.row_cos_sq = widened < 0.5 * core::kPi ? std::cos(widened) * std::cos(widened) : 0.0;
 
   // SPEC §3.3 with one convention in both pipelines (issue 16): a camera in the closed object,
@@ -197,13 +203,19 @@ CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera
       cam.triangles[t].touch = cull;
     }
   }
-  // Bins over the FOV's section at unit depth (the cone's; the pyramid is inscribed).
-  cam.image_half = std::tan(scene.cameras.half_angle);
+  // Bins over the FOV's section at unit depth: the cone's (which holds the pyramid), or the
+  // frustum's image rectangle, tan(H/2) × tan(V/2) along ex (right) and ey (up), both turned
+  // by the roll. Bins only sort: a triangle outside them lands in an edge bin.
+  if (model.fov == core::FovShape::frustum) {
+    cam.image_half = {std::tan(0.5 * model.horizontal), std::tan(0.5 * model.vertical)};
+  } else {
+    cam.image_half = {std::tan(half_angle), std::tan(half_angle)};
+  }
   // Center mode looks up one bin per voxel: fine bins. Conservative mode looks up the bins under
   // the box's projection and then each triangle's rectangle: coarse bins (fewer repeats).
   const int n_max = *std::max_element(grid.n.begin(), grid.n.end());
   cam.bins = conservative ? std::clamp(n_max / 3, 8, 32) : std::clamp(n_max, 16, 64);
-  cam.bin_scale = cam.bins / (2.0 * cam.image_half);
+  for (int a = 0; a < 2; ++a) cam.bin_scale[a] = cam.bins / (2.0 * cam.image_half[a]);
   const int bin_count = cam.bins * cam.bins;
   std::vector<BinRange> ranges(triangles.size());
   std::vector<std::uint8_t> projectable(triangles.size(), 1);
@@ -281,8 +293,10 @@ CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera
   // so that a voxel whose projection is at most that wide finds every triangle it can meet in
   // the bin of its rectangle's centre, each once (no repeats to skip).
   cam.wide_bins = 2 * cam.bins;
-  cam.wide_scale = cam.wide_bins / (2.0 * cam.image_half);
-  cam.widen = 0.5 / cam.bin_scale;
+  for (int a = 0; a < 2; ++a) {
+    cam.wide_scale[a] = cam.wide_bins / (2.0 * cam.image_half[a]);
+    cam.widen[a] = 0.5 / cam.bin_scale[a];
+  }
   const int wide_count = cam.wide_bins * cam.wide_bins;
   cam.wide_start.assign(wide_count + 1, 0);
   cam.wide_items.clear();
@@ -291,8 +305,8 @@ CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera
     for (std::size_t t = 0; t < triangles.size(); ++t) {
       if (skipped(t) || !projectable[t]) continue;
       const auto& r = cam.rect[t];
-      wide[t] = {wide_of(cam, r[0] - cam.widen), wide_of(cam, r[1] + cam.widen),
-                 wide_of(cam, r[2] - cam.widen), wide_of(cam, r[3] + cam.widen)};
+      wide[t] = {wide_of(cam, r[0] - cam.widen[0]), wide_of(cam, r[1] + cam.widen[0]),
+                 wide_of(cam, r[2] - cam.widen[1], 1), wide_of(cam, r[3] + cam.widen[1], 1)};
       for (int by = wide[t].y0; by <= wide[t].y1; ++by) {
         for (int bx = wide[t].x0; bx <= wide[t].x1; ++bx) {
           ++cam.wide_start[by * cam.wide_bins + bx + 1];
@@ -324,6 +338,7 @@ bool VoxelEvaluator::Impl::in_fov(const CameraSetup& cam, int i, int j, int k, c
     if (!(d > 0)) return false;
     const double axial = w.dot(cam.axis);
     if (cam.range && axial > *cam.range) return false;
+    if (axial < cam.near) return false;
     if (!cam.pyramid) return axial >= d * cam.cos_half;
     for (const Vec3& n : cam.normals) {
       if (n.dot(w) < 0.0) return false;
@@ -347,6 +362,10 @@ bool VoxelEvaluator::Impl::box_in_fov(const CameraSetup& cam, const Vec3& lo, co
   if (cam.range) {
     if (axial > *cam.range + tol) return false;
     ball_inside = axial + r < *cam.range - tol;
+  }
+  if (cam.near > 0.0) {
+    if (axial < cam.near - tol) return false;
+    ball_inside = ball_inside && axial - r > cam.near + tol;
   }
   if (!cam.pyramid) {
     if (axial < d * cam.cos_half - tol) return false;
@@ -380,10 +399,11 @@ namespace {
 template <class Test, class Done>
 void judge_candidates(const CameraSetup& cam, const BinRange& bins, double vx0, double vx1,
                       double vy0, double vy1, double z_lo, Test& test, const Done& done) {
-  if (z_lo > 0.0 && vx1 - vx0 <= 2.0 * cam.widen && vy1 - vy0 <= 2.0 * cam.widen) {
+  if (z_lo > 0.0 && vx1 - vx0 <= 2.0 * cam.widen[0] && vy1 - vy0 <= 2.0 * cam.widen[1]) {
     // A triangle whose rectangle overlaps the voxel's has its widened rectangle around the
     // voxel rectangle's centre: one wide bin holds every candidate, once.
-    const int b = wide_of(cam, 0.5 * (vy0 + vy1)) * cam.wide_bins + wide_of(cam, 0.5 * (vx0 + vx1));
+    const int b =
+        wide_of(cam, 0.5 * (vy0 + vy1), 1) * cam.wide_bins + wide_of(cam, 0.5 * (vx0 + vx1));
     for (int n = cam.wide_start[b]; n < cam.wide_start[b + 1]; ++n) {
       if (test(cam.wide_items[n], true) && done()) return;
     }
@@ -433,7 +453,7 @@ void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d
     if (projected) {
       px = x / z;
       py = y / z;
-      const int bx = bin_of(cam, px), by = bin_of(cam, py);
+      const int bx = bin_of(cam, px), by = bin_of(cam, py, 1);
       bins = {bx, bx, by, by};
     }
     if (d < 0.0) d = w.norm();
@@ -508,7 +528,7 @@ void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d
     vx1 = x1 / (x1 >= 0 ? z_lo : z_hi);
     vy0 = y0 / (y0 >= 0 ? z_hi : z_lo);
     vy1 = y1 / (y1 >= 0 ? z_lo : z_hi);
-    bins = {bin_of(cam, vx0), bin_of(cam, vx1), bin_of(cam, vy0), bin_of(cam, vy1)};
+    bins = {bin_of(cam, vx0), bin_of(cam, vx1), bin_of(cam, vy0, 1), bin_of(cam, vy1, 1)};
   }
   // Needed only once a triangle gets to the cone test.
   Vec3 wc;  // the previous labeller's dir · dist
@@ -720,6 +740,7 @@ void VoxelEvaluator::Impl::row_interval(const CameraSetup& cam, int j, int k, in
   double u_lo, u_hi;
   if (cam.row_cos_sq > 0.0 && cone_row(cam.axis, cam.row_cos_sq, dy, dz, u_lo, u_hi)) {
     if (cam.range) half_line(-a1, -b0, -*cam.range, u_lo, u_hi);
+    if (cam.near > 0.0) half_line(a1, b0, cam.near, u_lo, u_hi);
     if (u_lo > u_hi) {
       lo = nx;
       hi = -1;
@@ -750,6 +771,7 @@ void VoxelEvaluator::Impl::row_interval(const CameraSetup& cam, int j, int k, in
   }
   if (cam.range)
     half_line(-a1, -b0, -(*cam.range - r - pad - 1e-9 * std::abs(*cam.range)), u_lo, u_hi);
+  if (cam.near > 0.0) half_line(a1, b0, cam.near + r + pad + 1e-9 * cam.near, u_lo, u_hi);
   if (!(u_lo <= u_hi)) return;
   const double f_lo = index(u_lo) + 1.0, f_hi = index(u_hi) - 1.0;
   in_lo = f_lo <= 0 ? 0 : f_lo >= nx ? nx : static_cast<int>(std::ceil(f_lo));
@@ -842,7 +864,9 @@ void VoxelEvaluator::Impl::all_raw_models(const core::CameraConfig& config,
   std::vector<CameraSetup>& cameras = cameras_out ? *cameras_out : local;
   cameras.clear();
   cameras.reserve(config.size());
-  for (const auto& camera : config) cameras.push_back(camera_setup(camera));
+  for (std::size_t i = 0; i < config.size(); ++i) {
+    cameras.push_back(camera_setup(config[i], scene.cameras.models[i]));
+  }
   models.resize(states.size());
   for (auto& model : models) model.resize(grid.count());  // every byte is written below
   // Slices of a few z-layers each, shared out among the threads (results do not depend on it).

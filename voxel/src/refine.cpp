@@ -691,6 +691,7 @@ bool VoxelEvaluator::Impl::ball_outside_fov(const CameraSetup& cam, const Vec3& 
   const double axial = w.dot(cam.axis);
   const double tol = 1e-9 * (d + r);
   if (cam.range && axial > *cam.range + r + tol) return true;
+  if (cam.near > 0.0 && axial < cam.near - r - tol) return true;
   // The centre's angle θ off the axis exceeds the half angle α plus the ball's angular radius
   // β (sin β = r/d; α + β < π): cos θ < cos(α + β), with a margin.
   const double sin_b = r / d, cos_b = std::sqrt(1.0 - sin_b * sin_b);

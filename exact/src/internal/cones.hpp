@@ -40,25 +40,41 @@ inline ViewPoint view_point(const core::CameraSetting& setting, const core::Box3
   return cam;
 }
 
-/// The camera's FOV (SPEC §1): the inscribed regular k-sided pyramid, its edges shared with core
-/// (and thus the voxel pipeline), optionally cut by the far plane (p − c)·d ≤ range; unlimited
-/// pyramids are cut beyond the clip box. Not yet intersected with it.
+/// The camera's FOV (SPEC §1): a cone's inscribed regular k-sided pyramid, a pyramid, or a
+/// frustum (the 4-sided pyramid over the image rectangle, turned by the roll), its edges shared
+/// with core (and thus the voxel pipeline), cut by the near plane (p − c)·d ≥ near and the far
+/// plane (p − c)·d ≤ range; unlimited ones are cut beyond the clip box. Not yet intersected with
+/// it.
 inline Nef fov_nef(const ViewPoint& cam, const core::CameraSetting& setting,
-                   const core::CameraSpec& spec) {
-  const core::Fov fov(setting, core::FovShape::pyramid, spec.half_angle, spec.sides, spec.range);
-  std::vector<Point> pts{cam.position};
-  if (spec.range) {
-    const Vector d = to_vector(core::view_direction(setting));
-    const FT range(*spec.range);
+                   const core::CameraModel& model) {
+  const core::Fov fov(setting, core::exact_model(model));
+  const Vector d = to_vector(core::view_direction(setting));
+  // Every point of the hull lies on an edge ray c + s·e (e exact from its double), so its side
+  // faces are the planes through c and two consecutive edges, whatever the caps.
+  std::vector<Point> pts;
+  auto cap = [&](const FT& depth) {  // the points of the edges at axial depth `depth`
     for (const auto& e : fov.pyramid_edges()) {
       const Vector ev = to_vector(e);
-      pts.push_back(cam.position + ev * (range / (ev * d)));
+      pts.push_back(cam.position + ev * (depth / (ev * d)));
     }
+  };
+  if (model.near > 0.0) {
+    cap(FT(model.near));
   } else {
-    // The edges make the angle α with the axis, so the far cap lies at axial distance t·cos α:
-    // at least twice the reach (a far cap at t = 2·reach alone would cut into the box for
-    // α ≥ 60°).
-    const FT t(std::exp2(std::ceil(std::log2(2.0 * cam.reach / std::cos(spec.half_angle)))));
+    pts.push_back(cam.position);
+  }
+  if (model.range) {
+    cap(FT(*model.range));
+  } else {
+    // The far cap at axial depth at least twice the reach, so that no point of the clip box
+    // (axial depth ≤ reach) lies beyond it, at every opening angle: each edge e is scaled to
+    // depth T ≥ 2·reach, T a power of two (the points' coordinates stay short). For a wide
+    // frustum (up to 179°) e·d is small and the cap lies far out, as it must.
+    double min_cos = 1.0;
+    for (const auto& e : fov.pyramid_edges()) min_cos = std::min(min_cos, e.dot(fov.axis()));
+    CAMPLACE_ASSERT(min_cos > 0.0);
+    const FT t(std::exp2(std::ceil(std::log2(2.0 * cam.reach / min_cos))));
+    // Scaled along the edges: depth t·(e·d) ≥ 2·reach for every edge.
     for (const auto& e : fov.pyramid_edges()) pts.push_back(cam.position + to_vector(e) * t);
   }
   return hull_nef(pts);

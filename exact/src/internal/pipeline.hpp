@@ -48,10 +48,11 @@ class Pipeline {
       add(step.critical);
       for (const auto& ev : step.events) add(ev.targets);
     }
-    for (const auto& setting : config) {
+    for (std::size_t i = 0; i < config.size(); ++i) {
+      const core::CameraSetting& setting = config[i];
       Camera cam;
       cam.view = view_point(setting, clip);
-      cam.fov = fov_nef(cam.view, setting, scene.cameras) * clip_box;
+      cam.fov = fov_nef(cam.view, setting, scene.cameras.models.at(i)) * clip_box;
       cameras_.push_back(std::move(cam));
     }
     step_free_.resize(cameras_.size());

@@ -37,8 +37,8 @@ struct EnumNames<Pipeline> {
 };
 template <>
 struct EnumNames<FovShape> {
-  static constexpr std::array<std::pair<FovShape, std::string_view>, 2> values{
-      {{FovShape::cone, "cone"}, {FovShape::pyramid, "pyramid"}}};
+  static constexpr std::array<std::pair<FovShape, std::string_view>, 3> values{
+      {{FovShape::cone, "cone"}, {FovShape::pyramid, "pyramid"}, {FovShape::frustum, "frustum"}}};
 };
 template <>
 struct EnumNames<DynamicMode> {

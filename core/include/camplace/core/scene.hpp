@@ -10,7 +10,7 @@
 
 namespace camplace::core {
 
-enum class FovShape { cone, pyramid };
+enum class FovShape { cone, pyramid, frustum };
 enum class DynamicMode { masked, modelled };
 
 /// Closed interval [lo, hi].
@@ -20,22 +20,53 @@ struct Interval {
   bool fixed() const { return lo == hi; }
 };
 
-/// Bounds on one camera's setting: position in metres (world frame), yaw and pitch in radians.
+/// Bounds on one camera's setting: position in metres (world frame), yaw, pitch and roll in
+/// radians. Roll is fixed at 0 unless the scene frees it (`roll_deg`).
 struct CameraDomain {
   Interval x, y, z;
   Interval yaw{-kPi, kPi};
   Interval pitch{-kPi / 2, kPi / 2};
+  Interval roll{0.0, 0.0};
 };
 
-/// Camera block of the scene: count n, FOV, optional range, domain (shared or per camera).
+/// One camera model (SPEC §1): the shape of its field of view and its depth range.
+struct CameraModel {
+  std::string name;  ///< the model's name in the scene ("" for the single-model form)
+  FovShape fov = FovShape::cone;
+  double half_angle = 0.0;      ///< cone, pyramid: radians, in (0, π/2)
+  int sides = 16;               ///< pyramid: k sides; cone: k of the inscribed pyramid (exact)
+  double horizontal = 0.0;      ///< frustum: full horizontal opening angle, radians in (0, π)
+  double vertical = 0.0;        ///< frustum: full vertical opening angle, radians in (0, π)
+  double near = 0.0;            ///< axial near plane in metres, 0 = none
+  std::optional<double> range;  ///< axial far plane in metres, none = unlimited
+  /// Half angle (radians, < π/2) of the narrowest circular cone about the axis that holds the
+  /// FOV: α for a cone or pyramid, atan(√(tan²(H/2) + tan²(V/2))) for a frustum.
+  double bounding_half_angle() const;
+  /// False for a cone, which roll leaves unchanged.
+  bool has_roll() const { return fov != FovShape::cone; }
+};
+
+/// Camera block of the scene: count n, each camera's model, its domain.
 struct CameraSpec {
   int count = 0;
-  double half_angle = 0.0;  ///< radians, in (0, π/2)
-  FovShape fov = FovShape::cone;
-  int sides = 16;                     ///< k of the inscribed pyramid (exact pipeline, comparisons)
-  std::optional<double> range;        ///< axial far plane in metres, none = unlimited
+  std::vector<CameraModel> models;    ///< one per camera (a shared model copied n times)
   std::vector<CameraDomain> domains;  ///< one per camera (shared domain copied n times)
+  /// Sets the count to n, keeping the first n cameras; new cameras copy the last one's model
+  /// and domain (n ≥ 1, at least one camera before).
+  void resize(int n);
+  /// True when every camera has the same model (the single-model form).
+  bool one_model() const;
 };
+
+/// The model the exact pipeline uses for `model` (SPEC §1): a cone becomes its inscribed
+/// regular `sides`-sided pyramid; pyramids and frusta stay as they are.
+CameraModel exact_model(const CameraModel& model);
+/// Every camera's model replaced by its exact_model (compare like with like, SPEC §6).
+void use_exact_models(CameraSpec& cameras);
+/// The FOV both pipelines use when they are compared, for reports: "the 16-sided pyramid
+/// inscribed in each camera's 30° cone" for one cone model, else each model's exact FOV
+/// ("model \"rgb\" (2 cameras): a 90° × 59° frustum", joined by "; ").
+std::string fov_description(const CameraSpec& cameras);
 
 /// One rigid object: a closed, outward-oriented triangle mesh and where it came from.
 struct SceneObject {

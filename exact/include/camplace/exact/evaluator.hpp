@@ -67,7 +67,8 @@ struct ExactEvaluation : core::Evaluation {
 };
 
 /// Evaluates Err exactly for `config` (one setting per camera of `scene`). The FOV is always
-/// the inscribed pyramid with `scene.cameras.sides` sides (SPEC §1), cut at the optional range.
+/// each cone camera's inscribed pyramid (its model's `sides` sides, SPEC §1), pyramids and frusta
+/// as they are, each cut at its near and far planes.
 /// Throws core::InputError when the configuration does not match the scene
 /// (core::check_configuration) and std::runtime_error when an export file cannot be written.
 ExactEvaluation evaluate_exact(const core::Scene& scene, const core::CameraConfig& config,

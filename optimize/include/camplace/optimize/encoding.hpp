@@ -1,6 +1,8 @@
 #pragma once
-/// The decision vector of SPEC §7: the 5n camera settings (x, y, z, yaw, pitch) within the
-/// scene's domain, with every variable that the domain fixes removed from the vector.
+/// The decision vector of SPEC §7: the camera settings (x, y, z, yaw, pitch, roll) within the
+/// scene's domain, with every variable that the domain fixes removed from the vector. Roll is a
+/// variable only where the domain frees it (`roll_deg`) and the camera's model is not a cone
+/// (roll leaves a cone unchanged: a cone camera's roll is 0, whatever its domain says).
 #include <utility>
 #include <vector>
 
@@ -10,7 +12,7 @@
 namespace camplace::optimize {
 
 /// Which component of a camera setting a decision variable holds.
-enum class Component { x = 0, y = 1, z = 2, yaw = 3, pitch = 4 };
+enum class Component { x = 0, y = 1, z = 2, yaw = 3, pitch = 4, roll = 5 };
 
 /// One free decision variable: camera index and component, with its bounds (m or rad).
 struct Variable {
@@ -26,7 +28,7 @@ class Encoding {
   /// Builds the encoding from scene.cameras.domains (one domain per camera).
   explicit Encoding(const core::Scene& scene);
 
-  /// Number of free variables (5n minus the fixed ones).
+  /// Number of free variables (6n minus the fixed ones).
   std::size_t dimension() const { return variables_.size(); }
   const std::vector<Variable>& variables() const { return variables_; }
   /// Lower and upper bounds of the decision vector (m, rad), each of size dimension().
@@ -43,13 +45,14 @@ class Encoding {
 
  private:
   std::vector<Variable> variables_;
-  core::CameraConfig fixed_;  ///< every camera with each component at its domain's lower bound
+  /// Every camera with each component at its domain's lower bound (a cone's roll at 0).
+  core::CameraConfig fixed_;
 };
 
 /// The paper's heuristic start (SPEC §7): cameras high in the corners of S looking at S's
 /// centre, clamped into each camera's domain. Cameras 0..3 take the top corners (diagonal
 /// pairs first), 4..7 the midpoints of the top edges, further ones repeat the pattern a quarter
-/// of S's height lower.
+/// of S's height lower. Roll: 0 clamped into the domain (0 for a cone).
 core::CameraConfig corner_start(const core::Scene& scene);
 
 }  // namespace camplace::optimize

@@ -30,7 +30,13 @@ struct RunContext {
   /// What made the run (build, scene content hashes, host, start time); absent in files of
   /// formats 1 and 2.
   std::optional<core::Provenance> provenance;
+  /// Each camera's model name, written as "model" in every camera entry; empty (no "model")
+  /// when the scene's models are not named (the single-model form). camera_models(scene).
+  std::vector<std::string> camera_models;
 };
+
+/// The scene's model name of every camera, or none when the models are not named.
+std::vector<std::string> camera_models(const core::Scene& scene);
 
 /// The format of the run files run_json writes ("format_version"). Files without the key are
 /// format 1, the same layout without it. Format 3 adds "provenance".

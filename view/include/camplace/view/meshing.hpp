@@ -22,10 +22,11 @@ core::TriangleMesh voxel_boundary_mesh(const voxel::Grid& grid,
 constexpr int kConeDrawSides = 64;
 
 /// The camera's FOV intersected with the closed box `area`, as a closed convex triangle mesh
-/// (outward; m, world frame): the inscribed `spec.sides`-sided pyramid when spec.fov is pyramid
-/// (SPEC §1), for a cone the inscribed kConeDrawSides-sided one; cut at spec.range when set.
-/// Empty when the FOV misses the box.
-core::TriangleMesh fov_mesh(const core::CameraSetting& camera, const core::CameraSpec& spec,
+/// (outward; m, world frame): the `model.sides`-sided pyramid when model.fov is pyramid
+/// (SPEC §1), the frustum over the image rectangle (turned by the camera's roll) when it is a
+/// frustum, for a cone the inscribed kConeDrawSides-sided pyramid; cut at the model's near and
+/// far planes when set. Empty when the FOV misses the box.
+core::TriangleMesh fov_mesh(const core::CameraSetting& camera, const core::CameraModel& model,
                             const core::Box3& area);
 
 }  // namespace camplace::view

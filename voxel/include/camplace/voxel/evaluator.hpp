@@ -89,9 +89,11 @@ class VoxelEvaluator {
   /// Err only (the optimizer's objective), m².
   double err(const core::CameraConfig& config) const;
 
-  /// Labels of every voxel for one camera in one state (index into core::states()).
+  /// Labels of every voxel for one camera in one state (index into core::states()), the camera
+  /// having the model of the scene's camera `camera_index` (0 ≤ camera_index < n).
   /// Conservative mode reports `free` only for voxels it proves wholly free.
-  std::vector<Label> labels(const core::CameraSetting& camera, int state) const;
+  std::vector<Label> labels(const core::CameraSetting& camera, int state,
+                            int camera_index = 0) const;
   /// Model voxels after the plausibility filter (1 = in M) for one state. With refinement: the
   /// base voxels that hold at least one finest cell of M (leaf_model() has the cells).
   std::vector<std::uint8_t> model(const core::CameraConfig& config, int state) const;
