@@ -10,6 +10,8 @@ class VoxelObjective : public Objective {
  public:
   VoxelObjective(const core::Scene& scene, const voxel::VoxelOptions& options);
   double evaluate(const core::CameraConfig& config, core::Timing& timing) const override;
+  /// Err and, as tie-breaker, volume_fraction() of the same evaluation.
+  Score score(const core::CameraConfig& config, core::Timing& timing) const override;
   /// (½ · voxel diagonal)² at the evaluator's resolution.
   double default_tolerance() const override;
   /// VoxelEvaluator::err_lower_bound(): conservative mode only (0 in center mode).
@@ -19,5 +21,13 @@ class VoxelObjective : public Objective {
  private:
   voxel::VoxelEvaluator evaluator_;
 };
+
+/// The tie-breaker of VoxelObjective (issue 14): the ω-weighted mean fraction of S that the
+/// filtered model fills, Σ ω·model_volume / (Σ ω · volume(S)), in [0, 1] (model_volume in m³
+/// per state; 0 when every weight is 0). Where Err ties, most often on the plateau where the
+/// model touches the critical objects in every state, a smaller model is a configuration whose
+/// cameras prove more of S free, one step nearer to carving the model away from the critical
+/// objects.
+double volume_fraction(const std::vector<core::StateResult>& states, const core::Box3& area);
 
 }  // namespace camplace::optimize
