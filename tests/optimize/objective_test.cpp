@@ -17,6 +17,8 @@
 
 #include "camplace/core/evaluation.hpp"
 #include "camplace/core/geometry.hpp"
+#include "camplace/core/scene.hpp"
+#include "camplace/optimize/encoding.hpp"
 #include "camplace/optimize/voxel_objective.hpp"
 
 namespace camplace::optimize {
@@ -178,6 +180,47 @@ TEST(VolumeFraction, WeightedMeanFractionOfSByHand) {
   for (auto& s : states) s.weight = 0.0;
   EXPECT_EQ(volume_fraction(states, area), 0.0);
   EXPECT_EQ(volume_fraction({}, area), 0.0);
+}
+
+// data/paper_ceiling.json is issue 14's plateau: almost every random configuration has the
+// largest Err, Σ ω d_true² (the model touches the robot in every state), while the tie-breaker
+// still tells them apart. Random configurations from the encoding's bounds (seeded).
+TEST(VoxelObjective, PaperCeilingConfigurationsTieOnErrButNotOnTheTieBreaker) {
+  const core::Scene scene =
+      core::load_scene(std::string(CAMPLACE_SOURCE_DIR) + "/data/paper_ceiling.json");
+  for (const core::CameraDomain& d : scene.cameras.domains) {
+    EXPECT_EQ(d.z.lo, 3.0);
+    EXPECT_EQ(d.z.hi, 3.0);
+    EXPECT_EQ(d.pitch.hi, 0.0);
+  }
+  const VoxelObjective objective(scene, voxel::VoxelOptions{});  // conservative
+  const Encoding encoding(scene);
+  const auto [lo, hi] = encoding.bounds();
+  std::mt19937 rng(14);
+  int on_plateau = 0;
+  std::vector<double> tie_breakers;
+  for (int i = 0; i < 40; ++i) {
+    std::vector<double> x(lo.size());
+    for (std::size_t k = 0; k < x.size(); ++k) {
+      x[k] = std::uniform_real_distribution<double>(lo[k], hi[k])(rng);
+    }
+    const core::CameraConfig config = encoding.decode(x);
+    const core::Evaluation evaluation = objective.evaluator().evaluate(config);
+    double plateau = 0.0;
+    for (const core::StateResult& s : evaluation.states) plateau += s.weight * s.d_true * s.d_true;
+    core::Timing timing;
+    const Score score = objective.score(config, timing);
+    EXPECT_EQ(score.err, evaluation.err);
+    if (score.err >= plateau * (1 - 1e-12)) {
+      ++on_plateau;
+      tie_breakers.push_back(score.tie_breaker);
+    }
+  }
+  EXPECT_GE(on_plateau, 35);  // 494 of 500 in scripts/plateau_share.py
+  std::sort(tie_breakers.begin(), tie_breakers.end());
+  const auto distinct =
+      std::unique(tie_breakers.begin(), tie_breakers.end()) - tie_breakers.begin();
+  EXPECT_GE(distinct, on_plateau - 3);
 }
 
 TEST(ObjectiveNames, DefaultFirstAndHelpNamesEach) {
