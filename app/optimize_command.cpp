@@ -35,7 +35,7 @@ namespace camplace::app {
 namespace {
 
 struct OptimizeArgs {
-  std::string scene, algorithm = "gaco", objective = "err+volume", start = "random",
+  std::string scene, algorithm = "gaco", objective = optimize::kDefaultObjective, start = "random",
                      mode = "conservative", resolution, out;
   unsigned seed = 1;
   int runs = 1, threads = 0, population = 0, refine = 0;
@@ -247,8 +247,9 @@ void register_optimize_command(CLI::App& app) {
   cmd->add_option("--algorithm", args->algorithm, "solver (see below)")
       ->check(CLI::IsMember(optimize::algorithm_names()));
   cmd->add_option("--objective", args->objective,
-                  "what the solvers minimise: err+volume (Err, its ties broken by the model's "
-                  "volume) or err (Err alone); runs report the true Err either way")
+                  "what the solvers minimise: err (Err alone) or err+volume (Err, its ties on "
+                  "the plateau broken by the model's volume); runs report the true Err either "
+                  "way")
       ->check(CLI::IsMember(optimize::objective_names()));
   cmd->add_option("--seed", args->seed, "seed of the first run; run i uses seed+i");
   cmd->add_option("--runs", args->runs, "number of runs R")->check(in_range(1, 100000));

@@ -9,14 +9,14 @@
 namespace camplace::optimize {
 
 const std::vector<std::string>& objective_names() {
-  static const std::vector<std::string> names = {"err+volume", "err"};
+  static const std::vector<std::string> names = {"err", "err+volume"};
   return names;
 }
 
 std::string objective_help() {
-  return "  err+volume  Err; configurations of equal Err ordered by the model's volume (the\n"
-         "              weighted mean fraction of S it fills), default\n"
-         "  err         Err alone (the paper's objective)\n";
+  return "  err         Err alone (the paper's objective), default\n"
+         "  err+volume  Err; on the plateau where the model touches the critical objects in every\n"
+         "              state, ties of Err ordered by the model's volume (smaller first)\n";
 }
 
 double tie_break_fitness(double err, double tie_breaker) {

@@ -32,6 +32,9 @@ double volume_fraction(const std::vector<core::StateResult>& states, const core:
   const double volume = size.x() * size.y() * size.z();
   double weights = 0.0, weighted = 0.0;
   for (const core::StateResult& s : states) {
+    if (s.weight <= 0.0) continue;  // no part of Err
+    // Off the plateau Err alone decides (see the header): no tie-breaker.
+    if (s.d_model != 0.0) return 0.0;
     weights += s.weight;
     weighted += s.weight * s.model_volume;
   }

@@ -163,19 +163,25 @@ TEST(TieBreakFitness, NegativeAndNonFiniteErrPassUnchanged) {
   EXPECT_TRUE(std::isnan(tie_break_fitness(std::nan(""), 0.5)));
 }
 
-TEST(VolumeFraction, WeightedMeanFractionOfSByHand) {
+TEST(VolumeFraction, OnThePlateauTheWeightedModelVolumeOverSOffItZeroByHand) {
   const core::Box3 area{core::Vec3(1, 0, 0), core::Vec3(3, 2, 3)};  // 2 × 2 × 3 = 12 m³
-  std::vector<core::StateResult> states(3);
+  std::vector<core::StateResult> states(4);  // d_model 0: every model touches the robot
   states[0].weight = 0.5;
   states[0].model_volume = 2.0;
   states[1].weight = 0.25;
   states[1].model_volume = 4.0;
-  states[2].weight = 0.0;  // no weight: its model does not count
+  states[2].weight = 0.0;  // no part of Err: neither its model nor its distance counts
   states[2].model_volume = 12.0;
-  // (0.5·2 + 0.25·4) / (0.75 · 12) = 2 / 9
-  EXPECT_DOUBLE_EQ(volume_fraction(states, area), 2.0 / 9.0);
-  states[0].model_volume = 12.0;
-  states[1].model_volume = 12.0;
+  states[2].d_model = 0.7;
+  states[3].weight = 0.25;
+  states[3].model_volume = 6.0;
+  // (0.5·2 + 0.25·4 + 0.25·6) / (1 · 12) = 3.5 / 12
+  EXPECT_DOUBLE_EQ(volume_fraction(states, area), 3.5 / 12.0);
+  // One weighted state whose model keeps a distance: off the plateau, Err alone decides.
+  states[3].d_model = 0.3;
+  EXPECT_EQ(volume_fraction(states, area), 0.0);
+  states[3].d_model = 0.0;
+  for (auto& s : states) s.model_volume = 12.0;
   EXPECT_DOUBLE_EQ(volume_fraction(states, area), 1.0);
   for (auto& s : states) s.weight = 0.0;
   EXPECT_EQ(volume_fraction(states, area), 0.0);
@@ -224,7 +230,8 @@ TEST(VoxelObjective, PaperCeilingConfigurationsTieOnErrButNotOnTheTieBreaker) {
 }
 
 TEST(ObjectiveNames, DefaultFirstAndHelpNamesEach) {
-  ASSERT_EQ(objective_names(), (std::vector<std::string>{"err+volume", "err"}));
+  ASSERT_EQ(objective_names(), (std::vector<std::string>{"err", "err+volume"}));
+  EXPECT_EQ(objective_names().front(), kDefaultObjective);
   for (const std::string& name : objective_names()) {
     EXPECT_NE(objective_help().find("  " + name + " "), std::string::npos) << name;
   }

@@ -423,6 +423,7 @@ TEST(Optimizer, TieBreakerGivesTheSolversADirectionOnAPlateauAndErrStaysTheTrueE
   const PlateauObjective objective(1.25);
   for (const char* algorithm : {"gaco", "cmaes", "pso"}) {
     OptimizeOptions o = budget(algorithm, 1500, 1);
+    o.objective = "err+volume";
     const RunResult tie = optimize(scene, objective, o);
     EXPECT_EQ(tie.objective, "err+volume");
     EXPECT_EQ(tie.err, 1.25) << algorithm;
@@ -454,6 +455,7 @@ TEST(Optimizer, StopRulesCompareTheTrueErrNotTheRoundedFitness) {
   ASSERT_EQ(tie_break_fitness(err, 0.0), 1.25);
   const PlateauObjective objective(err);
   OptimizeOptions o = budget("gaco", 200, 1);
+  o.objective = "err+volume";
   o.tolerance = 1.25;
   const RunResult r = optimize(scene, objective, o);
   EXPECT_EQ(r.stop_reason, StopReason::max_evaluations);

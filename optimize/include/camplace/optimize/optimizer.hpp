@@ -45,12 +45,12 @@ struct Progress {
 };
 
 struct OptimizeOptions {
-  std::string algorithm = "gaco";        ///< one of algorithm_names()
-  std::string objective = "err+volume";  ///< one of objective_names() (see objective.hpp)
-  unsigned seed = 1;                     ///< seeds the population and the solver
-  double time_limit = 0.0;               ///< seconds of wall clock; 0 = none
-  std::uint64_t max_evaluations = 0;     ///< objective evaluations; 0 = none
-  std::optional<double> tolerance;       ///< m²; none = the objective's default
+  std::string algorithm = "gaco";             ///< one of algorithm_names()
+  std::string objective = kDefaultObjective;  ///< one of objective_names() (objective.hpp)
+  unsigned seed = 1;                          ///< seeds the population and the solver
+  double time_limit = 0.0;                    ///< seconds of wall clock; 0 = none
+  std::uint64_t max_evaluations = 0;          ///< objective evaluations; 0 = none
+  std::optional<double> tolerance;            ///< m²; none = the objective's default
   StartOptions start;
   int threads = 0;     ///< threads for batch evaluation; 0 = all cores
   int population = 0;  ///< population size; 0 = the solver's default
@@ -79,7 +79,7 @@ MemoryUsage peak_memory();
 
 struct RunResult {
   std::string algorithm;
-  std::string objective = "err+volume";  ///< OptimizeOptions::objective
+  std::string objective = kDefaultObjective;  ///< OptimizeOptions::objective
   unsigned seed = 0;
   int threads = 0;
   int population = 0;

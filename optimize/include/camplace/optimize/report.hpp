@@ -74,9 +74,9 @@ struct RunSettings {
   std::optional<std::array<int, 3>> resolution;
   int refine = 0;  ///< voxel::VoxelOptions::refine
   std::string algorithm;
-  std::string objective = "err+volume";  ///< "err" in run files of formats 1–3
-  std::string start;                     ///< "random", "corners" or the start file's path
-  double time_limit = 0.0;               ///< s; 0 = none
+  std::string objective = kDefaultObjective;  ///< "err" in run files of formats 1–3
+  std::string start;                          ///< "random", "corners" or the start file's path
+  double time_limit = 0.0;                    ///< s; 0 = none
   std::uint64_t max_evaluations = 0;
   std::optional<double> tolerance;  ///< m², as the run used it (the default resolved)
   std::optional<int> population;    ///< as the run used it (the solver's default resolved)

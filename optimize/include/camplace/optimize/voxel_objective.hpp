@@ -22,12 +22,14 @@ class VoxelObjective : public Objective {
   voxel::VoxelEvaluator evaluator_;
 };
 
-/// The tie-breaker of VoxelObjective (issue 14): the ω-weighted mean fraction of S that the
-/// filtered model fills, Σ ω·model_volume / (Σ ω · volume(S)), in [0, 1] (model_volume in m³
-/// per state; 0 when every weight is 0). Where Err ties, most often on the plateau where the
-/// model touches the critical objects in every state, a smaller model is a configuration whose
-/// cameras prove more of S free, one step nearer to carving the model away from the critical
-/// objects.
+/// The tie-breaker of VoxelObjective (issue 14). On the plateau, where the filtered model
+/// touches the critical objects (d_model = 0) in every state of positive weight, so that
+/// Err = Σ ω d_true² whatever the cameras: the ω-weighted mean fraction of S the model fills,
+/// Σ ω·model_volume / (Σ ω · volume(S)) ∈ [0, 1] (model_volume in m³ per state). A smaller model
+/// is a configuration whose cameras prove more of S free, one step nearer to cutting the model
+/// off the critical objects. Off the plateau (some weighted state with d_model ≠ 0), and when
+/// every weight is 0: 0, so Err alone decides there (a tie-breaker over every state's volume
+/// led gaco into worse optima on paper_basic; README, "The plateau and the tie-breaker").
 double volume_fraction(const std::vector<core::StateResult>& states, const core::Box3& area);
 
 }  // namespace camplace::optimize
