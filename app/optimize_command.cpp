@@ -37,7 +37,8 @@ namespace camplace::app {
 namespace {
 
 struct OptimizeArgs {
-  std::string scene, algorithm = "gaco", start = "random", mode = "conservative", resolution, out;
+  std::string scene, algorithm = "gaco", objective = optimize::kDefaultObjective, start = "random",
+                     mode = "conservative", resolution, out;
   unsigned seed = 1;
   int runs = 1, threads = 0, population = 0, refine = 0;
   double time_limit = 300.0;
@@ -115,6 +116,7 @@ void run_optimize(const OptimizeArgs& args) {
 
   optimize::OptimizeOptions options;
   options.algorithm = args.algorithm;
+  options.objective = args.objective;
   options.time_limit = args.time_limit;
   options.max_evaluations = static_cast<std::uint64_t>(args.max_evals);
   if (args.tolerance_given) options.tolerance = args.tolerance;
@@ -174,6 +176,7 @@ void run_optimize(const OptimizeArgs& args) {
     now.resolution = context.resolution;
     now.refine = context.refine;
     now.algorithm = args.algorithm;
+    now.objective = args.objective;
     now.start = args.start;
     now.time_limit = args.time_limit;
     now.max_evaluations = context.max_evaluations;
@@ -262,13 +265,18 @@ void register_optimize_command(CLI::App& app) {
   cmd->footer(
       "A run stops at the first of: tolerance reached, the conservative lower bound of Err\n"
       "reached (provably optimal), time limit, evaluation budget, Ctrl-C. Ctrl-C and the time\n"
-      "limit write the best result so far.\n\nSolvers:\n" +
-      optimize::algorithm_help());
+      "limit write the best result so far.\n\nObjectives (--objective):\n" +
+      optimize::objective_help() + "\nSolvers:\n" + optimize::algorithm_help());
   cmd->add_option("scene", args->scene, "scene JSON file")->required();
   cmd->add_option("--out", args->out, "directory for run-<seed>.json, summary.json, summary.csv")
       ->required();
   cmd->add_option("--algorithm", args->algorithm, "solver (see below)")
       ->check(CLI::IsMember(optimize::algorithm_names()));
+  cmd->add_option("--objective", args->objective,
+                  "what the solvers minimise: err (Err alone) or err+volume (Err, its ties on "
+                  "the plateau broken by the model's volume); runs report the true Err either "
+                  "way")
+      ->check(CLI::IsMember(optimize::objective_names()));
   cmd->add_option("--seed", args->seed, "seed of the first run; run i uses seed+i");
   cmd->add_option("--runs", args->runs, "number of runs R")->check(in_range(1, 100000));
   cmd->add_option("--time-limit", args->time_limit, "seconds per run, 0 = none (default 300)")

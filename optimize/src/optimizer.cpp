@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -142,6 +143,13 @@ RunResult optimize(const core::Scene& scene, const Objective& objective,
     throw core::InputError(scene.file, "/cameras",
                            "the domain fixes every camera setting; there is nothing to optimise");
   }
+  const std::vector<std::string>& objectives = objective_names();
+  if (std::find(objectives.begin(), objectives.end(), options.objective) == objectives.end()) {
+    std::string names;
+    for (const std::string& name : objectives) names += (names.empty() ? "" : ", ") + name;
+    throw core::OptionError(
+        "objective", "unknown objective \"" + options.objective + "\" (expected " + names + ")");
+  }
   const double tolerance = options.tolerance.value_or(objective.default_tolerance());
 
   std::optional<pagmo::vector_double> start;
@@ -156,11 +164,13 @@ RunResult optimize(const core::Scene& scene, const Objective& objective,
   Solver solver = detail::make_solver(options.algorithm, options.seed, options.population,
                                       encoding.dimension());
   const double lower_bound = options.stop_at_lower_bound ? objective.err_lower_bound() : 0.0;
-  auto state = std::make_shared<RunState>(objective, encoding, options, tolerance, lower_bound);
+  auto state = std::make_shared<RunState>(objective, encoding, options, tolerance, lower_bound,
+                                          options.objective == "err+volume");
   const pagmo::problem problem{detail::CameraProblem{state}};
 
   RunResult result;
   result.algorithm = options.algorithm;
+  result.objective = options.objective;
   result.seed = options.seed;
   result.threads = state->threads();
   result.population = static_cast<int>(solver.population);
@@ -206,8 +216,7 @@ RunResult optimize(const core::Scene& scene, const Objective& objective,
     // the first initial point so the run still has a result.
     if (first_point.empty()) first_point = encoding.encode(corner_start(scene));
     core::Timing timing;
-    const double err = objective.evaluate(encoding.decode(first_point), timing);
-    state->record(first_point, err, timing);
+    state->record(first_point, objective.score(encoding.decode(first_point), timing), timing);
   }
   if (!have_start_err) result.start_err = state->best_err();
 
@@ -225,7 +234,9 @@ RunResult optimize(const core::Scene& scene, const Objective& objective,
 
   result.best = json_round_trip(encoding.decode(state->best_x()), scene);
   core::Timing timing;
-  result.err = detail::checked_err(objective.evaluate(result.best, timing));
+  const Score score = objective.score(result.best, timing);
+  result.err = detail::checked_err(score.err);
+  result.tie_breaker = score.tie_breaker;
   result.reached_tolerance = result.err <= tolerance;
   result.memory = peak_memory();
   return result;

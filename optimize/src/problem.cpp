@@ -15,11 +15,13 @@
 namespace camplace::optimize::detail {
 
 RunState::RunState(const Objective& objective, const Encoding& encoding,
-                   const OptimizeOptions& options, double tolerance, double lower_bound)
+                   const OptimizeOptions& options, double tolerance, double lower_bound,
+                   bool tie_break)
     : objective_(objective),
       encoding_(encoding),
       tolerance_(tolerance),
       lower_bound_(lower_bound),
+      tie_break_(tie_break),
       max_evaluations_(options.max_evaluations),
       interrupt_(options.interrupt),
       on_progress_(options.on_progress),
@@ -59,6 +61,10 @@ void RunState::stop(StopReason reason) {
   if (!stop_reason_) stop_reason_ = reason;
 }
 
+double RunState::fitness(const Score& score) const {
+  return tie_break_ ? tie_break_fitness(score.err, score.tie_breaker) : score.err;
+}
+
 double checked_err(double err) {
   if (!std::isfinite(err)) {
     std::ostringstream value;
@@ -69,8 +75,10 @@ double checked_err(double err) {
   return err;
 }
 
-bool RunState::record(const pagmo::vector_double& x, double err, const core::Timing& timing) {
-  checked_err(err);  // before anything is recorded: the caller's exception ends the run
+bool RunState::record(const pagmo::vector_double& x, const Score& score,
+                      const core::Timing& timing) {
+  const double err = checked_err(score.err);  // before anything is recorded: the caller's
+                                              // exception ends the run
   Progress progress;
   bool must_stop = false;
   {
@@ -82,11 +90,15 @@ bool RunState::record(const pagmo::vector_double& x, double err, const core::Tim
     timing_sum_.total_ms += timing.total_ms;
     const double now = seconds();
     // Strictly less: on ties the earlier evaluation stays the best (deterministic order).
-    if (err < best_err_) {
+    // With the tie-breaker the best is the least (Err, tie-breaker), compared exactly (not
+    // through the fitness, which rounds Err), so the reported best Err never grows.
+    const bool better_err = err < best_err_;
+    if (better_err || (tie_break_ && err == best_err_ && score.tie_breaker < best_tie_breaker_)) {
       best_err_ = err;
+      best_tie_breaker_ = score.tie_breaker;
       best_x_ = x;
       best_index_ = index;
-      history_.push_back({index, now, err});
+      if (better_err) history_.push_back({index, now, err});
     }
     if (!stop_reason_) {
       if (best_err_ <= tolerance_) {
@@ -112,9 +124,9 @@ pagmo::vector_double CameraProblem::fitness(const pagmo::vector_double& x) const
     throw StopRequested{};
   }
   core::Timing timing;
-  const double err = s.objective().evaluate(s.encoding().decode(x), timing);
-  if (s.record(x, err, timing)) throw StopRequested{};
-  return {err};
+  const Score score = s.objective().score(s.encoding().decode(x), timing);
+  if (s.record(x, score, timing)) throw StopRequested{};
+  return {s.fitness(score)};
 }
 
 pagmo::vector_double CameraProblem::batch_fitness(const pagmo::vector_double& dvs) const {
@@ -129,14 +141,14 @@ pagmo::vector_double CameraProblem::batch_fitness(const pagmo::vector_double& dv
   // The budget cuts the batch at a fixed index, so a budget-limited run is reproducible.
   const std::size_t count =
       static_cast<std::size_t>(std::min<std::uint64_t>(n, s.remaining_budget()));
-  std::vector<double> errs(count);
+  std::vector<Score> scores(count);
   std::vector<core::Timing> timings(count);
   std::vector<char> done(count, 0);
   s.arena().execute([&] {
     tbb::parallel_for(std::size_t{0}, count, [&](std::size_t i) {
       if (s.external_stop()) return;  // Ctrl-C or time limit: skip what has not started
       const pagmo::vector_double x(dvs.begin() + i * nx, dvs.begin() + (i + 1) * nx);
-      errs[i] = s.objective().evaluate(s.encoding().decode(x), timings[i]);
+      scores[i] = s.objective().score(s.encoding().decode(x), timings[i]);
       done[i] = 1;
     });
   });
@@ -144,11 +156,13 @@ pagmo::vector_double CameraProblem::batch_fitness(const pagmo::vector_double& dv
   for (std::size_t i = 0; i < count; ++i) {
     if (!done[i]) continue;
     const pagmo::vector_double x(dvs.begin() + i * nx, dvs.begin() + (i + 1) * nx);
-    must_stop = s.record(x, errs[i], timings[i]) || must_stop;
+    must_stop = s.record(x, scores[i], timings[i]) || must_stop;
   }
   if (auto reason = s.external_stop()) s.stop(*reason);
   if (must_stop || s.stop_reason()) throw StopRequested{};
-  return errs;
+  pagmo::vector_double fitnesses(count);
+  for (std::size_t i = 0; i < count; ++i) fitnesses[i] = s.fitness(scores[i]);
+  return fitnesses;
 }
 
 std::pair<pagmo::vector_double, pagmo::vector_double> CameraProblem::get_bounds() const {

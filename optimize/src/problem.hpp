@@ -38,21 +38,26 @@ class RunState {
   using Clock = std::chrono::steady_clock;
 
   RunState(const Objective& objective, const Encoding& encoding, const OptimizeOptions& options,
-           double tolerance, double lower_bound);
+           double tolerance, double lower_bound, bool tie_break);
   ~RunState();
 
   const Encoding& encoding() const { return encoding_; }
   const Objective& objective() const { return objective_; }
   tbb::task_arena& arena() const { return *arena_; }
   int threads() const { return threads_; }
+  /// The value the solvers minimise for a score: tie_break_fitness() when the run breaks ties
+  /// (objective "err+volume"), else the Err itself.
+  double fitness(const Score& score) const;
 
   /// Interrupt or time limit, checked without the lock (cheap; called per evaluation).
   std::optional<StopReason> external_stop() const;
   /// Evaluations still allowed by the budget (max of uint64 when there is none).
   std::uint64_t remaining_budget() const;
   /// Records one finished evaluation (in a deterministic order); returns true when the run
-  /// must stop (tolerance or lower bound reached, or budget used up).
-  bool record(const pagmo::vector_double& x, double err, const core::Timing& timing);
+  /// must stop (tolerance or lower bound reached, or budget used up). The best is the least
+  /// (Err, tie-breaker) in lexicographic order with ties broken, the least Err otherwise; on
+  /// full ties the earlier evaluation stays. Stop criteria and history use the true Err.
+  bool record(const pagmo::vector_double& x, const Score& score, const core::Timing& timing);
   /// Marks the run as stopped for `reason` unless a reason is already set.
   void stop(StopReason reason);
 
@@ -62,6 +67,7 @@ class RunState {
   std::optional<StopReason> stop_reason() const { return stop_reason_; }
   std::uint64_t evaluations() const { return evaluations_; }
   double best_err() const { return best_err_; }
+  double best_tie_breaker() const { return best_tie_breaker_; }
   const pagmo::vector_double& best_x() const { return best_x_; }
   std::uint64_t best_index() const { return best_index_; }
   const std::vector<HistoryPoint>& history() const { return history_; }
@@ -72,6 +78,7 @@ class RunState {
   const Encoding& encoding_;
   double tolerance_;
   double lower_bound_;  ///< stop when the best Err reaches it; 0 = never
+  bool tie_break_;      ///< objective "err+volume"
   std::uint64_t max_evaluations_;
   const std::atomic<bool>* interrupt_;
   std::function<void(const Progress&)> on_progress_;
@@ -83,6 +90,7 @@ class RunState {
   mutable std::mutex mutex_;
   std::atomic<std::uint64_t> evaluations_{0};
   double best_err_ = std::numeric_limits<double>::infinity();
+  double best_tie_breaker_ = 0.0;
   pagmo::vector_double best_x_;
   std::uint64_t best_index_ = 0;
   std::vector<HistoryPoint> history_;
@@ -90,7 +98,8 @@ class RunState {
   std::optional<StopReason> stop_reason_;
 };
 
-/// The pagmo UDP: minimise Err over the encoding's free variables. fitness() serves the
+/// The pagmo UDP: minimise Err (with its tie-breaker, RunState::fitness) over the encoding's free
+/// variables. fitness() serves the
 /// sequential solvers; batch_fitness() (used through pagmo::member_bfe) evaluates a generation
 /// on the run's threads and records the results in batch order, so that counts, best and
 /// history do not depend on thread timing.

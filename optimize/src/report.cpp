@@ -151,9 +151,11 @@ nlohmann::ordered_json run_json(const RunResult& run, const RunContext& context)
   j["err_lower_bound"] = run.err_lower_bound;
   j["start_err"] = run.start_err;
   j["search_err"] = run.search_err;
+  j["tie_breaker"] = run.tie_breaker;
   j["evaluations_to_best"] = run.evaluations_to_best;
   j["restarts"] = run.restarts;
   j["algorithm"] = run.algorithm;
+  j["objective"] = run.objective;
   j["seed"] = run.seed;
   j["threads"] = run.threads;
   j["population"] = run.population;
@@ -189,7 +191,8 @@ RunFile run_from_json(const nlohmann::json& j, const std::string& file) {
                   "restarts",       "algorithm",         "seed",
                   "threads",        "population",        "dimension",
                   "context",        "history",           "time_per_evaluation_ms",
-                  "memory_kb",      "provenance"});
+                  "memory_kb",      "provenance",        "objective",
+                  "tie_breaker"});
   RunFile out;
   RunResult& run = out.run;
   std::vector<std::string> models;
@@ -206,6 +209,17 @@ RunFile run_from_json(const nlohmann::json& j, const std::string& file) {
   run.evaluations_to_best = read_count(root.at("evaluations_to_best"));
   run.restarts = read_count(root.at("restarts"));
   run.algorithm = root.at("algorithm").string();
+  // Formats 1–3 predate the tie-breaker (issue 14): their runs minimised Err alone.
+  run.objective = "err";
+  if (root.has("objective")) {
+    const core::JsonNode objective = root.at("objective");
+    run.objective = objective.string();
+    const std::vector<std::string>& names = objective_names();
+    if (std::find(names.begin(), names.end(), run.objective) == names.end()) {
+      objective.fail("unknown objective \"" + run.objective + "\" (expected err+volume or err)");
+    }
+  }
+  if (root.has("tie_breaker")) run.tie_breaker = root.at("tie_breaker").number_in(0.0, 1.0);
   run.seed =
       static_cast<unsigned>(read_count(root.at("seed"), std::numeric_limits<unsigned>::max()));
   run.threads = root.at("threads").integer_in(kIntMin, kIntMax);
@@ -268,6 +282,7 @@ RunSettings recorded_settings(const RunFile& file) {
   s.resolution = file.context.resolution;
   s.refine = file.context.refine;
   s.algorithm = file.run.algorithm;
+  s.objective = file.run.objective;
   s.start = file.context.start;
   s.time_limit = file.context.time_limit;
   s.max_evaluations = file.context.max_evaluations;
@@ -297,6 +312,7 @@ std::vector<std::string> settings_changes(const RunSettings& recorded, const Run
   }
   compare("refine", std::to_string(recorded.refine), std::to_string(now.refine));
   compare("algorithm", recorded.algorithm, now.algorithm);
+  compare("objective", recorded.objective, now.objective);
   compare("start", recorded.start, now.start);
   // Exact comparisons: both sides hold what the run file's JSON round trip keeps exactly.
   if (recorded.time_limit != now.time_limit) {
@@ -506,6 +522,7 @@ nlohmann::ordered_json summary_json(const std::vector<RunResult>& runs, const Ru
     rows.push_back({{"seed", r.seed},
                     {"file", "run-" + std::to_string(r.seed) + ".json"},
                     {"err", r.err},
+                    {"tie_breaker", r.tie_breaker},
                     {"start_err", r.start_err},
                     {"evaluations", r.evaluations},
                     {"evaluations_to_best", r.evaluations_to_best},
@@ -520,6 +537,7 @@ nlohmann::ordered_json summary_json(const std::vector<RunResult>& runs, const Ru
   if (context.provenance) j["provenance"] = core::provenance_json(*context.provenance);
   if (!runs.empty()) {
     j["algorithm"] = runs.front().algorithm;
+    j["objective"] = runs.front().objective;
     j["threads"] = runs.front().threads;
     j["population"] = runs.front().population;
     j["tolerance"] = runs.front().tolerance;
@@ -552,14 +570,14 @@ std::string summary_csv(const std::vector<RunResult>& runs) {
   out << std::setprecision(17);
   out << "seed,err,start_err,evaluations,evaluations_to_best,reached_tolerance,seconds,"
          "stop_reason,labelling_ms,clustering_ms,distance_ms,total_ms,wall_ms_per_evaluation,"
-         "vm_hwm_kb,vm_peak_kb\n";
+         "vm_hwm_kb,vm_peak_kb,tie_breaker\n";
   for (const RunResult& r : runs) {
     out << r.seed << ',' << r.err << ',' << r.start_err << ',' << r.evaluations << ','
         << r.evaluations_to_best << ',' << (r.reached_tolerance ? "true" : "false") << ','
         << r.seconds << ',' << to_string(r.stop_reason) << ',' << r.mean_timing.labelling_ms << ','
         << r.mean_timing.clustering_ms << ',' << r.mean_timing.distance_ms << ','
         << r.mean_timing.total_ms << ',' << r.wall_ms_per_evaluation << ',' << r.memory.vm_hwm_kb
-        << ',' << r.memory.vm_peak_kb << '\n';
+        << ',' << r.memory.vm_peak_kb << ',' << r.tie_breaker << '\n';
   }
   return out.str();
 }
@@ -595,6 +613,9 @@ void print_summary(std::ostream& out, const std::vector<RunResult>& runs) {
   }
   out << "\n";
   const RunResult& first = runs.front();
+  if (first.objective == "err+volume") {
+    out << "objective err+volume: ties of Err broken by the model's volume (tie_breaker)\n";
+  }
   if (first.err_lower_bound > first.tolerance) {
     // Conservative mode: voxels touching a target are always in the model (SPEC §5), so Err
     // cannot fall below this bound whatever the cameras.

@@ -347,8 +347,9 @@ struct RunChannel {
   std::exception_ptr error;
 };
 
-py::dict optimize_run(const PyScene& scene, const std::string& algorithm, unsigned seed,
-                      double time_limit, std::uint64_t max_evaluations, const std::string& mode,
+py::dict optimize_run(const PyScene& scene, const std::string& algorithm,
+                      const std::string& objective, unsigned seed, double time_limit,
+                      std::uint64_t max_evaluations, const std::string& mode,
                       const py::object& resolution, int refine, std::optional<double> tolerance,
                       const py::object& start, int threads, int population,
                       const py::object& callback, double progress_interval) {
@@ -382,6 +383,7 @@ py::dict optimize_run(const PyScene& scene, const std::string& algorithm, unsign
   std::atomic<bool> stop{false};
   optimize::OptimizeOptions options;
   options.algorithm = algorithm;
+  options.objective = objective;
   options.seed = seed;
   options.time_limit = time_limit;
   options.max_evaluations = max_evaluations;
@@ -665,14 +667,17 @@ index, indexed [k, j, i] like voxel_model(): FREE (0), OCCUPIED (1) or UNDETECTA
 Conservative mode labels a voxel FREE only when every point of it is free. state: (h, l).
 fov, mode, resolution, threads as in voxel_model().)");
 
-  m.def("optimize", &optimize_run, "scene"_a, py::kw_only(), "algorithm"_a = "gaco", "seed"_a = 1u,
-        "time_limit"_a = 300.0, "max_evaluations"_a = std::uint64_t{0}, "mode"_a = "conservative",
+  m.def("optimize", &optimize_run, "scene"_a, py::kw_only(), "algorithm"_a = "gaco",
+        "objective"_a = optimize::kDefaultObjective, "seed"_a = 1u, "time_limit"_a = 300.0,
+        "max_evaluations"_a = std::uint64_t{0}, "mode"_a = "conservative",
         "resolution"_a = py::none(), "refine"_a = 0, "tolerance"_a = py::none(),
         "start"_a = "random", "threads"_a = 0, "population"_a = 0, "callback"_a = py::none(),
         "progress_interval"_a = 0.5,
         R"(One optimisation run of `camplace optimize` (SPEC §7) minimising the voxel Err.
 
-algorithm: a solver of algorithms(). seed: seeds the population and the solver.
+algorithm: a solver of algorithms(). objective: 'err' (Err alone) or 'err+volume' (Err, its
+ties on the plateau broken by the model's volume, the run file's 'tie_breaker'), as
+`--objective`; the reported Err is the true Err either way. seed: seeds the population and the solver.
 time_limit: seconds of wall clock, 0 = none. max_evaluations: Err evaluations, 0 = none.
 mode, resolution, refine: the voxel pipeline's (refine: as `--refine`). tolerance: stop at Err <= tolerance (m²); None = (½ voxel
 diagonal)². start: 'random', 'corners' or a camera file's path. threads: batch evaluation,

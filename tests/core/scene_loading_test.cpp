@@ -114,6 +114,53 @@ TEST(SceneLoading, CameraBlockPresetsAndPerCameraDomains) {
   EXPECT_DOUBLE_EQ(s.plausibility.min_height, 0.5);
 }
 
+// The presets over S = [−1, 3]×[0, 2]×[1, 5] (height 4), by hand (issue 14): `ceiling` looks
+// only down or level, `upper_fourth` is z ∈ [4, 5] with pitch unrestricted.
+TEST(DomainPreset, CeilingLooksOnlyDownUpperFourthAndRoomAnywhere) {
+  const double pi = 3.14159265358979323846;
+  const core::Box3 area{core::Vec3(-1, 0, 1), core::Vec3(3, 2, 5)};
+  const auto expect_interval = [](const core::Interval& iv, double lo, double hi,
+                                  const char* what) {
+    EXPECT_DOUBLE_EQ(iv.lo, lo) << what;
+    EXPECT_DOUBLE_EQ(iv.hi, hi) << what;
+  };
+  for (const char* name : {"room", "ceiling", "upper_fourth"}) {
+    const std::optional<core::CameraDomain> d = core::domain_preset(area, name);
+    ASSERT_TRUE(d) << name;
+    expect_interval(d->x, -1, 3, name);
+    expect_interval(d->y, 0, 2, name);
+    expect_interval(d->yaw, -pi, pi, name);
+  }
+  const core::CameraDomain room = *core::domain_preset(area, "room");
+  expect_interval(room.z, 1, 5, "room z");
+  expect_interval(room.pitch, -pi / 2, pi / 2, "room pitch");
+  const core::CameraDomain ceiling = *core::domain_preset(area, "ceiling");
+  expect_interval(ceiling.z, 5, 5, "ceiling z");
+  expect_interval(ceiling.pitch, -pi / 2, 0, "ceiling pitch");
+  const core::CameraDomain upper = *core::domain_preset(area, "upper_fourth");
+  expect_interval(upper.z, 4, 5, "upper_fourth z");
+  expect_interval(upper.pitch, -pi / 2, pi / 2, "upper_fourth pitch");
+  EXPECT_FALSE(core::domain_preset(area, "floor"));
+  EXPECT_FALSE(core::domain_preset(area, "Ceiling"));
+}
+
+// A domain object starting from `ceiling` keeps pitch ≤ 0 unless it gives pitch_deg; giving it
+// brings back the old unrestricted range.
+TEST(SceneLoading, CeilingPresetPitchStaysDownUnlessGiven) {
+  const double pi = 3.14159265358979323846;
+  json scene = base_scene();
+  scene["cameras"]["domain"] = "ceiling";
+  scene["cameras"]["camera_domains"] = {
+      nullptr, {{"preset", "ceiling"}, {"yaw_deg", {-90, 90}}, {"pitch_deg", {-90, 90}}}};
+  const core::Scene s = core::load_scene(write_scene(scene, "ceiling-pitch"));
+  ASSERT_EQ(s.cameras.domains.size(), 2u);
+  EXPECT_DOUBLE_EQ(s.cameras.domains[0].pitch.lo, -pi / 2);
+  EXPECT_EQ(s.cameras.domains[0].pitch.hi, 0.0);
+  EXPECT_DOUBLE_EQ(s.cameras.domains[1].pitch.hi, pi / 2);
+  EXPECT_DOUBLE_EQ(s.cameras.domains[1].yaw.lo, -pi / 2);
+  EXPECT_EQ(s.cameras.domains[1].z.lo, s.cameras.domains[1].z.hi);
+}
+
 TEST(SceneLoading, PaperBasicHasTheSetupOfTheTable) {
   const core::Scene s =
       core::load_scene(std::string(CAMPLACE_SOURCE_DIR) + "/data/paper_basic.json");

@@ -299,8 +299,10 @@ TEST(SceneWriter, SharedDomainIsWrittenOnceAndDefaultCriticalIsLeftOut) {
   const core::Scene back = expect_round_trip(scene, dir);
   const json written = unordered(core::scene_json(back));
   EXPECT_FALSE(written["cameras"].contains("camera_domains"));
+  // The ceiling preset's pitch range [−90°, 0] is not the unrestricted one: written out.
   EXPECT_EQ(written["cameras"]["domain"],
-            json::parse(R"({"x": [0, 4], "y": [0, 3], "z": [3, 3], "yaw_deg": [-30, 30]})"));
+            json::parse(R"({"x": [0, 4], "y": [0, 3], "z": [3, 3], "yaw_deg": [-30, 30],
+                            "pitch_deg": [-90, 0]})"));
   EXPECT_FALSE(written["time_steps"][0].contains("critical"));
   EXPECT_EQ(written["time_steps"][0]["t"], 0.0);
   EXPECT_FALSE(written.contains("plausibility"));  // no threshold set

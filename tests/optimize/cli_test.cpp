@@ -111,6 +111,16 @@ TEST(Cli, SigtermAndSighupLeaveACompleteRunFileToo) {
   signal_leaves_a_complete_run_file(SIGHUP);
 }
 
+TEST(Cli, HelpListsTheObjectiveOptionWithItsDefault) {
+  const std::string text = capture(kBinary + " optimize --help 2>&1");
+  const std::size_t option = text.find("--objective");
+  ASSERT_NE(option, std::string::npos) << text;
+  const std::string line = text.substr(option, text.find('\n', option) - option);
+  EXPECT_NE(line.find("}=err"), std::string::npos) << text;  // the default, shown
+  EXPECT_NE(line.find("err+volume"), std::string::npos) << text;
+  EXPECT_NE(text.find("Objectives (--objective):"), std::string::npos) << text;
+}
+
 TEST(Cli, BadOptionValuesExitOneNamingTheOption) {
   const std::string out =
       (fs::temp_directory_path() / ("camplace-cli-bad-" + std::to_string(::getpid()))).string();
@@ -125,6 +135,8 @@ TEST(Cli, BadOptionValuesExitOneNamingTheOption) {
       {"--runs 0", "--runs: must lie in [1, 100000]"},
       {"--tolerance nan", "--tolerance: must be a finite number"},
       {"--algorithm foo", "error: command line: --algorithm"},
+      {"--objective volume", "error: command line: --objective"},
+      {"--objective ERR", "error: command line: --objective"},
       {"--seed -1", "error: command line: "},
   };
   for (const auto& c : cases) {

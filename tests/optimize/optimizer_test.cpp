@@ -400,6 +400,87 @@ TEST(Optimizer, NonFiniteErrIsAClearErrorNotAFailedInternalCheck) {
   }
 }
 
+/// A dead plateau (issue 14): Err = `err` for every configuration, tie-breaker |x₀ − 1| / 3
+/// (camera 0's x in [0, 3]: in [0, 2/3]).
+class PlateauObjective : public Objective {
+ public:
+  explicit PlateauObjective(double err) : err_(err) {}
+  double evaluate(const core::CameraConfig&, voxel::Timing& timing) const override {
+    timing = voxel::Timing{};
+    return err_;
+  }
+  Score score(const core::CameraConfig& config, voxel::Timing& timing) const override {
+    return {evaluate(config, timing), std::abs(config[0].position.x() - 1.0) / 3.0};
+  }
+  double default_tolerance() const override { return 0.1; }
+
+ private:
+  double err_;
+};
+
+TEST(Optimizer, TieBreakerGivesTheSolversADirectionOnAPlateauAndErrStaysTheTrueErr) {
+  const core::Scene scene = small_scene();
+  const PlateauObjective objective(1.25);
+  for (const char* algorithm : {"gaco", "cmaes", "pso"}) {
+    OptimizeOptions o = budget(algorithm, 1500, 1);
+    o.objective = "err+volume";
+    const RunResult tie = optimize(scene, objective, o);
+    EXPECT_EQ(tie.objective, "err+volume");
+    EXPECT_EQ(tie.err, 1.25) << algorithm;
+    EXPECT_EQ(tie.search_err, 1.25) << algorithm;
+    EXPECT_EQ(tie.start_err, 1.25) << algorithm;
+    // One history point: the Err never improved, whatever the tie-breaker did.
+    ASSERT_EQ(tie.history.size(), 1u) << algorithm;
+    EXPECT_EQ(tie.history[0].err, 1.25) << algorithm;
+    // The solver followed the tie-breaker to x₀ ≈ 1 (a random x₀ in [0, 3] has |x₀ − 1| / 3
+    // ≈ 0.28 on average), and the returned configuration's tie-breaker is reported.
+    EXPECT_LT(tie.tie_breaker, 1e-3) << algorithm;
+    EXPECT_NEAR(tie.tie_breaker, std::abs(tie.best[0].position.x() - 1.0) / 3.0, 1e-12);
+
+    o.objective = "err";
+    const RunResult plain = optimize(scene, objective, o);
+    EXPECT_EQ(plain.objective, "err");
+    EXPECT_EQ(plain.err, 1.25) << algorithm;
+    // Without the tie-breaker every configuration ties: the first one evaluated stays the best.
+    EXPECT_EQ(plain.evaluations_to_best, 1u) << algorithm;
+    EXPECT_GT(plain.tie_breaker, tie.tie_breaker) << algorithm;
+  }
+}
+
+TEST(Optimizer, StopRulesCompareTheTrueErrNotTheRoundedFitness) {
+  // Err one ulp above the tolerance: the fitness (Err rounded down to 32 significant bits, the
+  // tie-breaker 0 at x₀ = 1 aside) equals the tolerance, the true Err does not reach it.
+  const core::Scene scene = small_scene();
+  const double err = std::nextafter(1.25, 2.0);
+  ASSERT_EQ(tie_break_fitness(err, 0.0), 1.25);
+  const PlateauObjective objective(err);
+  OptimizeOptions o = budget("gaco", 200, 1);
+  o.objective = "err+volume";
+  o.tolerance = 1.25;
+  const RunResult r = optimize(scene, objective, o);
+  EXPECT_EQ(r.stop_reason, StopReason::max_evaluations);
+  EXPECT_FALSE(r.reached_tolerance);
+  EXPECT_EQ(r.err, err);
+  EXPECT_EQ(r.search_err, err);
+  o.tolerance = err;
+  EXPECT_EQ(optimize(scene, objective, o).stop_reason, StopReason::tolerance);
+}
+
+TEST(Optimizer, UnknownObjectiveIsAnOptionError) {
+  Fixture f;
+  OptimizeOptions o = budget("gaco", 10, 1);
+  for (const char* name : {"volume", "ERR", ""}) {
+    o.objective = name;
+    try {
+      optimize(f.scene, f.objective, o);
+      ADD_FAILURE() << "objective \"" << name << "\" was accepted";
+    } catch (const core::OptionError& e) {
+      EXPECT_EQ(e.option(), "objective");
+      EXPECT_NE(e.reason().find("err+volume"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(Optimizer, BadAlgorithmOrPopulationIsAnInputError) {
   Fixture f;
   EXPECT_THROW(optimize(f.scene, f.objective, budget("midaco", 10, 1)), core::InputError);

@@ -140,6 +140,21 @@ TEST(Report, RunFileReadsBackToTheSameRunAndContext) {
   EXPECT_EQ(run_json(back.run, back.context).dump(2), text);
   // Spot checks against the values the optimizer returned, field by field.
   EXPECT_EQ(back.run.err, run.err);
+  EXPECT_EQ(back.run.objective, "err");  // the default
+  EXPECT_EQ(back.run.tie_breaker, run.tie_breaker);
+  // The model touches the robot in every state (this coarse conservative scene stays on the
+  // plateau) and fills part of S: the weighted model volumes over S's volume, summed here from
+  // evaluate's per-state figures.
+  EXPECT_GT(run.tie_breaker, 0.0);
+  EXPECT_LT(run.tie_breaker, 1.0);
+  double weighted = 0.0, weights = 0.0;
+  for (const core::StateResult& state : objective.evaluator().evaluate(run.best).states) {
+    EXPECT_EQ(state.d_model, 0.0);
+    weighted += state.weight * state.model_volume;
+    weights += state.weight;
+  }
+  const core::Vec3 size = scene.area.size();
+  EXPECT_NEAR(run.tie_breaker, weighted / (weights * size.x() * size.y() * size.z()), 1e-15);
   EXPECT_EQ(back.run.evaluations, 300u);
   EXPECT_EQ(back.run.stop_reason, run.stop_reason);
   EXPECT_EQ(back.run.seed, 4u);
@@ -180,6 +195,12 @@ TEST(Report, RunFilesWithoutAFormatVersionAreFormatOneAndReadBackUnchanged) {
       nlohmann::ordered_json again = run_json(back.run, back.context);
       EXPECT_EQ(again.at("format_version"), kRunFileFormat);
       again.erase("format_version");
+      // Made before the tie-breaker (issue 14): they minimised Err alone.
+      EXPECT_EQ(back.run.objective, "err") << file;
+      EXPECT_EQ(again.at("objective"), "err") << file;
+      EXPECT_EQ(again.at("tie_breaker"), 0.0) << file;
+      again.erase("objective");
+      again.erase("tie_breaker");
       EXPECT_EQ(again.dump(2) + "\n", text) << file;  // `camplace optimize` ends it with "\n"
     }
   }
@@ -213,6 +234,8 @@ TEST(Report, UnknownFormatVersionsAndDamagedRunFilesAreErrorsNamingFileAndEntry)
       {"err as text", "/err", "\"small\"", "/err", "expected a number"},
       {"negative count", "/evaluations", "-1", "/evaluations", "non-negative integer"},
       {"unknown stop", "/stop_reason", "\"bored\"", "/stop_reason", "unknown stop reason"},
+      {"unknown objective", "/objective", "\"volume\"", "/objective", "unknown objective"},
+      {"tie-breaker above 1", "/tie_breaker", "1.5", "/tie_breaker", "out of range"},
       {"extra key", "/colour", "1", "/colour", "unknown field"},
       {"bad camera", "/cameras/1/yaw_deg", "200", "/cameras/1/yaw_deg", "out of range"},
       {"bad timing", "/time_per_evaluation_ms/total", "null", "/time_per_evaluation_ms/total",
@@ -296,6 +319,7 @@ RunSettings full_settings() {
   s.mode = "center";
   s.resolution = std::array<int, 3>{8, 6, 6};
   s.algorithm = "gaco";
+  s.objective = "err";
   s.start = "random";
   s.time_limit = 60.0;
   s.max_evaluations = 3000;
@@ -319,6 +343,7 @@ TEST(Resume, SettingsChangesNameEachDifferingSettingOldToNew) {
        },
        "resolution: 8x6x6 → 16x12x12"},
       {[](RunSettings& s) { s.algorithm = "cmaes"; }, "algorithm: gaco → cmaes"},
+      {[](RunSettings& s) { s.objective = "err+volume"; }, "objective: err → err+volume"},
       {[](RunSettings& s) { s.start = "corners"; }, "start: random → corners"},
       {[](RunSettings& s) { s.time_limit = 0.5; }, "time_limit_s: 60 → 0.5"},
       {[](RunSettings& s) { s.max_evaluations = 200; }, "max_evaluations: 3000 → 200"},
@@ -358,6 +383,7 @@ TEST(Resume, RecordedSettingsAreWhatTheRunFileSays) {
   RunResult run;
   run.best = core::CameraConfig(2);
   run.algorithm = "sade";
+  run.objective = "err+volume";
   run.seed = 9;
   run.threads = 3;
   run.population = 24;
@@ -381,6 +407,7 @@ TEST(Resume, RecordedSettingsAreWhatTheRunFileSays) {
   EXPECT_EQ(s.mode, "conservative");
   EXPECT_EQ(s.resolution, (std::array<int, 3>{4, 5, 6}));
   EXPECT_EQ(s.algorithm, "sade");
+  EXPECT_EQ(s.objective, "err+volume");
   EXPECT_EQ(s.start, "corners");
   EXPECT_EQ(s.time_limit, 7.5);
   EXPECT_EQ(s.max_evaluations, 77u);

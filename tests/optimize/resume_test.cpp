@@ -86,6 +86,7 @@ TEST(OptimizeResume, EachChangedSettingIsRefusedNamingItAndRestartStartsAfresh) 
     std::string option, value, expect;
   } changed[] = {
       {"--algorithm", "cmaes", "algorithm: gaco → cmaes"},
+      {"--objective", "err+volume", "objective: err → err+volume"},
       {"--mode", "conservative", "mode: center → conservative"},
       {"--resolution", "4x3x3", "resolution: 8x6x6 → 4x3x3"},
       {"--start", "corners", "start: random → corners"},

@@ -100,6 +100,8 @@ def test_bad_arguments_name_the_keyword(paper):
         .replace("command line: --export-mesh:", "option: export_mesh:"))
     assert "algorithm" in message(camplace.optimize, paper, algorithm="nelder_mead",
                                   max_evaluations=10)
+    assert message(camplace.optimize, paper, objective="volume", max_evaluations=10) == (
+        "option: objective: unknown objective \"volume\" (expected err, err+volume)")
 
 
 def test_wrong_types_raise_type_errors(paper):

@@ -115,3 +115,23 @@ def test_algorithms_are_the_command_lines(paper):
     assert "cmaes" in names
     result = run_cli("optimize", "--help")
     assert all(name in result.stdout for name in names)
+
+
+def test_objective_err_equals_the_command_lines_and_is_recorded(paper, tmp_path):
+    result = run_cli("optimize", SCENE, "--mode", "center", "--max-evals", 120, "--threads", 1,
+                     "--seed", 2, "--objective", "err", "--quiet", "--out", tmp_path)
+    assert result.returncode == 0, result.stderr
+    expected = json.loads((tmp_path / "run-2.json").read_text())
+    got = camplace.optimize(paper, mode="center", max_evaluations=120, threads=1, seed=2,
+                            objective="err")
+    assert comparable(got) == comparable(expected)
+    assert got["objective"] == "err"
+    assert camplace.optimize(paper, mode="center", max_evaluations=120, threads=1,
+                             seed=2)["objective"] == "err"  # the default
+    # err+volume breaks ties of Err on the plateau, where paper_basic's random configurations
+    # lie in conservative mode; the reported Err is the true Err of the cameras.
+    tie = camplace.optimize(paper, mode="conservative", max_evaluations=120, threads=1, seed=2,
+                            objective="err+volume")
+    assert tie["objective"] == "err+volume"
+    assert 0.0 < tie["tie_breaker"] < 1.0
+    assert tie["err"] == camplace.evaluate(paper, tie["cameras"])["err"]

@@ -125,9 +125,10 @@ struct StateIndex {
 /// All states in order h = 0..H-1, l = 0..L_h-1.
 std::vector<StateIndex> states(const Scene& scene);
 
-/// The placement domain of a preset (SPEC §2) over the area S: "room" (all of S), "ceiling"
-/// (z fixed at S's top) or "upper_fourth" (the top quarter of S's height); yaw and pitch
-/// unrestricted. std::nullopt for any other name.
+/// The placement domain of a preset (SPEC §2) over the area S: "room" (all of S, yaw and pitch
+/// unrestricted), "ceiling" (z fixed at S's top, pitch in [−90°, 0]: looking down or level) or
+/// "upper_fourth" (the top quarter of S's height, yaw and pitch unrestricted: a camera there may
+/// have parts of S above it; docs/scene-format.md). std::nullopt for any other name.
 std::optional<CameraDomain> domain_preset(const Box3& area, const std::string& name);
 
 /// Loads and validates a scene file (SPEC §2). Throws InputError naming the file, the entry

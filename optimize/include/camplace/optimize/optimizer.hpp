@@ -45,11 +45,12 @@ struct Progress {
 };
 
 struct OptimizeOptions {
-  std::string algorithm = "gaco";     ///< one of algorithm_names()
-  unsigned seed = 1;                  ///< seeds the population and the solver
-  double time_limit = 0.0;            ///< seconds of wall clock; 0 = none
-  std::uint64_t max_evaluations = 0;  ///< objective evaluations; 0 = none
-  std::optional<double> tolerance;    ///< m²; none = the objective's default
+  std::string algorithm = "gaco";             ///< one of algorithm_names()
+  std::string objective = kDefaultObjective;  ///< one of objective_names() (objective.hpp)
+  unsigned seed = 1;                          ///< seeds the population and the solver
+  double time_limit = 0.0;                    ///< seconds of wall clock; 0 = none
+  std::uint64_t max_evaluations = 0;          ///< objective evaluations; 0 = none
+  std::optional<double> tolerance;            ///< m²; none = the objective's default
   StartOptions start;
   int threads = 0;     ///< threads for batch evaluation; 0 = all cores
   int population = 0;  ///< population size; 0 = the solver's default
@@ -78,6 +79,7 @@ MemoryUsage peak_memory();
 
 struct RunResult {
   std::string algorithm;
+  std::string objective = kDefaultObjective;  ///< OptimizeOptions::objective
   unsigned seed = 0;
   int threads = 0;
   int population = 0;
@@ -87,6 +89,8 @@ struct RunResult {
   double search_err = 0.0;       ///< best Err seen during the search (m²); equals err unless the
                                  ///< JSON round trip of the angles moved a voxel label
   double start_err = 0.0;        ///< best Err of the initial population (holds the start) (m²)
+  double tie_breaker = 0.0;      ///< Score::tie_breaker of `best` (issue 14), with either
+                                 ///< objective; with "err+volume" the least among the best Err
   double tolerance = 0.0;        ///< m²
   double err_lower_bound = 0.0;  ///< the objective's lower bound of Err (m²); 0 = none known
   bool reached_tolerance = false;
@@ -113,7 +117,7 @@ int population_size(const std::string& algorithm, int population, std::size_t di
 
 /// Runs one optimisation of `objective` over the scene's camera domains. Results depend only on
 /// (scene, objective, options without time limit/interrupt, seed), not on the thread count.
-/// Throws core::InputError for a bad algorithm name, start file or population size.
+/// Throws core::InputError for a bad algorithm or objective name, start file or population size.
 RunResult optimize(const core::Scene& scene, const Objective& objective,
                    const OptimizeOptions& options);
 

@@ -39,12 +39,13 @@ struct RunContext {
 std::vector<std::string> camera_models(const core::Scene& scene);
 
 /// The format of the run files run_json writes ("format_version"). Files without the key are
-/// format 1, the same layout without it. Format 3 adds "provenance".
-constexpr int kRunFileFormat = 3;
+/// format 1, the same layout without it. Format 3 adds "provenance", format 4 "objective" and
+/// "tie_breaker" (issue 14; a file without them minimised Err alone: "err", tie-breaker 0).
+constexpr int kRunFileFormat = 4;
 
 /// The run file's JSON: "format_version" (kRunFileFormat), "cameras" (the load_camera_config
-/// format), "err", "evaluations", "reached_tolerance", "seconds", "stop_reason", "history",
-/// "time_per_evaluation_ms", "memory_kb" and the context.
+/// format), "err", "tie_breaker", "objective", "evaluations", "reached_tolerance", "seconds",
+/// "stop_reason", "history", "time_per_evaluation_ms", "memory_kb" and the context.
 nlohmann::ordered_json run_json(const RunResult& run, const RunContext& context);
 
 /// A run file read back: the run and the context it was made in.
@@ -79,8 +80,9 @@ struct RunSettings {
   std::optional<std::array<int, 3>> resolution;
   int refine = 0;  ///< voxel::VoxelOptions::refine
   std::string algorithm;
-  std::string start;        ///< "random", "corners" or the start file's path
-  double time_limit = 0.0;  ///< s; 0 = none
+  std::string objective = kDefaultObjective;  ///< "err" in run files of formats 1–3
+  std::string start;                          ///< "random", "corners" or the start file's path
+  double time_limit = 0.0;                    ///< s; 0 = none
   std::uint64_t max_evaluations = 0;
   std::optional<double> tolerance;  ///< m², as the run used it (the default resolved)
   std::optional<int> population;    ///< as the run used it (the solver's default resolved)

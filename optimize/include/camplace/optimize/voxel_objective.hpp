@@ -10,6 +10,8 @@ class VoxelObjective : public Objective {
  public:
   VoxelObjective(const core::Scene& scene, const voxel::VoxelOptions& options);
   double evaluate(const core::CameraConfig& config, core::Timing& timing) const override;
+  /// Err and, as tie-breaker, volume_fraction() of the same evaluation.
+  Score score(const core::CameraConfig& config, core::Timing& timing) const override;
   /// (½ · voxel diagonal)² at the evaluator's resolution.
   double default_tolerance() const override;
   /// VoxelEvaluator::err_lower_bound(): conservative mode only (0 in center mode).
@@ -19,5 +21,15 @@ class VoxelObjective : public Objective {
  private:
   voxel::VoxelEvaluator evaluator_;
 };
+
+/// The tie-breaker of VoxelObjective (issue 14). On the plateau, where the filtered model
+/// touches the critical objects (d_model = 0) in every state of positive weight, so that
+/// Err = Σ ω d_true² whatever the cameras: the ω-weighted mean fraction of S the model fills,
+/// Σ ω·model_volume / (Σ ω · volume(S)) ∈ [0, 1] (model_volume in m³ per state). A smaller model
+/// is a configuration whose cameras prove more of S free, one step nearer to cutting the model
+/// off the critical objects. Off the plateau (some weighted state with d_model ≠ 0), and when
+/// every weight is 0: 0, so Err alone decides there (a tie-breaker over every state's volume
+/// led gaco into worse optima on paper_basic; README, "The plateau and the tie-breaker").
+double volume_fraction(const std::vector<core::StateResult>& states, const core::Box3& area);
 
 }  // namespace camplace::optimize
