@@ -104,7 +104,8 @@ core::CameraSetting Encoding::setting(int camera, const Parameters& p, bool repa
     out.pitch = p[4];
   }
   out.roll = has_roll_[camera] ? p[5] : 0.0;
-  if (repair && !keep_out_.empty()) {
+  const auto blocked = [&](const core::KeepOut& k) { return k.contains(out.position); };
+  if (repair && std::any_of(keep_out_.begin(), keep_out_.end(), blocked)) {
     // Keep-out (docs/scene-format.md): a position in a keep-out box is moved to the nearest free
     // point of the domain. A repair rather than a penalty: every decoded configuration is
     // feasible, the objective stays the plain Err (no penalty weight to choose, no infeasible

@@ -71,6 +71,28 @@ TEST(CatalogueCli, SnappedResultIsOnItsMountsAndEvaluateReproducesItsErr) {
   fs::remove_all(out);
 }
 
+TEST(CatalogueCli, EvaluateWarnsAboutACameraInAKeepOutBox) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("camplace-catalogue-warn-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path cameras = dir / "cameras.json";
+  // Camera 1 at (3, 1, 2): inside "robot reach" [1.7,−0.1,−0.1]–[4.1,1.9,3.1].
+  std::ofstream(cameras) << R"({"cameras": [
+    {"position": [1, 1, 3], "yaw_deg": 0, "pitch_deg": -90},
+    {"position": [3, 1, 2], "yaw_deg": 0, "pitch_deg": -90},
+    {"position": [0, 1.5, 2.5], "yaw_deg": 0, "pitch_deg": -30},
+    {"position": [1, 3, 2.5], "yaw_deg": -90, "pitch_deg": -30}]})";
+  const std::string text = capture(kBinary + " evaluate " + kScene + " --cameras " +
+                                   cameras.string() + " 2>&1 >/dev/null; echo rc=$?");
+  EXPECT_NE(text.find("warning: " + cameras.string() +
+                      ": /cameras/1/position: camera 1 lies in keep-out box \"robot reach\""),
+            std::string::npos)
+      << text;
+  EXPECT_EQ(text.find("/cameras/0/position"), std::string::npos) << text;
+  EXPECT_NE(text.find("rc=0\n"), std::string::npos) << text;
+  fs::remove_all(dir);
+}
+
 TEST(CatalogueCli, BadSnapValuesExitOneNamingTheOption) {
   const std::string out =
       (fs::temp_directory_path() / ("camplace-catalogue-bad-" + std::to_string(::getpid())))
