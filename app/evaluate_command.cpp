@@ -121,6 +121,16 @@ void run_evaluate(const EvaluateArgs& args) {
   const InterruptSignals signals;
   const core::Scene scene = core::load_scene(args.scene);
   const core::CameraConfig config = core::load_camera_config(args.cameras, scene);
+  // Keep-out boxes bind the optimizer only (docs/scene-format.md): evaluate warns and goes on.
+  for (std::size_t i = 0; i < config.size(); ++i) {
+    for (const core::KeepOut& k : scene.cameras.keep_out) {
+      if (!k.contains(config[i].position)) continue;
+      std::fprintf(stderr,
+                   "warning: %s: /cameras/%zu/position: camera %zu lies in keep-out box \"%s\" "
+                   "(%s); the optimizer never places a camera there\n",
+                   args.cameras.c_str(), i, i, k.name.c_str(), k.entry.c_str());
+    }
+  }
   compare::EvaluationOptions options;
   options.mode = parse_enum<core::LabelMode>(args.mode);
   if (!args.resolution.empty())

@@ -47,7 +47,35 @@ struct OptimizeArgs {
   bool tolerance_given = false;
   bool quiet = false;
   bool restart = false;
+  std::string snap;  ///< --snap POS_M,ANGLE_DEG ("" = none)
 };
+
+/// Parses --snap POS_M,ANGLE_DEG: two finite numbers > 0 (metres, degrees).
+optimize::SnapGrid parse_snap(const std::string& text) {
+  const auto bad = [&]() {
+    return core::OptionError("snap",
+                             "expected POS_M,ANGLE_DEG with both finite and > 0 (e.g. "
+                             "0.1,5), got \"" +
+                                 text + "\"");
+  };
+  const std::size_t comma = text.find(',');
+  if (comma == std::string::npos) throw bad();
+  double values[2];
+  const std::string parts[2] = {text.substr(0, comma), text.substr(comma + 1)};
+  for (int i = 0; i < 2; ++i) {
+    std::size_t used = 0;
+    try {
+      values[i] = std::stod(parts[i], &used);
+    } catch (const std::exception&) {
+      throw bad();
+    }
+    if (used != parts[i].size() || !std::isfinite(values[i]) || !(values[i] > 0.0)) throw bad();
+  }
+  if (!(values[1] <= 360.0)) {
+    throw core::OptionError("snap", "ANGLE_DEG must not exceed 360, got \"" + text + "\"");
+  }
+  return {values[0], values[1] * core::kDegree};
+}
 
 /// Progress on stderr: a redrawn line on a terminal (≤ 10 per second), plain lines every 5 s
 /// otherwise.
@@ -123,6 +151,7 @@ void run_optimize(const OptimizeArgs& args) {
   options.threads = args.threads;
   options.population = args.population;
   options.interrupt = &stop;
+  if (!args.snap.empty()) options.snap = parse_snap(args.snap);
   if (args.start == "random") {
     options.start.kind = optimize::StartKind::random;
   } else if (args.start == "corners") {
@@ -239,6 +268,14 @@ void run_optimize(const OptimizeArgs& args) {
               << results.size() << " by this process):\n";
   }
   optimize::print_summary(std::cout, all_runs);
+  for (const optimize::RunResult& r : results) {
+    if (!r.snapped) continue;
+    const optimize::SnappedResult& snap = *r.snapped;
+    std::cout << "snapped to " << snap.grid.position_m << " m, " << snap.grid.angle / core::kDegree
+              << "° (seed " << r.seed << "): Err " << snap.err << " m² (continuous " << r.err
+              << " m², right after rounding " << snap.rounded_err << " m², " << snap.evaluations
+              << " evaluations on the grid)\n";
+  }
   if (!diagnostics.is_null()) {
     std::cout << "\nbest configuration:\n";
     for (const auto& s : diagnostics["states"]) {
@@ -300,6 +337,10 @@ void register_optimize_command(CLI::App& app) {
                   "conservative mode: refine the model's voxels L levels (cells of 1/2^L of the "
                   "voxel's edge; default 0 = none); the tolerance stays the voxels'")
       ->check(in_range(0, voxel::kMaxRefine));
+  cmd->add_option("--snap", args->snap,
+                  "POS_M,ANGLE_DEG: snap each run's best to this grid (positions to multiples of "
+                  "POS_M m, angles of ANGLE_DEG°) and search on the grid; both results are "
+                  "reported");
   cmd->add_flag("--quiet", args->quiet, "no progress on stderr");
   cmd->add_flag("--restart", args->restart,
                 "discard the run files and summaries already in --out (and validate's results) "

@@ -2,10 +2,12 @@
 #include "camplace/core/scene.hpp"
 
 #include <Eigen/Geometry>
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 #include "camplace/core/json_reader.hpp"
@@ -141,6 +143,10 @@ class SceneParser {
     std::string preset = "room";
     if (node.is_string()) {
       preset = node.string();
+    } else if (node.has("mount")) {
+      // {"mount": name}: the camera sits on that mount.
+      node.only_keys({"mount"});
+      return mount_domain(node.at("mount"));
     } else {
       node.only_keys({"preset", "x", "y", "z", "yaw_deg", "pitch_deg", "roll_deg"});
       if (node.has("preset")) preset = node.at("preset").string();
@@ -228,13 +234,26 @@ class SceneParser {
 
   void parse_cameras(const JsonNode& node) {
     node.only_keys({"count", "half_angle_deg", "fov", "sides", "range", "horizontal_deg",
-                    "vertical_deg", "models", "list", "domain", "camera_domains"});
+                    "vertical_deg", "models", "list", "domain", "camera_domains", "mounts", "mount",
+                    "keep_out"});
     CameraSpec& c = scene_.cameras;
+    if (node.has("mounts")) parse_mounts(node.at("mounts"));
+    if (node.has("keep_out")) parse_keep_out(node.at("keep_out"));
     // 0: not given.
     const int count = node.has("count") ? node.at("count").integer_in(1, 256) : 0;
-    const CameraDomain shared = node.has("domain") ? parse_domain(node.at("domain"))
-                                                   : parse_domain(JsonNode(kRoom, path_, ""));
+    if (node.has("mount") && node.has("domain")) {
+      node.at("mount").fail("give either \"mount\" or \"domain\", not both");
+    }
+    const CameraDomain shared = node.has("mount")    ? mount_domain(node.at("mount"))
+                                : node.has("domain") ? parse_domain(node.at("domain"))
+                                                     : parse_domain(JsonNode(kRoom, path_, ""));
+    // Where each camera's domain came from, for keep-out messages.
+    std::vector<std::string> origin;
+    const std::string shared_origin = node.has("mount")    ? node.at("mount").pointer()
+                                      : node.has("domain") ? node.at("domain").pointer()
+                                                           : node.pointer() + " (domain room)";
     std::vector<std::optional<CameraDomain>> own;  // per-camera domains of "list"
+    std::vector<std::string> own_origin;
     if (!node.has("models")) {
       // The single-model form: the model's keys in the cameras block.
       for (const char* key : {"list"}) {
@@ -283,7 +302,10 @@ class SceneParser {
         if (cams.array_size() > 256) cams.fail("at most 256 cameras");
         for (std::size_t i = 0; i < cams.array_size(); ++i) {
           const JsonNode cam = cams.at(i);
-          cam.only_keys({"model", "domain"});
+          cam.only_keys({"model", "domain", "mount"});
+          if (cam.has("mount") && cam.has("domain")) {
+            cam.at("mount").fail("give either \"mount\" or \"domain\", not both");
+          }
           const JsonNode name = cam.at("model");
           const std::string wanted = name.string();
           auto it = std::find_if(models.begin(), models.end(),
@@ -295,8 +317,12 @@ class SceneParser {
             name.fail("unknown model \"" + wanted + "\" (the models are " + known + ")");
           }
           c.models.push_back(*it);
-          own.push_back(cam.has("domain") ? std::optional(parse_domain(cam.at("domain")))
-                                          : std::nullopt);
+          own.push_back(cam.has("mount")    ? std::optional(mount_domain(cam.at("mount")))
+                        : cam.has("domain") ? std::optional(parse_domain(cam.at("domain")))
+                                            : std::nullopt);
+          own_origin.push_back(cam.has("mount")    ? cam.at("mount").pointer()
+                               : cam.has("domain") ? cam.at("domain").pointer()
+                                                   : shared_origin);
         }
       } else if (models.size() == 1 && !counts[0]) {
         if (count == 0) node.fail("\"count\" is required (or give the model a \"count\")");
@@ -319,8 +345,10 @@ class SceneParser {
       }
     }
     c.domains.assign(c.count, shared);
+    origin.assign(c.count, shared_origin);
     for (std::size_t i = 0; i < own.size(); ++i) {
       if (own[i]) c.domains[i] = *own[i];
+      origin[i] = own_origin[i];
     }
     if (node.has("camera_domains")) {
       const JsonNode list = node.at("camera_domains");
@@ -330,9 +358,115 @@ class SceneParser {
       }
       for (int i = 0; i < c.count; ++i) {
         const JsonNode item = list.at(std::size_t(i));
-        if (!item.value().is_null()) c.domains[i] = parse_domain(item);
+        if (!item.value().is_null()) {
+          c.domains[i] = parse_domain(item);
+          origin[i] = item.pointer();
+        }
       }
     }
+    // A camera needs somewhere to go: its domain (box or mount) must not lie wholly in the
+    // keep-out boxes.
+    for (int i = 0; i < c.count; ++i) {
+      if (c.keep_out.empty()) break;
+      const CameraDomain& d = c.domains[i];
+      const Vec3 middle =
+          d.mount ? d.mount->point(0.5, 0.5)
+                  : Vec3(0.5 * (d.x.lo + d.x.hi), 0.5 * (d.y.lo + d.y.hi), 0.5 * (d.z.lo + d.z.hi));
+      if (!keep_out_repair(d, c.keep_out, middle)) {
+        const std::string what =
+            d.mount ? "mount \"" + d.mount->name + "\"" : std::string("placement domain");
+        throw InputError(path_, origin[i],
+                         "the keep-out boxes cover the whole " + what + " of camera " +
+                             std::to_string(i) + ": it has nowhere to go");
+      }
+    }
+  }
+
+  void parse_mounts(const JsonNode& list) {
+    const Box3& s = scene_.area;
+    for (std::size_t i = 0; i < list.array_size(); ++i) {
+      const JsonNode node = list.at(i);
+      node.only_keys({"name", "corner", "edges", "yaw_deg", "pitch_deg", "roll_deg"});
+      Mount m;
+      m.entry = node.pointer();
+      const JsonNode name = node.at("name");
+      m.name = name.string();
+      if (m.name.empty()) name.fail("a mount's name must not be empty");
+      for (const Mount& other : scene_.cameras.mounts) {
+        if (other.name == m.name) name.fail("mount \"" + m.name + "\" is named twice");
+      }
+      m.corner = node.at("corner").vec3();
+      const JsonNode edges = node.at("edges");
+      if (edges.array_size() != 2) edges.fail("expected two edge vectors [[ux,uy,uz],[vx,vy,vz]]");
+      m.u = edges.at(std::size_t{0}).vec3();
+      m.v = edges.at(std::size_t{1}).vec3();
+      const double area = m.u.cross(m.v).norm();
+      if (!(area > 1e-12 * std::max(m.u.squaredNorm(), m.v.squaredNorm())) || !(area > 0.0)) {
+        edges.fail("mount \"" + m.name +
+                   "\" is degenerate: its edges are zero or parallel (zero area)");
+      }
+      for (double a : {0.0, 1.0}) {
+        for (double b : {0.0, 1.0}) {
+          const Vec3 p = m.point(a, b);
+          if ((p.array() < s.min.array() - kAreaSlack).any() ||
+              (p.array() > s.max.array() + kAreaSlack).any()) {
+            node.fail("mount \"" + m.name + "\" leaves the area S: its corner " + format_vec(p) +
+                      " is not inside " + format_vec(s.min) + "–" + format_vec(s.max));
+          }
+        }
+      }
+      if (node.has("yaw_deg")) m.yaw = parse_interval(node.at("yaw_deg"), -kPi / 2, kPi / 2, kDeg);
+      if (node.has("pitch_deg")) {
+        m.pitch = parse_interval(node.at("pitch_deg"), -kPi / 2, kPi / 2, kDeg);
+      }
+      if (node.has("roll_deg")) m.roll = parse_interval(node.at("roll_deg"), -kPi, kPi, kDeg);
+      scene_.cameras.mounts.push_back(std::move(m));
+    }
+  }
+
+  void parse_keep_out(const JsonNode& list) {
+    for (std::size_t i = 0; i < list.array_size(); ++i) {
+      const JsonNode node = list.at(i);
+      node.only_keys({"name", "min", "max"});
+      KeepOut k;
+      k.entry = node.pointer();
+      k.name = node.has("name") ? node.at("name").string() : node.pointer();
+      k.box.min = node.at("min").vec3();
+      k.box.max = node.at("max").vec3();
+      if (!((k.box.min.array() < k.box.max.array()).all())) {
+        node.fail("keep-out box is degenerate: min must be below max on every axis");
+      }
+      scene_.cameras.keep_out.push_back(std::move(k));
+    }
+  }
+
+  /// The domain of a camera on the mount `node` names.
+  CameraDomain mount_domain(const JsonNode& node) const {
+    const std::string wanted = node.string();
+    const auto& mounts = scene_.cameras.mounts;
+    auto it = std::find_if(mounts.begin(), mounts.end(),
+                           [&](const Mount& m) { return m.name == wanted; });
+    if (it == mounts.end()) {
+      std::string known;
+      for (const Mount& m : mounts) known += (known.empty() ? "\"" : ", \"") + m.name + "\"";
+      node.fail("unknown mount \"" + wanted + "\" (" +
+                (known.empty() ? std::string("\"mounts\" names none") : "the mounts are " + known) +
+                ")");
+    }
+    CameraDomain d;
+    Vec3 lo = it->corner, hi = it->corner;
+    for (double a : {0.0, 1.0}) {
+      for (double b : {0.0, 1.0}) {
+        lo = lo.cwiseMin(it->point(a, b));
+        hi = hi.cwiseMax(it->point(a, b));
+      }
+    }
+    d.x = {lo.x(), hi.x()};
+    d.y = {lo.y(), hi.y()};
+    d.z = {lo.z(), hi.z()};
+    d.roll = it->roll;
+    d.mount = *it;
+    return d;
   }
 
   SceneObject parse_object(const JsonNode& node) const {
@@ -479,6 +613,123 @@ class SceneParser {
   mutable std::vector<std::string> mesh_files_;  ///< filled while objects are parsed
 };
 }  // namespace
+
+Vec3 Mount::normal() const { return u.cross(v).normalized(); }
+Vec3 Mount::e1() const { return u.normalized(); }
+Vec3 Mount::e2() const { return normal().cross(e1()); }
+Vec3 Mount::point(double s, double t) const { return corner + s * u + t * v; }
+
+std::pair<double, double> Mount::coordinates(const Vec3& p) const {
+  Eigen::Matrix<double, 3, 2> a;
+  a << u, v;
+  const Eigen::Vector2d st = (a.transpose() * a).ldlt().solve(a.transpose() * (p - corner));
+  return {st.x(), st.y()};
+}
+
+Vec3 Mount::direction(double rel_yaw, double rel_pitch) const {
+  const double c = std::cos(rel_pitch);
+  return (c * std::cos(rel_yaw) * normal() + c * std::sin(rel_yaw) * e1() +
+          std::sin(rel_pitch) * e2())
+      .normalized();
+}
+
+std::pair<double, double> Mount::relative_angles(const Vec3& d) const {
+  const double along_n = d.dot(normal()), along_e1 = d.dot(e1());
+  const double yaw = (along_n == 0.0 && along_e1 == 0.0) ? 0.0 : std::atan2(along_e1, along_n);
+  return {yaw, std::asin(std::clamp(d.dot(e2()), -1.0, 1.0))};
+}
+
+bool KeepOut::contains(const Vec3& p) const {
+  return (p.array() > box.min.array() + kKeepOutSlack).all() &&
+         (p.array() < box.max.array() - kKeepOutSlack).all();
+}
+
+std::optional<Vec3> keep_out_repair(const CameraDomain& domain,
+                                    const std::vector<KeepOut>& keep_out, const Vec3& p) {
+  const auto blocked = [&](const Vec3& q) {
+    return std::any_of(keep_out.begin(), keep_out.end(),
+                       [&](const KeepOut& k) { return k.contains(q); });
+  };
+  // The domain as origin + A·w with w in the box [lo, hi] (k = 3 for a box domain, k = 2 for
+  // a mount's (s, t)).
+  const bool on_mount = domain.mount.has_value();
+  const int k = on_mount ? 2 : 3;
+  Eigen::MatrixXd a(3, k);
+  Eigen::VectorXd lo(k), hi(k), w0(k);
+  Vec3 origin = Vec3::Zero();
+  if (on_mount) {
+    const Mount& m = *domain.mount;
+    a << m.u, m.v;
+    origin = m.corner;
+    lo << 0.0, 0.0;
+    hi << 1.0, 1.0;
+    const auto [s, t] = m.coordinates(p);
+    w0 << s, t;
+  } else {
+    a.setIdentity();
+    lo << domain.x.lo, domain.y.lo, domain.z.lo;
+    hi << domain.x.hi, domain.y.hi, domain.z.hi;
+    w0 = p;
+  }
+  w0 = w0.cwiseMax(lo).cwiseMin(hi);
+  const auto world = [&](const Eigen::VectorXd& w) -> Vec3 { return origin + a * w; };
+  if (!blocked(world(w0))) return world(w0);
+  // The free part of the domain is closed; its point nearest to w0 (in the world metric
+  // G = AᵀA) is w0 projected onto the intersection of at most k of the planes that bound the
+  // keep-out boxes and the domain. Try every such intersection and keep the nearest free one.
+  std::vector<std::pair<Eigen::VectorXd, double>> planes;  // row·w = value
+  for (int j = 0; j < k; ++j) {
+    Eigen::VectorXd e = Eigen::VectorXd::Zero(k);
+    e[j] = 1.0;
+    planes.push_back({e, lo[j]});
+    planes.push_back({e, hi[j]});
+  }
+  for (const KeepOut& box : keep_out) {
+    for (int axis = 0; axis < 3; ++axis) {
+      const Eigen::VectorXd row = a.row(axis).transpose();
+      if (row.norm() == 0.0) continue;
+      planes.push_back({row, box.box.min[axis] - origin[axis]});
+      planes.push_back({row, box.box.max[axis] - origin[axis]});
+    }
+  }
+  const Eigen::MatrixXd g = a.transpose() * a;
+  const Eigen::MatrixXd g_inv = g.inverse();
+  std::optional<Vec3> best;
+  double best_distance = std::numeric_limits<double>::infinity();
+  const auto consider = [&](const std::vector<int>& chosen) {
+    const int m = static_cast<int>(chosen.size());
+    Eigen::MatrixXd c(m, k);
+    Eigen::VectorXd b(m);
+    for (int r = 0; r < m; ++r) {
+      c.row(r) = planes[chosen[r]].first.transpose();
+      b[r] = planes[chosen[r]].second;
+    }
+    const Eigen::MatrixXd s = c * g_inv * c.transpose();
+    const Eigen::FullPivLU<Eigen::MatrixXd> lu(s);
+    if (!lu.isInvertible()) return;
+    Eigen::VectorXd w = w0 + g_inv * c.transpose() * lu.solve(b - c * w0);
+    if (((w - lo).array() < -1e-9).any() || ((w - hi).array() > 1e-9).any()) return;
+    w = w.cwiseMax(lo).cwiseMin(hi);
+    const Vec3 q = world(w);
+    if (blocked(q)) return;
+    const double distance = (q - world(w0)).norm();
+    if (distance < best_distance) {
+      best_distance = distance;
+      best = q;
+    }
+  };
+  const int n = static_cast<int>(planes.size());
+  for (int i = 0; i < n; ++i) {
+    consider({i});
+    for (int j = i + 1; j < n; ++j) {
+      consider({i, j});
+      if (k == 3) {
+        for (int l = j + 1; l < n; ++l) consider({i, j, l});
+      }
+    }
+  }
+  return best;
+}
 
 double CameraModel::bounding_half_angle() const {
   if (fov != FovShape::frustum) return half_angle;

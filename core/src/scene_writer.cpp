@@ -77,11 +77,13 @@ bool same_interval(const Interval& a, const Interval& b) { return a.lo == b.lo &
 bool same_domain(const CameraDomain& a, const CameraDomain& b) {
   return same_interval(a.x, b.x) && same_interval(a.y, b.y) && same_interval(a.z, b.z) &&
          same_interval(a.yaw, b.yaw) && same_interval(a.pitch, b.pitch) &&
-         same_interval(a.roll, b.roll);
+         same_interval(a.roll, b.roll) && a.mount.has_value() == b.mount.has_value() &&
+         (!a.mount || a.mount->name == b.mount->name);
 }
 
 /// A preset's name when the domain is exactly that preset, else {x, y, z[, yaw_deg, pitch_deg]}.
 Json domain_json(const Box3& area, const CameraDomain& d) {
+  if (d.mount) return Json{{"mount", d.mount->name}};
   for (const char* preset : {"room", "ceiling", "upper_fourth"}) {
     if (same_domain(d, *domain_preset(area, preset))) return preset;
   }
@@ -122,6 +124,34 @@ Json cameras_json(const Scene& scene) {
   CAMPLACE_ASSERT(c.models.size() == static_cast<std::size_t>(c.count));
   Json j;
   j["count"] = c.count;
+  if (!c.mounts.empty()) {
+    Json mounts = Json::array();
+    const Mount unrestricted;
+    for (const Mount& m : c.mounts) {
+      Json mj;
+      mj["name"] = m.name;
+      mj["corner"] = Json::array({m.corner.x(), m.corner.y(), m.corner.z()});
+      mj["edges"] = Json::array(
+          {Json::array({m.u.x(), m.u.y(), m.u.z()}), Json::array({m.v.x(), m.v.y(), m.v.z()})});
+      if (!same_interval(m.yaw, unrestricted.yaw)) mj["yaw_deg"] = degrees_interval_json(m.yaw);
+      if (!same_interval(m.pitch, unrestricted.pitch))
+        mj["pitch_deg"] = degrees_interval_json(m.pitch);
+      if (!same_interval(m.roll, unrestricted.roll)) mj["roll_deg"] = degrees_interval_json(m.roll);
+      mounts.push_back(mj);
+    }
+    j["mounts"] = mounts;
+  }
+  if (!c.keep_out.empty()) {
+    Json boxes = Json::array();
+    for (const KeepOut& k : c.keep_out) {
+      Json kj;
+      if (k.name != k.entry) kj["name"] = k.name;
+      kj["min"] = Json::array({k.box.min.x(), k.box.min.y(), k.box.min.z()});
+      kj["max"] = Json::array({k.box.max.x(), k.box.max.y(), k.box.max.z()});
+      boxes.push_back(kj);
+    }
+    j["keep_out"] = boxes;
+  }
   bool listed = false;
   if (c.one_model() && c.models.front().name.empty()) {
     add_model_json(j, c.models.front());

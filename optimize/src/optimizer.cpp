@@ -12,8 +12,10 @@
 #include <sstream>
 
 #include "camplace/core/error.hpp"
+#include "camplace/core/json_reader.hpp"
 #include "camplace/optimize/encoding.hpp"
 #include "problem.hpp"
+#include "snap.hpp"
 #include "solvers.hpp"
 
 namespace camplace::optimize {
@@ -45,8 +47,9 @@ core::CameraConfig json_round_trip(const core::CameraConfig& config, const core:
   return reread;
 }
 
-/// A start file's cameras must lie in their placement domains: the optimizer would otherwise
-/// move them there without a word.
+/// A start file's cameras must lie in their placement domains (on their mounts, within the
+/// mounts' ranges) and in no keep-out box: the optimizer would otherwise move them there
+/// without a word.
 void check_inside_domains(const core::CameraConfig& config, const core::Scene& scene,
                           const std::string& file) {
   constexpr double kSlack = 1e-9;  // rounding of written and re-read run files
@@ -58,6 +61,43 @@ void check_inside_domains(const core::CameraConfig& config, const core::Scene& s
     const core::CameraSetting& c = config[i];
     const std::string entry = "/cameras/" + std::to_string(i);
     const std::string where = " of camera " + std::to_string(i) + " in " + scene.file;
+    for (const core::KeepOut& k : scene.cameras.keep_out) {
+      if (k.contains(c.position)) {
+        throw core::InputError(file, entry + "/position",
+                               "lies in keep-out box \"" + k.name + "\" (" + k.entry + ")" + where);
+      }
+    }
+    if (d.mount) {
+      const core::Mount& m = *d.mount;
+      const auto [s, t] = m.coordinates(c.position);
+      const double off_plane = (m.point(s, t) - c.position).norm();
+      const double tolerance = 1e-6;  // metres; run files store positions to ~1e-15 relative
+      const double su = tolerance / m.u.norm(), tv = tolerance / m.v.norm();
+      if (off_plane > tolerance || s < -su || s > 1.0 + su || t < -tv || t > 1.0 + tv) {
+        throw core::InputError(
+            file, entry + "/position",
+            "lies off mount \"" + m.name + "\"" + where + " (" + core::format_number(off_plane) +
+                " m from its plane, s = " + core::format_number(s) +
+                ", t = " + core::format_number(t) + "; both must lie in [0, 1])");
+      }
+      const auto [yaw, pitch] = m.relative_angles(core::view_direction(c));
+      const double angle_slack = 1e-7;  // radians; angles are stored in degrees
+      const auto near_inside = [&](const core::Interval& iv, double v) {
+        return v >= iv.lo - angle_slack && v <= iv.hi + angle_slack;
+      };
+      if (!near_inside(m.yaw, yaw) || !near_inside(m.pitch, pitch)) {
+        throw core::InputError(file, entry,
+                               "its viewing direction lies outside the ranges of mount \"" +
+                                   m.name + "\"" + where + " (relative yaw " +
+                                   core::format_number(yaw / core::kDegree) + "°, pitch " +
+                                   core::format_number(pitch / core::kDegree) + "°)");
+      }
+      if (scene.cameras.models[i].has_roll() && !inside(d.roll, c.roll)) {
+        throw core::InputError(file, entry + "/roll_deg",
+                               "lies outside the roll range of mount \"" + m.name + "\"" + where);
+      }
+      continue;
+    }
     if (!inside(d.x, c.position.x()) || !inside(d.y, c.position.y()) ||
         !inside(d.z, c.position.z())) {
       throw core::InputError(file, entry + "/position",
@@ -238,6 +278,13 @@ RunResult optimize(const core::Scene& scene, const Objective& objective,
   result.err = detail::checked_err(score.err);
   result.tie_breaker = score.tie_breaker;
   result.reached_tolerance = result.err <= tolerance;
+  if (options.snap) {
+    // The search on the grid: at most 50 evaluations per free variable (at least 100).
+    const std::uint64_t budget = std::max<std::uint64_t>(100, 50 * encoding.dimension());
+    result.snapped = detail::snap_and_search(
+        encoding, objective, state->best_x(), *options.snap, budget,
+        [&](const core::CameraConfig& config) { return json_round_trip(config, scene); });
+  }
   result.memory = peak_memory();
   return result;
 }

@@ -169,6 +169,17 @@ nlohmann::ordered_json run_json(const RunResult& run, const RunContext& context)
                                  {"total", run.mean_timing.total_ms},
                                  {"wall_clock", run.wall_ms_per_evaluation}};
   j["memory_kb"] = {{"vm_hwm", run.memory.vm_hwm_kb}, {"vm_peak", run.memory.vm_peak_kb}};
+  if (run.snapped) {
+    const SnappedResult& snap = *run.snapped;
+    nlohmann::ordered_json sj;
+    sj["position_m"] = snap.grid.position_m;
+    sj["angle_deg"] = snap.grid.angle / core::kDegree;
+    sj["cameras"] = cameras_json(snap.cameras, context.camera_models);
+    sj["err"] = snap.err;
+    sj["rounded_err"] = snap.rounded_err;
+    sj["evaluations"] = snap.evaluations;
+    j["snapped"] = sj;
+  }
   return j;
 }
 
@@ -184,15 +195,32 @@ RunFile run_from_json(const nlohmann::json& j, const std::string& file) {
                    "; was the file written by a newer camplace?)");
     }
   }
-  root.only_keys({"format_version", "cameras",           "err",
-                  "evaluations",    "reached_tolerance", "seconds",
-                  "stop_reason",    "tolerance",         "err_lower_bound",
-                  "start_err",      "search_err",        "evaluations_to_best",
-                  "restarts",       "algorithm",         "seed",
-                  "threads",        "population",        "dimension",
-                  "context",        "history",           "time_per_evaluation_ms",
-                  "memory_kb",      "provenance",        "objective",
-                  "tie_breaker"});
+  root.only_keys({"format_version",
+                  "cameras",
+                  "err",
+                  "evaluations",
+                  "reached_tolerance",
+                  "seconds",
+                  "stop_reason",
+                  "tolerance",
+                  "err_lower_bound",
+                  "start_err",
+                  "search_err",
+                  "evaluations_to_best",
+                  "restarts",
+                  "algorithm",
+                  "seed",
+                  "threads",
+                  "population",
+                  "dimension",
+                  "context",
+                  "history",
+                  "time_per_evaluation_ms",
+                  "memory_kb",
+                  "provenance",
+                  "objective",
+                  "tie_breaker",
+                  "snapped"});
   RunFile out;
   RunResult& run = out.run;
   std::vector<std::string> models;
@@ -230,6 +258,19 @@ RunFile run_from_json(const nlohmann::json& j, const std::string& file) {
   if (models.size() == run.best.size()) out.context.camera_models = std::move(models);
   if (root.has("provenance")) {
     out.context.provenance = core::provenance_from_json(root.at("provenance"));
+  }
+  if (root.has("snapped")) {
+    const core::JsonNode sj = root.at("snapped");
+    sj.only_keys({"position_m", "angle_deg", "cameras", "err", "rounded_err", "evaluations"});
+    SnappedResult snap;
+    snap.grid.position_m = sj.at("position_m").number();
+    snap.grid.angle = sj.at("angle_deg").number() * core::kDegree;
+    std::vector<std::string> snapped_models;
+    snap.cameras = read_cameras(sj.at("cameras"), snapped_models);
+    snap.err = sj.at("err").number();
+    snap.rounded_err = sj.at("rounded_err").number();
+    snap.evaluations = read_count(sj.at("evaluations"));
+    run.snapped = std::move(snap);
   }
   const core::JsonNode history = root.at("history");
   for (std::size_t i = 0; i < history.array_size(); ++i) {

@@ -4,6 +4,7 @@
 #include <array>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "camplace/core/geometry.hpp"
@@ -20,14 +21,60 @@ struct Interval {
   bool fixed() const { return lo == hi; }
 };
 
+/// A mounting surface (`cameras.mounts`): the rectangle corner + s·u + t·v, (s, t) ∈ [0, 1]²,
+/// with non-parallel edges u and v. Its normal n = (u × v)/|u × v| points into the half-space
+/// the camera looks into. Viewing directions are given relative to the frame (n, e1, e2) with
+/// e1 = u/|u| and e2 = n × e1: relative yaw ψ' (about e2, toward e1) and relative pitch θ'
+/// (toward e2) give d = cos θ' cos ψ' n + cos θ' sin ψ' e1 + sin θ' e2; ψ' = θ' = 0 looks along n.
+struct Mount {
+  std::string name;
+  std::string entry;  ///< JSON pointer of the mount in the scene file
+  Vec3 corner = Vec3::Zero();
+  Vec3 u = Vec3::UnitX();
+  Vec3 v = Vec3::UnitY();
+  Interval yaw{-kPi / 2, kPi / 2};    ///< relative yaw ψ' (radians), within [−π/2, π/2]
+  Interval pitch{-kPi / 2, kPi / 2};  ///< relative pitch θ' (radians), within [−π/2, π/2]
+  Interval roll{0.0, 0.0};            ///< roll (radians, as CameraDomain::roll)
+  /// The unit normal n = (u × v)/|u × v|.
+  Vec3 normal() const;
+  /// The unit vectors e1 = u/|u| and e2 = n × e1 of the mount's frame.
+  Vec3 e1() const;
+  Vec3 e2() const;
+  /// The point corner + s·u + t·v.
+  Vec3 point(double s, double t) const;
+  /// The (s, t) of the point of the rectangle's plane nearest to p (least squares; unclamped).
+  std::pair<double, double> coordinates(const Vec3& p) const;
+  /// The world unit direction of relative yaw ψ' and pitch θ' (radians).
+  Vec3 direction(double rel_yaw, double rel_pitch) const;
+  /// The relative (ψ', θ') of a world unit direction d (ψ' = atan2(d·e1, d·n), θ' = asin(d·e2)).
+  std::pair<double, double> relative_angles(const Vec3& d) const;
+};
+
 /// Bounds on one camera's setting: position in metres (world frame), yaw, pitch and roll in
-/// radians. Roll is fixed at 0 unless the scene frees it (`roll_deg`).
+/// radians. Roll is fixed at 0 unless the scene frees it (`roll_deg`). A camera on a mount has
+/// its mount here; x, y, z then hold the rectangle's bounding box and yaw, pitch the full
+/// ranges (the mount's own ranges apply).
 struct CameraDomain {
   Interval x, y, z;
   Interval yaw{-kPi, kPi};
   Interval pitch{-kPi / 2, kPi / 2};
   Interval roll{0.0, 0.0};
+  std::optional<Mount> mount;
 };
+
+/// A keep-out box (`cameras.keep_out`): no camera may be placed in its interior. Positions on
+/// its faces are allowed; a position counts as inside when it lies more than kKeepOutSlack
+/// inside every face.
+struct KeepOut {
+  std::string name;   ///< the box's "name", or its JSON pointer
+  std::string entry;  ///< JSON pointer in the scene file
+  Box3 box;
+  /// True when p lies in the box's interior (by more than kKeepOutSlack on every axis).
+  bool contains(const Vec3& p) const;
+};
+
+/// Tolerance (m) of the keep-out test: rounding of repaired and re-read positions.
+constexpr double kKeepOutSlack = 1e-9;
 
 /// One camera model (SPEC §1): the shape of its field of view and its depth range.
 struct CameraModel {
@@ -51,6 +98,8 @@ struct CameraSpec {
   int count = 0;
   std::vector<CameraModel> models;    ///< one per camera (a shared model copied n times)
   std::vector<CameraDomain> domains;  ///< one per camera (shared domain copied n times)
+  std::vector<Mount> mounts;          ///< the scene's named mounts (`cameras.mounts`)
+  std::vector<KeepOut> keep_out;      ///< boxes no camera may be placed in
   /// Sets the count to n, keeping the first n cameras; new cameras copy the last one's model
   /// and domain (n ≥ 1, at least one camera before).
   void resize(int n);
@@ -130,6 +179,15 @@ std::vector<StateIndex> states(const Scene& scene);
 /// "upper_fourth" (the top quarter of S's height, yaw and pitch unrestricted: a camera there may
 /// have parts of S above it; docs/scene-format.md). std::nullopt for any other name.
 std::optional<CameraDomain> domain_preset(const Box3& area, const std::string& name);
+
+/// The point of `domain` (its box, or its mount's rectangle) nearest to p (after clamping p
+/// into the domain; for a mount, after projecting it onto the rectangle) that lies in no
+/// keep-out box: p itself when it is free. std::nullopt when the keep-out boxes cover the whole
+/// domain. Exact up to rounding: the free part of the domain is closed, and its point nearest
+/// to p lies on an intersection of at most 3 (mount: 2) of the planes bounding the boxes and
+/// the domain, all of which are tried.
+std::optional<Vec3> keep_out_repair(const CameraDomain& domain,
+                                    const std::vector<KeepOut>& keep_out, const Vec3& p);
 
 /// Loads and validates a scene file (SPEC §2). Throws InputError naming the file, the entry
 /// (JSON pointer) and the reason for every rejection the SPEC lists.

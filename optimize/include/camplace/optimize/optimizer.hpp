@@ -44,6 +44,23 @@ struct Progress {
   double seconds = 0.0;   ///< since the run started
 };
 
+/// The grid of `optimize --snap POS_M,ANGLE_DEG` (issue 14): positions to multiples of
+/// position_m (metres; world coordinates in a box domain, along the edges from the corner on a
+/// mount), angles to multiples of angle (radians).
+struct SnapGrid {
+  double position_m = 0.0;
+  double angle = 0.0;
+};
+
+/// The best configuration snapped to a SnapGrid and improved by a coordinate search on it.
+struct SnappedResult {
+  SnapGrid grid;
+  core::CameraConfig cameras;     ///< on the grid (as re-read from its JSON form)
+  double err = 0.0;               ///< Err of `cameras` (m²), as `camplace evaluate` computes it
+  double rounded_err = 0.0;       ///< Err right after rounding, before the search on the grid
+  std::uint64_t evaluations = 0;  ///< objective evaluations of the search on the grid
+};
+
 struct OptimizeOptions {
   std::string algorithm = "gaco";             ///< one of algorithm_names()
   std::string objective = kDefaultObjective;  ///< one of objective_names() (objective.hpp)
@@ -61,6 +78,8 @@ struct OptimizeOptions {
   bool stop_at_lower_bound = true;
   /// Called after evaluations with the current state (from the evaluating thread, serialised).
   std::function<void(const Progress&)> on_progress;
+  /// Snap the best configuration to this grid after the run (RunResult::snapped).
+  std::optional<SnapGrid> snap;
 };
 
 /// One point of the best-Err history: the best Err after `evaluations` evaluations.
@@ -103,6 +122,7 @@ struct RunResult {
   core::Timing mean_timing;               ///< mean per evaluation (ms), summed over threads
   double wall_ms_per_evaluation = 0.0;    ///< seconds · 1000 / evaluations
   MemoryUsage memory;                     ///< at the end of the run
+  std::optional<SnappedResult> snapped;   ///< with OptimizeOptions::snap
 };
 
 /// Names accepted by OptimizeOptions::algorithm, default first.
