@@ -17,6 +17,7 @@
 #include "cli_checks.hpp"
 #include "commands.hpp"
 #include "interrupt.hpp"
+#include "progress.hpp"
 #ifdef CAMPLACE_HAVE_MPI
 #include "mpi_work.hpp"
 #endif
@@ -29,18 +30,6 @@ struct ValidateArgs {
   compare::ValidateOptions options;
   bool progress = false;
 };
-
-std::string duration_text(double seconds) {
-  char text[32];
-  if (seconds < 60) {
-    std::snprintf(text, sizeof text, "%.0fs", seconds);
-  } else if (seconds < 3600) {
-    std::snprintf(text, sizeof text, "%dm%02ds", int(seconds) / 60, int(seconds) % 60);
-  } else {
-    std::snprintf(text, sizeof text, "%dh%02dm", int(seconds) / 3600, int(seconds) / 60 % 60);
-  }
-  return text;
-}
 
 #ifdef CAMPLACE_HAVE_MPI
 /// One run's check under way on this rank, in a thread of its own (the rank keeps polling).

@@ -55,19 +55,6 @@ int temporary_files(const std::string& dir) {
   return count;
 }
 
-/// Waits up to `seconds` for pid; its wait status, or -1 on timeout (then kills it).
-int wait_for(pid_t pid, double seconds) {
-  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-  int status = 0;
-  while (std::chrono::steady_clock::now() < end) {
-    if (::waitpid(pid, &status, WNOHANG) == pid) return status;
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  ::kill(pid, SIGKILL);
-  ::waitpid(pid, &status, 0);
-  return -1;
-}
-
 /// `camplace compare SCENE --cameras CAMERAS --resolutions R --out DIR` in the background.
 pid_t start_compare(const std::string& resolutions, const std::string& dir,
                     const std::string& log) {

@@ -86,19 +86,6 @@ TEST(LongWork, MemoryEstimateRefusesWhatExceedsTheAvailableMemory) {
       << exported.output;
 }
 
-/// Waits up to `seconds` for pid; its wait status, or -1 on timeout (then kills it).
-int wait_for(pid_t pid, double seconds) {
-  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-  int status = 0;
-  while (std::chrono::steady_clock::now() < end) {
-    if (::waitpid(pid, &status, WNOHANG) == pid) return status;
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  ::kill(pid, SIGKILL);
-  ::waitpid(pid, &status, 0);
-  return -1;
-}
-
 /// Starts `camplace args...` with stdout and stderr into `log`.
 template <class... Args>
 pid_t start(const std::string& log, Args... args) {

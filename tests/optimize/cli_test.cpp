@@ -14,7 +14,11 @@
 #include <string>
 #include <thread>
 
+#include "command.hpp"
+
 namespace {
+
+using camplace::testing::wait_for;
 
 namespace fs = std::filesystem;
 
@@ -31,19 +35,6 @@ std::string capture(const std::string& command) {
   while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) out.append(buffer, n);
   ::pclose(pipe);
   return out;
-}
-
-/// Waits up to `seconds` for pid; returns its wait status or -1 on timeout (then kills it).
-int wait_for(pid_t pid, double seconds) {
-  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-  int status = 0;
-  while (std::chrono::steady_clock::now() < end) {
-    if (::waitpid(pid, &status, WNOHANG) == pid) return status;
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  ::kill(pid, SIGKILL);
-  ::waitpid(pid, &status, 0);
-  return -1;
 }
 
 /// Sends `sig` to a running `camplace optimize` and checks what it leaves (issue 16: SIGINT,

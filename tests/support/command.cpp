@@ -1,9 +1,12 @@
 #include "command.hpp"
 
+#include <signal.h>
 #include <sys/wait.h>
 
 #include <array>
+#include <chrono>
 #include <cstdio>
+#include <thread>
 
 namespace camplace::testing {
 
@@ -17,6 +20,18 @@ CommandResult run_camplace(const std::string& binary, const std::string& args) {
   const int raw = pclose(pipe);
   r.exit_code = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
   return r;
+}
+
+int wait_for(pid_t pid, double seconds) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  int status = 0;
+  while (std::chrono::steady_clock::now() < end) {
+    if (::waitpid(pid, &status, WNOHANG) == pid) return status;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ::kill(pid, SIGKILL);
+  ::waitpid(pid, &status, 0);
+  return -1;
 }
 
 }  // namespace camplace::testing

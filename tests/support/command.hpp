@@ -1,5 +1,7 @@
 #pragma once
 // Runs the real `camplace` binary as a user would (tests of the command-line tool).
+#include <sys/types.h>
+
 #include <string>
 
 namespace camplace::testing {
@@ -11,5 +13,9 @@ struct CommandResult {
 
 /// Runs `<camplace binary> args` through the shell, capturing stdout and stderr.
 CommandResult run_camplace(const std::string& binary, const std::string& args);
+
+/// Waits up to `seconds` for the child `pid`; its wait status, or -1 on timeout (the child is
+/// then killed with SIGKILL and reaped).
+int wait_for(pid_t pid, double seconds);
 
 }  // namespace camplace::testing
