@@ -153,13 +153,6 @@ TEST(EvaluateCommand, TableIsPrintedWithoutJson) {
   EXPECT_NE(r.output.find("d_model"), std::string::npos);
 }
 
-std::string read_text(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 /// `text` with the first occurrence of `from` replaced (the test fails if there is none).
 std::string replace_first(std::string text, const std::string& from, const std::string& to) {
   const std::size_t at = text.find(from);

@@ -33,17 +33,6 @@ bool has(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
 }
 
-std::string read_text(const std::string& path) {
-  FILE* f = std::fopen(path.c_str(), "r");
-  std::string text;
-  if (f == nullptr) return text;
-  char buffer[4096];
-  std::size_t n;
-  while ((n = std::fread(buffer, 1, sizeof buffer, f)) > 0) text.append(buffer, n);
-  std::fclose(f);
-  return text;
-}
-
 /// Files in `dir` whose name holds ".tmp" (an unfinished atomic write).
 int temporary_files(const std::string& dir) {
   int count = 0;

@@ -99,17 +99,6 @@ pid_t start(const std::string& log, Args... args) {
   return pid;
 }
 
-std::string read_text(const std::string& path) {
-  FILE* f = std::fopen(path.c_str(), "r");
-  std::string text;
-  if (f == nullptr) return text;
-  char buffer[4096];
-  std::size_t n;
-  while ((n = std::fread(buffer, 1, sizeof buffer, f)) > 0) text.append(buffer, n);
-  std::fclose(f);
-  return text;
-}
-
 // Issue 16: SIGINT was ignored for a minute while a fine grid's evaluator was set up. Now every
 // signal ends `evaluate` within a second, with 128 + the signal and a line saying nothing was
 // written. 256x256x64 takes tens of seconds to set up.

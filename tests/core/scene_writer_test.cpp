@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "camplace/core/scene.hpp"
+#include "command.hpp"
 #include "scene_builder.hpp"
 #include "scene_fixtures.hpp"
 
@@ -30,13 +31,6 @@ const std::string kBasicScene = std::string(CAMPLACE_SOURCE_DIR) + "/data/paper_
 
 // The written JSON with unordered keys, to compare with json values.
 json unordered(const nlohmann::ordered_json& j) { return json::parse(j.dump()); }
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 void expect_same_interval(const core::Interval& a, const core::Interval& b,
                           const std::string& what) {

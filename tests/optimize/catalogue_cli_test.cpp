@@ -10,24 +10,17 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "command.hpp"
+
 namespace {
+
+using camplace::testing::capture;
 
 namespace fs = std::filesystem;
 using nlohmann::json;
 
 const std::string kBinary = CAMPLACE_BINARY;
 const std::string kScene = std::string(CAMPLACE_SOURCE_DIR) + "/data/cell_catalogue.json";
-
-std::string capture(const std::string& command) {
-  std::string out;
-  FILE* pipe = ::popen(command.c_str(), "r");
-  if (pipe == nullptr) return out;
-  char buffer[4096];
-  std::size_t n;
-  while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) out.append(buffer, n);
-  ::pclose(pipe);
-  return out;
-}
 
 TEST(CatalogueCli, SnappedResultIsOnItsMountsAndEvaluateReproducesItsErr) {
   const fs::path out =

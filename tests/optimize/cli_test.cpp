@@ -18,24 +18,14 @@
 
 namespace {
 
+using camplace::testing::capture;
+
 using camplace::testing::wait_for;
 
 namespace fs = std::filesystem;
 
 const std::string kBinary = CAMPLACE_BINARY;
 const std::string kScene = std::string(CAMPLACE_SOURCE_DIR) + "/data/paper_basic.json";
-
-/// Output of a command (stdout only).
-std::string capture(const std::string& command) {
-  std::string out;
-  FILE* pipe = ::popen(command.c_str(), "r");
-  if (pipe == nullptr) return out;
-  char buffer[4096];
-  std::size_t n;
-  while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) out.append(buffer, n);
-  ::pclose(pipe);
-  return out;
-}
 
 /// Sends `sig` to a running `camplace optimize` and checks what it leaves (issue 16: SIGINT,
 /// SIGTERM and SIGHUP alike, exit status 128 + the signal).

@@ -94,13 +94,6 @@ TEST(Export, CenterModeSegmentEndsAtAVoxelCentre) {
 
 CommandResult run(const std::string& args) { return run_camplace(CAMPLACE_BINARY, args); }
 
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 TEST(ExportCommand, WritesGlbPagePosesAndVoxels) {
   const std::string dir = temp_dir("export_cli") + "/out";
   const CommandResult r = run("export " + kData + "paper_basic.json --cameras " + kData +
