@@ -1,4 +1,4 @@
-// Back-face culling in conservative mode (voxel/src/labelling.cpp) and its degenerate cases:
+// Back-face culling (voxel/src/labelling.cpp) and its degenerate cases:
 // a camera in the plane of a face, on an edge and on a vertex of an obstacle or a target, and
 // rays grazing a face. In every case the labels must equal the labeller without culling
 // (tests/support/legacy_labeller.cpp) or be less free, and every voxel labelled free must be
@@ -68,6 +68,35 @@ long check_camera(const core::Scene& scene, const core::CameraSetting& camera,
   return free_voxels;
 }
 
+// Center mode culls the same back faces (the first hit along a ray from outside a closed,
+// outward solid is on a face toward the camera, and a back face hit at t ≤ d follows a front
+// face hit before it): its labels must equal the labeller without culling except where the
+// ray through the voxel centre touches an edge or a vertex (the reference flags the tie), and
+// equal the brute-force reference at every centre it does not flag. A camera on an object's
+// surface is blind (as in check_camera). Returns the free count.
+long check_camera_center(const core::Scene& scene, const core::CameraSetting& camera,
+                         const std::string& what, bool on_surface) {
+  const voxel::VoxelEvaluator fast(scene, {LabelMode::center, {0, 0, 0}});
+  const LegacyLabeller old(scene, {LabelMode::center, {0, 0, 0}});
+  const auto labels = fast.labels(camera, 0);
+  const auto expected = old.labels(camera, 0);
+  long free_voxels = 0;
+  for (int v = 0; v < fast.grid().count(); ++v) {
+    free_voxels += labels[v] == Label::free;
+    if (on_surface) {
+      EXPECT_EQ(labels[v], Label::undetectable) << what << ": voxel " << v;
+      continue;
+    }
+    const ReferenceLabel ref = reference_label(scene, 0, 0, camera, fast.grid().voxel_center(v));
+    if (ref.ambiguous) continue;
+    EXPECT_EQ(labels[v], expected[v])
+        << what << ": voxel " << v << " old " << static_cast<int>(expected[v]) << " new "
+        << static_cast<int>(labels[v]);
+    EXPECT_EQ(labels[v], ref.label) << what << ": voxel " << v;
+  }
+  return free_voxels;
+}
+
 TEST(Culling, CameraInTheBlocksFacePlanesOnItsEdgesAndVertices) {
   const core::Scene scene = room();
   struct Case {
@@ -88,11 +117,15 @@ TEST(Culling, CameraInTheBlocksFacePlanesOnItsEdgesAndVertices) {
       {"in the plane of the tetrahedron's base", {2.0, 0.6, 0.0}, 0, 10, false},
       {"generic, far", {0.1, 0.1, 2.9}, 35, -30, false},
   };
-  long free_voxels = 0;
+  long free_voxels = 0, center_free = 0;
   for (const Case& c : cases) {
-    free_voxels += check_camera(scene, camera_at(c.position, c.yaw, c.pitch), c.what, c.on_surface);
+    const auto camera = camera_at(c.position, c.yaw, c.pitch);
+    free_voxels += check_camera(scene, camera, c.what, c.on_surface);
+    center_free +=
+        check_camera_center(scene, camera, std::string("center mode, ") + c.what, c.on_surface);
   }
   EXPECT_GT(free_voxels, 1000);  // the checks are not vacuous
+  EXPECT_GT(center_free, 1000);
 }
 
 TEST(Culling, RaysGrazingAFaceOfATargetStayOccupied) {
@@ -101,6 +134,7 @@ TEST(Culling, RaysGrazingAFaceOfATargetStayOccupied) {
   const core::Scene scene = room();
   const auto camera = camera_at({0.1, 1.5, 0.5}, 0, 0);
   check_camera(scene, camera, "grazing", false);
+  check_camera_center(scene, camera, "grazing, center mode", false);
   const voxel::VoxelEvaluator fast(scene, {LabelMode::conservative, {0, 0, 0}});
   const auto labels = fast.labels(camera, 0);
   // Voxel (13, 5, 1): x ∈ [3.25, 3.5], y ∈ [1.25, 1.5], z ∈ [0.25, 0.5], behind the target on

@@ -137,8 +137,9 @@ CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera
     tc.near_distance = std::sqrt(core::point_triangle_sq_distance(c, tri[0], tri[1], tri[2]));
     const double scale = a.norm() * b.norm() * e.norm();
     tc.flat = !(std::abs(det) > 1e-12 * scale);
-    if (tc.flat || !conservative) continue;  // center mode needs no cones
+    if (tc.flat) continue;
     tilt[t] = det / scale;
+    if (!conservative) continue;  // center mode needs no cones
     const double sign = det > 0 ? 1.0 : -1.0;
     tc.edge[0] = a;
     tc.edge[1] = b;
@@ -225,7 +226,7 @@ CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera
   cam.bin_start.assign(bin_count + 1, 0);
   // Conservative mode never tests flat or culled triangles: leave them out.
   auto skipped = [&](std::size_t t) {
-    return conservative && (cam.triangles[t].flat || cam.triangles[t].back);
+    return cam.triangles[t].back || (conservative && cam.triangles[t].flat);
   };
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     if (skipped(t)) continue;
@@ -456,8 +457,9 @@ void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d
       const int bx = bin_of(cam, px), by = bin_of(cam, py, 1);
       bins = {bx, bx, by, by};
     }
-    if (d < 0.0) d = w.norm();
-    const Vec3 u = w / d;
+    // The ray's direction, once a triangle gets to the ray test.
+    Vec3 u;
+    bool ray_ready = false;
     scratch.hits.clear();
     auto test = [&](int t) {
       const StateMask m = object_states[triangle_object[t]] & interest;
@@ -471,6 +473,11 @@ void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d
             if (l[0] * px + l[1] * py + l[2] < 0.0) return;
           }
         }
+      }
+      if (!ray_ready) {
+        if (d < 0.0) d = w.norm();
+        u = w / d;
+        ray_ready = true;
       }
       const auto& tri = triangles[t];
       const double hit = core::ray_triangle_hit(cam.c, u, tri[0], tri[1], tri[2]);
@@ -662,6 +669,95 @@ VoxelEvaluator::Impl::Cone VoxelEvaluator::Impl::cone_test(const TriangleCone& t
   return near_miss ? Cone::near_miss : Cone::meet;
 }
 
+/// Conservative mode: whether every voxel of the block [lo, hi] is free for this camera in every
+/// state it is not blind in, as judge() would label each of them: the block lies in the FOV with
+/// a margin and no triangle can decide any voxel inside it. Each test is one that in_fov() or
+/// judge() makes per voxel, made on the whole block with a larger margin, so it holds for every
+/// voxel inside:
+///  - FOV: the block's bounding ball lies inside the cone (or the pyramid's or frustum's side
+///    planes), in front of the camera and between the near and far planes by 1e-9 of the scale,
+///    and the camera is outside it; so is every voxel's box (the FOV is convex);
+///  - a triangle is passed over when its padded rectangle misses the block's projection (which
+///    holds each voxel's projection); when judge() never tests it (flat, culled); when it only
+///    occludes and lies at least as far from the camera as the block's farthest point (then as
+///    every voxel's: far grows with the box); and when its cone misses the block by more than
+///    2e-12 of the block's scale on a cone plane or a separating axis. The gap on each axis only
+///    grows when the box shrinks inside the block (the support function of a sub-box is at most
+///    the block's), and a voxel's scale kTouch·(|w| + Σh) is at most the block's, so cone_test()
+///    returns Cone::miss for every voxel inside (not near_miss, which would test back faces).
+/// Then judge() finds no candidate for any voxel inside, and each voxel is free for the camera.
+/// tests/voxel/legacy_equivalence_test.cpp compares the models it gives with the old labeller's.
+bool VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& lo,
+                                       const Vec3& hi) const {
+  const Vec3 center = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
+  const Vec3 w = center - cam.c;
+  const double d = w.norm(), r = half.norm();
+  if (!(d > r * (1.0 + 1e-9))) return false;
+  const double tol = kMargin * (d + r);
+  const double z = w.dot(cam.axis);
+  if (cam.range && !(z + r < *cam.range - tol)) return false;
+  if (cam.near > 0.0 && !(z - r > cam.near + tol)) return false;
+  if (!(z - r > tol)) return false;  // wholly in front (also for the projection below)
+  if (cam.pyramid) {
+    for (const Vec3& n : cam.normals) {
+      if (!(n.dot(w) > r + tol)) return false;
+    }
+  } else {
+    const double cos_t = z / d, sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
+    const double sin_b = r / d, cos_b = std::sqrt(1.0 - sin_b * sin_b);
+    if (!(cos_t * cos_b - sin_t * sin_b > cam.cos_half + kMargin)) return false;
+  }
+  const double x = w.dot(cam.ex), y = w.dot(cam.ey);
+  const double box_x = cam.abs_ex.dot(half), box_y = cam.abs_ey.dot(half);
+  const double box_z = cam.abs_axis.dot(half);
+  const double z_lo = z - box_z, z_hi = z + box_z;
+  if (!(z_lo > 0.0)) return false;
+  const double x0 = x - box_x, x1 = x + box_x, y0 = y - box_y, y1 = y + box_y;
+  double vx0 = x0 / (x0 >= 0 ? z_hi : z_lo), vx1 = x1 / (x1 >= 0 ? z_lo : z_hi);
+  double vy0 = y0 / (y0 >= 0 ? z_hi : z_lo), vy1 = y1 / (y1 >= 0 ? z_lo : z_hi);
+  // Padded against rounding (a voxel's projection is computed from other numbers).
+  const double px = kMargin * (1.0 + std::max(std::abs(vx0), std::abs(vx1)));
+  const double py = kMargin * (1.0 + std::max(std::abs(vy0), std::abs(vy1)));
+  vx0 -= px;
+  vx1 += px;
+  vy0 -= py;
+  vy1 += py;
+  const double far = (w.cwiseAbs() + half).norm() * (1.0 + 1e-12);
+  const double scale = 2.0 * kTouch * (d + half.sum());
+  // True when triangle t may decide some voxel of the block.
+  auto decides = [&](int t) {
+    const auto& rect = cam.rect[t];
+    if (rect[0] > vx1 || rect[1] < vx0 || rect[2] > vy1 || rect[3] < vy0) return false;
+    const TriangleCone& tc = cam.triangles[t];
+    if (tc.flat || tc.back) return false;
+    if (!objects[triangle_object[t]].occupying && tc.near_distance >= far) return false;
+    for (int i = 0; i < 3; ++i) {
+      if (tc.normal[i].dot(w) + tc.abs_normal[i].dot(half) < -scale) return false;
+    }
+    for (int a = 0; a < tc.axis_count; ++a) {
+      const TriangleCone::Axis& axis = tc.axes[a];
+      const double mid = axis.axis.dot(w);
+      const double radius = axis.axis.cwiseAbs().dot(half);
+      const double gap = axis.side > 0 ? -(mid + radius) : mid - radius;
+      if (gap > scale * axis.norm) return false;
+    }
+    return true;
+  };
+  for (int t : cam.everywhere) {
+    if (decides(t)) return false;
+  }
+  const BinRange bins = bin_range(cam, vx0, vx1, vy0, vy1);
+  for (int by = bins.y0; by <= bins.y1; ++by) {
+    for (int bx = bins.x0; bx <= bins.x1; ++bx) {
+      const int b = by * cam.bins + bx;
+      for (int n = cam.bin_start[b]; n < cam.bin_start[b + 1]; ++n) {
+        if (decides(cam.bin_items[n])) return false;
+      }
+    }
+  }
+  return true;
+}
+
 namespace {
 
 /// The u (= x − c_x) where the centre (c_x + u, c_y + dy, c_z + dz) lies in the cone of axis
@@ -784,8 +880,19 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
   const int nx = grid.n[0], ny = grid.n[1];
   const int state_count = static_cast<int>(states.size());
   const int steps = static_cast<int>(removed_by_step.size());
+  const std::size_t n_cam = cameras.size();
   Scratch scratch;
   scratch.stamp.assign(triangles.size(), 0);
+  // Per row (j, k) of the slice and camera: row_interval's lo, hi, in_lo, in_hi.
+  std::vector<std::array<int, 4>> rows(static_cast<std::size_t>(ny) * (k_end - k_begin) * n_cam);
+  for (int k = k_begin; k < k_end; ++k) {
+    for (int j = 0; j < ny; ++j) {
+      for (std::size_t c = 0; c < n_cam; ++c) {
+        auto& r = rows[((k - k_begin) * ny + j) * n_cam + c];
+        row_interval(cameras[c], j, k, r[0], r[1], r[2], r[3]);
+      }
+    }
+  }
   for (int chunk = 0; chunk * detail::kChunk < state_count; ++chunk) {
     const int first = chunk * detail::kChunk;
     const int count = std::min(detail::kChunk, state_count - first);
@@ -793,47 +900,67 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
     const StateMask* object_states = chunk_object_states[chunk].data();
     const StateMask* step_states = chunk_step_states[chunk].data();
     const std::vector<StateMask> seeing = seeing_states(cameras, chunk);
-    std::vector<int> row_lo(cameras.size()), row_hi(cameras.size());
-    std::vector<int> in_lo(cameras.size()), in_hi(cameras.size());
     std::uint8_t* out[detail::kChunk];
     for (int s = 0; s < count; ++s) out[s] = models[first + s].data();
-    std::size_t hint = 0;
-    for (int k = k_begin; k < k_end; ++k) {
-      for (int j = 0; j < ny; ++j) {
-        for (std::size_t c = 0; c < cameras.size(); ++c) {
-          row_interval(cameras[c], j, k, row_lo[c], row_hi[c], in_lo[c], in_hi[c]);
-        }
-        int v = nx * (j + ny * k);
-        for (int i = 0; i < nx; ++i, ++v) {
-          StateMask pending = all;  // not removed, not yet seen free
-          for (int h = 0; h < steps; ++h) {
-            if (removed_by_step[h][v]) pending &= ~step_states[h];
-          }
-          if (pending) {
-            const Vec3 center(box_center[0][i], box_center[1][j], box_center[2][k]);
-            // Cameras from the one that last freed a voxel on: neighbours tend to be seen by
-            // the same camera (the order does not change the result).
-            const std::size_t n_cam = cameras.size(), first_cam = hint;
-            for (std::size_t step = 0; step < n_cam && pending; ++step) {
-              const std::size_t c =
-                  first_cam + step < n_cam ? first_cam + step : first_cam + step - n_cam;
-              const StateMask interest = pending & seeing[c];
-              if (!interest || i < row_lo[c] || i > row_hi[c]) continue;
-              const CameraSetup& cam = cameras[c];
-              const Vec3 w = center - cam.c;
-              double d = -1.0;  // |w|, computed when needed
-              if (i < in_lo[c] || i > in_hi[c]) {
-                d = w.norm();
-                if (!in_fov(cam, i, j, k, w, d)) continue;
-              }
-              Verdict verdict;
-              judge(cam, w, d, interest, object_states, scratch, verdict, true, cell_sizes[0]);
-              const StateMask freed = interest & ~(verdict.occupied | verdict.blocked);
-              if (freed) hint = c;
-              pending &= ~freed;
+    std::size_t hint = 0, block_hint = 0;
+    // Blocks of kBlock³ voxels: the states where some camera sees the whole block free
+    // (block_clear, tried from the camera that last cleared a block on, until one does) need no
+    // test per voxel; the others are labelled voxel by voxel.
+    constexpr int kBlock = 4;
+    for (int k0 = k_begin; k0 < k_end; k0 += kBlock) {
+      const int k1 = std::min(k0 + kBlock, k_end);
+      for (int j0 = 0; j0 < ny; j0 += kBlock) {
+        const int j1 = std::min(j0 + kBlock, ny);
+        for (int i0 = 0; i0 < nx; i0 += kBlock) {
+          const int i1 = std::min(i0 + kBlock, nx);
+          const Vec3 lo(box_min[0][i0], box_min[1][j0], box_min[2][k0]);
+          const Vec3 hi(box_max[0][i1 - 1], box_max[1][j1 - 1], box_max[2][k1 - 1]);
+          StateMask clear = 0;
+          for (std::size_t step = 0; conservative && step < n_cam && clear != all; ++step) {
+            const std::size_t c = (block_hint + step) % n_cam;
+            if ((seeing[c] & ~clear) && block_clear(cameras[c], lo, hi)) {
+              clear |= seeing[c];
+              block_hint = c;
             }
           }
-          for (int s = 0; s < count; ++s) out[s][v] = (pending >> s) & 1;
+          for (int k = k0; k < k1; ++k) {
+            for (int j = j0; j < j1; ++j) {
+              const auto* row = &rows[((k - k_begin) * ny + j) * n_cam];
+              int v = i0 + nx * (j + ny * k);
+              for (int i = i0; i < i1; ++i, ++v) {
+                StateMask pending = all & ~clear;  // not removed, not yet seen free
+                for (int h = 0; h < steps && pending; ++h) {
+                  if (removed_by_step[h][v]) pending &= ~step_states[h];
+                }
+                if (pending) {
+                  const Vec3 center(box_center[0][i], box_center[1][j], box_center[2][k]);
+                  // Cameras from the one that last freed a voxel on: neighbours tend to be seen
+                  // by the same camera (the order does not change the result).
+                  const std::size_t first_cam = hint;
+                  for (std::size_t step = 0; step < n_cam && pending; ++step) {
+                    const std::size_t c =
+                        first_cam + step < n_cam ? first_cam + step : first_cam + step - n_cam;
+                    const StateMask interest = pending & seeing[c];
+                    if (!interest || i < row[c][0] || i > row[c][1]) continue;
+                    const CameraSetup& cam = cameras[c];
+                    const Vec3 w = center - cam.c;
+                    double d = -1.0;  // |w|, computed when needed
+                    if (i < row[c][2] || i > row[c][3]) {
+                      d = w.norm();
+                      if (!in_fov(cam, i, j, k, w, d)) continue;
+                    }
+                    Verdict verdict;
+                    judge(cam, w, d, interest, object_states, scratch, verdict, true,
+                          cell_sizes[0]);
+                    const StateMask freed = interest & ~(verdict.occupied | verdict.blocked);
+                    if (freed) hint = c;
+                    pending &= ~freed;
+                  }
+                }
+                for (int s = 0; s < count; ++s) out[s][v] = (pending >> s) & 1;
+              }
+            }
+          }
         }
       }
     }
