@@ -903,64 +903,83 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
     std::uint8_t* out[detail::kChunk];
     for (int s = 0; s < count; ++s) out[s] = models[first + s].data();
     std::size_t hint = 0, block_hint = 0;
-    // Blocks of kBlock³ voxels: the states where some camera sees the whole block free
-    // (block_clear, tried from the camera that last cleared a block on, until one does) need no
-    // test per voxel; the others are labelled voxel by voxel.
+    auto label = [&](int i, int j, int k, StateMask clear) {
+      const auto* row = &rows[((k - k_begin) * ny + j) * n_cam];
+      const int v = i + nx * (j + ny * k);
+      StateMask pending = all & ~clear;  // not removed, not yet seen free
+      for (int h = 0; h < steps && pending; ++h) {
+        if (removed_by_step[h][v]) pending &= ~step_states[h];
+      }
+      if (pending) {
+        const Vec3 center(box_center[0][i], box_center[1][j], box_center[2][k]);
+        // Cameras from the one that last freed a voxel on: neighbours tend to be seen by the
+        // same camera (the order does not change the result).
+        const std::size_t first_cam = hint;
+        for (std::size_t step = 0; step < n_cam && pending; ++step) {
+          const std::size_t c =
+              first_cam + step < n_cam ? first_cam + step : first_cam + step - n_cam;
+          const StateMask interest = pending & seeing[c];
+          if (!interest || i < row[c][0] || i > row[c][1]) continue;
+          const CameraSetup& cam = cameras[c];
+          const Vec3 w = center - cam.c;
+          double d = -1.0;  // |w|, computed when needed
+          if (i < row[c][2] || i > row[c][3]) {
+            d = w.norm();
+            if (!in_fov(cam, i, j, k, w, d)) continue;
+          }
+          Verdict verdict;
+          judge(cam, w, d, interest, object_states, scratch, verdict, true, cell_sizes[0]);
+          const StateMask freed = interest & ~(verdict.occupied | verdict.blocked);
+          if (freed) hint = c;
+          pending &= ~freed;
+        }
+      }
+      for (int s = 0; s < count; ++s) out[s][v] = (pending >> s) & 1;
+    };
+    // Conservative mode: the states where some camera sees a whole block free (block_clear,
+    // tried from the camera that last cleared a block on) need no test per voxel; blocks of 4³
+    // voxels, then the 2³ blocks of those that no camera cleared for every state; then voxel by
+    // voxel.
     constexpr int kBlock = 4;
+    auto visit = [&](int i0, int i1, int j0, int j1, int k0, int k1, int size, StateMask clear,
+                     auto& self) -> void {
+      if (conservative && (i1 - i0) * (j1 - j0) * (k1 - k0) > 1) {
+        const Vec3 lo(box_min[0][i0], box_min[1][j0], box_min[2][k0]);
+        const Vec3 hi(box_max[0][i1 - 1], box_max[1][j1 - 1], box_max[2][k1 - 1]);
+        // Every camera on the largest blocks; the smaller ones only the last camera to clear a
+        // block (most of them lie where the larger block touched a shadow).
+        const std::size_t tries = size == kBlock ? n_cam : 1;
+        for (std::size_t step = 0; step < tries && clear != all; ++step) {
+          const std::size_t c = (block_hint + step) % n_cam;
+          if ((seeing[c] & ~clear) && block_clear(cameras[c], lo, hi)) {
+            clear |= seeing[c];
+            block_hint = c;
+          }
+        }
+      }
+      if (conservative && size > 2 && clear != all) {
+        const int half = size / 2;
+        for (int k = k0; k < k1; k += half) {
+          for (int j = j0; j < j1; j += half) {
+            for (int i = i0; i < i1; i += half) {
+              self(i, std::min(i + half, i1), j, std::min(j + half, j1), k, std::min(k + half, k1),
+                   half, clear, self);
+            }
+          }
+        }
+        return;
+      }
+      for (int k = k0; k < k1; ++k) {
+        for (int j = j0; j < j1; ++j) {
+          for (int i = i0; i < i1; ++i) label(i, j, k, clear);
+        }
+      }
+    };
     for (int k0 = k_begin; k0 < k_end; k0 += kBlock) {
-      const int k1 = std::min(k0 + kBlock, k_end);
       for (int j0 = 0; j0 < ny; j0 += kBlock) {
-        const int j1 = std::min(j0 + kBlock, ny);
         for (int i0 = 0; i0 < nx; i0 += kBlock) {
-          const int i1 = std::min(i0 + kBlock, nx);
-          const Vec3 lo(box_min[0][i0], box_min[1][j0], box_min[2][k0]);
-          const Vec3 hi(box_max[0][i1 - 1], box_max[1][j1 - 1], box_max[2][k1 - 1]);
-          StateMask clear = 0;
-          for (std::size_t step = 0; conservative && step < n_cam && clear != all; ++step) {
-            const std::size_t c = (block_hint + step) % n_cam;
-            if ((seeing[c] & ~clear) && block_clear(cameras[c], lo, hi)) {
-              clear |= seeing[c];
-              block_hint = c;
-            }
-          }
-          for (int k = k0; k < k1; ++k) {
-            for (int j = j0; j < j1; ++j) {
-              const auto* row = &rows[((k - k_begin) * ny + j) * n_cam];
-              int v = i0 + nx * (j + ny * k);
-              for (int i = i0; i < i1; ++i, ++v) {
-                StateMask pending = all & ~clear;  // not removed, not yet seen free
-                for (int h = 0; h < steps && pending; ++h) {
-                  if (removed_by_step[h][v]) pending &= ~step_states[h];
-                }
-                if (pending) {
-                  const Vec3 center(box_center[0][i], box_center[1][j], box_center[2][k]);
-                  // Cameras from the one that last freed a voxel on: neighbours tend to be seen
-                  // by the same camera (the order does not change the result).
-                  const std::size_t first_cam = hint;
-                  for (std::size_t step = 0; step < n_cam && pending; ++step) {
-                    const std::size_t c =
-                        first_cam + step < n_cam ? first_cam + step : first_cam + step - n_cam;
-                    const StateMask interest = pending & seeing[c];
-                    if (!interest || i < row[c][0] || i > row[c][1]) continue;
-                    const CameraSetup& cam = cameras[c];
-                    const Vec3 w = center - cam.c;
-                    double d = -1.0;  // |w|, computed when needed
-                    if (i < row[c][2] || i > row[c][3]) {
-                      d = w.norm();
-                      if (!in_fov(cam, i, j, k, w, d)) continue;
-                    }
-                    Verdict verdict;
-                    judge(cam, w, d, interest, object_states, scratch, verdict, true,
-                          cell_sizes[0]);
-                    const StateMask freed = interest & ~(verdict.occupied | verdict.blocked);
-                    if (freed) hint = c;
-                    pending &= ~freed;
-                  }
-                }
-                for (int s = 0; s < count; ++s) out[s][v] = (pending >> s) & 1;
-              }
-            }
-          }
+          visit(i0, std::min(i0 + kBlock, nx), j0, std::min(j0 + kBlock, ny), k0,
+                std::min(k0 + kBlock, k_end), kBlock, 0, visit);
         }
       }
     }
