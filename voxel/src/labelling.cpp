@@ -19,8 +19,12 @@
 //    the triangle, the meeting point projects into both, so no triangle that could change a
 //    label is skipped. Small voxels (conservative) look up one bin of a finer set whose
 //    rectangles are widened by more than their projection's half size;
-//  - conservative mode culls back faces of closed, outward objects (the proof, and what
-//    happens at touching configurations, is in camera_setup);
+//  - both modes cull back faces of closed, outward objects (the proof, and what happens at
+//    touching configurations, is in camera_setup; center mode's labels then differ only where
+//    the ray through a centre touches an edge or a vertex, a tie);
+//  - conservative mode first tries whole blocks of 4³, then 2³ voxels: the states where a camera
+//    sees every voxel of a block free (block_clear, tests on the block with a wider margin) need
+//    no test per voxel;
 //  - each triangle is tested once per voxel and camera for all states (bit masks), not once
 //    per state, a voxel is done as soon as some camera sees it free in every state, and a
 //    camera is done with a voxel once every state of interest is decided;
@@ -164,7 +168,7 @@ CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera
       for (int i = 0; i < 3; ++i) add_axis(edge.cross(Vec3::Unit(i)));
     }
   }
-  // Back-face culling (conservative mode). det = (a − c)·((b − c) × (e − c)) = −n·(c − a) with
+  // Back-face culling (both modes). det = (a − c)·((b − c) × (e − c)) = −n·(c − a) with
   // n = (b − a) × (e − a) the outward normal, so det > 0 means the camera is behind the
   // triangle's plane. Claim: if the camera c lies outside the closed solid X of an outward
   // oriented, closed mesh, every ray or segment from c that meets X meets, at its first point
@@ -186,7 +190,11 @@ CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera
   // an edge) rounding could call the front face apart while a back face touches; a front face
   // of a culled object that misses only within rounding (Cone::near_miss) makes judge() test
   // the object's back faces as well, so the verdict is the unculled one.
-  // tests/voxel/culling_test.cpp covers these cases.
+  // Center mode tests the ray through the voxel centre: a hit on a back face at t follows a hit
+  // on a front face at t' ≤ t (the ray enters X first), so "some hit within d" and the first hit
+  // are unchanged; only a ray through an edge or a vertex, where rounding may call the front face
+  // missed, can differ (a tie, as the brute-force reference flags it).
+  // tests/voxel/culling_test.cpp covers these cases in both modes.
   for (std::size_t o = 0; o < objects.size(); ++o) {
     const detail::ObjectInfo& info = objects[o];
     const int end = info.first_triangle + info.triangle_count;
