@@ -209,6 +209,7 @@ void run_optimize(const OptimizeArgs& args) {
     now.start = args.start;
     now.time_limit = args.time_limit;
     now.max_evaluations = context.max_evaluations;
+    now.ceiling_pitch = core::has_ceiling_pitch(scene.cameras);
     now.tolerance = options.tolerance.value_or(objective.default_tolerance());
     const std::size_t dimension = optimize::Encoding(scene).dimension();
     // No free variable: optimize() refuses the scene below.

@@ -191,6 +191,7 @@ void check_resume(const detail::StudySpec& spec, const std::vector<Group>& group
     if (fs::is_regular_file(group.scene_path)) {
       scene_copy = core::combine_scene_hashes(core::sha256_file(group.scene_path), {});
     }
+    bool domains_read = false;
     for (const auto& [seed, file] : run_files_in(group.run_dir)) {
       if (seed < spec.first_seed || seed > last_seed) {
         conflicts.push_back({relative(file),
@@ -202,6 +203,13 @@ void check_resume(const detail::StudySpec& spec, const std::vector<Group>& group
       if (run.run.stop_reason == optimize::StopReason::interrupted) continue;
       optimize::RunSettings recorded = optimize::recorded_settings(run);
       if (!recorded.scene) recorded.scene = scene_copy;
+      if (recorded.format < 4 && !domains_read && scene_copy) {
+        // The group's camera domains, for run files made before the ceiling preset's pitch
+        // changed (the folder's scene is the one its runs were made on; a changed scene is a
+        // conflict of its own).
+        now.ceiling_pitch = core::has_ceiling_pitch(core::load_scene(group.scene_path).cameras);
+        domains_read = true;
+      }
       now.seed = seed;
       std::vector<std::string> changes = optimize::settings_changes(recorded, now);
       if (!changes.empty()) conflicts.push_back({relative(file), std::move(changes)});

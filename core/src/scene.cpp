@@ -165,6 +165,7 @@ class SceneParser {
       if (node.has("yaw_deg")) d.yaw = parse_interval(node.at("yaw_deg"), -kPi, kPi, kDeg);
       if (node.has("pitch_deg")) {
         d.pitch = parse_interval(node.at("pitch_deg"), -kPi / 2, kPi / 2, kDeg);
+        d.ceiling_pitch = false;
       }
       if (node.has("roll_deg")) d.roll = parse_interval(node.at("roll_deg"), -kPi, kPi, kDeg);
     }
@@ -818,6 +819,7 @@ std::optional<CameraDomain> domain_preset(const Box3& area, const std::string& n
     // for p below c, (p − c)·d(−θ) − (p − c)·d(θ) = −2 (p − c)_z sin θ ≥ 0, and the rays
     // (hence the labels) do not depend on the tilt. Looking up only wastes the optimizer's time.
     d.pitch = {-kPi / 2, 0.0};
+    d.ceiling_pitch = true;
   } else if (name == "upper_fourth") {
     d.z = {area.max.z() - 0.25 * (area.max.z() - area.min.z()), area.max.z()};
   } else if (name != "room") {
@@ -827,6 +829,11 @@ std::optional<CameraDomain> domain_preset(const Box3& area, const std::string& n
 }
 
 Scene load_scene(const std::string& path) { return SceneParser(path).parse(); }
+
+bool has_ceiling_pitch(const CameraSpec& cameras) {
+  return std::any_of(cameras.domains.begin(), cameras.domains.end(),
+                     [](const CameraDomain& d) { return d.ceiling_pitch; });
+}
 
 std::array<int, 3> parse_resolution(const std::string& text, const std::string& what) {
   std::array<int, 3> n{};

@@ -222,6 +222,8 @@ RunFile run_from_json(const nlohmann::json& j, const std::string& file) {
                   "tie_breaker",
                   "snapped"});
   RunFile out;
+  out.format_version =
+      root.has("format_version") ? static_cast<int>(root.at("format_version").number()) : 1;
   RunResult& run = out.run;
   std::vector<std::string> models;
   run.best = read_cameras(root.at("cameras"), models);
@@ -331,6 +333,7 @@ RunSettings recorded_settings(const RunFile& file) {
   s.population = file.run.population;
   s.seed = file.run.seed;
   s.threads = file.run.threads;
+  s.format = file.format_version;
   return s;
 }
 
@@ -346,6 +349,13 @@ std::vector<std::string> settings_changes(const RunSettings& recorded, const Run
     for (std::string& line : core::scene_changes(*recorded.scene, *now.scene, now.scene_file)) {
       out.push_back(std::move(line));
     }
+  }
+  if (now.ceiling_pitch && recorded.format < 4) {
+    out.push_back(
+        "cameras.domain \"ceiling\": now pitch −90°…0° (looking down or level); this run "
+        "file (format " +
+        std::to_string(recorded.format) +
+        ", camplace before issue 14) was made when ceiling cameras could look up");
   }
   compare("mode", recorded.mode, now.mode);
   if (recorded.resolution && now.resolution) {

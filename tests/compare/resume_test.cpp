@@ -181,6 +181,38 @@ TEST(StudyResume, RunFilesWithoutProvenanceAreComparedWithTheFoldersSceneCopy) {
       << r.output;
 }
 
+TEST(StudyResume, RunsMadeWhenCeilingCamerasCouldLookUpAreRefused) {
+  // Before run file format 4 (issue 14) the ceiling preset let cameras look up: such runs of a
+  // ceiling group are not runs of the study as it is now, though the scene's text is the same.
+  // (The test above resumes format-1 runs of a room-domain group.)
+  const std::string dir = temp_dir("study-resume-ceiling");
+  const std::string study = dir + "/study.json";
+  const std::string out = dir + "/out";
+  write_file(
+      study,
+      study_json({{"examinations", R"([{"name": "ceiling", "family": "domain_ceiling"}])"}}));
+  CommandResult r = camplace("study " + study + " --out " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = camplace("study " + study + " --out " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("runs: 2 (2 found, 0 run now)"), std::string::npos) << r.output;
+  const std::string run_file = out + "/runs/domain_ceiling/run-2.json";
+  nlohmann::ordered_json run = nlohmann::ordered_json::parse(read(run_file));
+  run["format_version"] = 3;
+  run.erase("objective");  // format 3 had neither
+  run.erase("tie_breaker");
+  write_file(run_file, run.dump(2) + "\n");
+  r = camplace("study " + study + " --out " + out);
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("runs/domain_ceiling/run-2.json: cameras.domain \"ceiling\": now pitch "
+                          "−90°…0° (looking down or level); this run file (format 3"),
+            std::string::npos)
+      << r.output;
+  r = camplace("study " + study + " --out " + out + " --restart");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("runs: 2 (0 found, 2 run now)"), std::string::npos) << r.output;
+}
+
 // A small cell (as in validation_test.cpp): exact evaluations take a few milliseconds.
 const char* kCell = R"({
   "area": {"min": [0, 0, 0], "max": [4, 3, 3]},

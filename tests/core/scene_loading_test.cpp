@@ -159,6 +159,14 @@ TEST(SceneLoading, CeilingPresetPitchStaysDownUnlessGiven) {
   EXPECT_DOUBLE_EQ(s.cameras.domains[1].pitch.hi, pi / 2);
   EXPECT_DOUBLE_EQ(s.cameras.domains[1].yaw.lo, -pi / 2);
   EXPECT_EQ(s.cameras.domains[1].z.lo, s.cameras.domains[1].z.hi);
+  // Only the preset's own pitch range is marked (what resuming old run files checks).
+  EXPECT_TRUE(s.cameras.domains[0].ceiling_pitch);
+  EXPECT_FALSE(s.cameras.domains[1].ceiling_pitch);
+  EXPECT_TRUE(core::has_ceiling_pitch(s.cameras));
+  scene["cameras"]["domain"] = "room";
+  scene["cameras"]["camera_domains"] = {nullptr, "upper_fourth"};
+  const core::Scene room = core::load_scene(write_scene(scene, "room-pitch"));
+  EXPECT_FALSE(core::has_ceiling_pitch(room.cameras));
 }
 
 TEST(SceneLoading, PaperBasicHasTheSetupOfTheTable) {

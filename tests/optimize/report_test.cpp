@@ -379,6 +379,26 @@ TEST(Resume, SettingsChangesNameEachDifferingSettingOldToNew) {
   EXPECT_TRUE(settings_changes(recorded, now).empty());
 }
 
+// Run files of formats 1–3 were made when the ceiling preset let cameras look up: with a
+// ceiling domain now, they are not runs of the same problem; other domains are unchanged.
+TEST(Resume, RunsOfTheOldCeilingPresetAreAChange) {
+  RunSettings recorded = full_settings();
+  RunSettings now = recorded;
+  now.ceiling_pitch = true;
+  for (int format : {1, 2, 3}) {
+    recorded.format = format;
+    const auto changes = settings_changes(recorded, now);
+    ASSERT_EQ(changes.size(), 1u) << format;
+    EXPECT_NE(changes[0].find("cameras.domain \"ceiling\""), std::string::npos) << changes[0];
+    EXPECT_NE(changes[0].find("format " + std::to_string(format)), std::string::npos);
+    now.ceiling_pitch = false;
+    EXPECT_TRUE(settings_changes(recorded, now).empty()) << format;
+    now.ceiling_pitch = true;
+  }
+  recorded.format = kRunFileFormat;
+  EXPECT_TRUE(settings_changes(recorded, now).empty());
+}
+
 TEST(Resume, RecordedSettingsAreWhatTheRunFileSays) {
   RunResult run;
   run.best = core::CameraConfig(2);
@@ -415,6 +435,13 @@ TEST(Resume, RecordedSettingsAreWhatTheRunFileSays) {
   EXPECT_EQ(s.population, 24);
   EXPECT_EQ(s.seed, 9u);
   EXPECT_EQ(s.threads, 3);
+  EXPECT_EQ(s.format, kRunFileFormat);
+  // The format the file says; 1 without the key.
+  nlohmann::ordered_json old = run_json(run, context);
+  old["format_version"] = 3;
+  EXPECT_EQ(recorded_settings(run_from_json(old, "run-9.json")).format, 3);
+  old.erase("format_version");
+  EXPECT_EQ(recorded_settings(run_from_json(old, "run-9.json")).format, 1);
 }
 
 TEST(Resume, CheckResumeListsEachChangeOnceAndDiscardRunsRemovesOnlyCamplaceFiles) {

@@ -60,6 +60,10 @@ struct CameraDomain {
   Interval pitch{-kPi / 2, kPi / 2};
   Interval roll{0.0, 0.0};
   std::optional<Mount> mount;
+  /// The pitch range is the "ceiling" preset's [−90°, 0] (no `pitch_deg` of its own). Run files
+  /// of formats 1–3 were made when that preset let cameras look up (pitch up to +90°): resuming
+  /// such a run with such a domain is refused (optimize::settings_changes).
+  bool ceiling_pitch = false;
 };
 
 /// A keep-out box (`cameras.keep_out`): no camera may be placed in its interior. Positions on
@@ -106,6 +110,9 @@ struct CameraSpec {
   /// True when every camera has the same model (the single-model form).
   bool one_model() const;
 };
+
+/// Whether some camera's domain has the "ceiling" preset's pitch range (CameraDomain).
+bool has_ceiling_pitch(const CameraSpec& cameras);
 
 /// The model the exact pipeline uses for `model` (SPEC §1): a cone becomes its inscribed
 /// regular `sides`-sided pyramid; pyramids and frusta stay as they are.

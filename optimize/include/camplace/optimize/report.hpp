@@ -52,6 +52,7 @@ nlohmann::ordered_json run_json(const RunResult& run, const RunContext& context)
 struct RunFile {
   RunResult run;
   RunContext context;
+  int format_version = kRunFileFormat;  ///< as the file says (1 when it does not)
 };
 
 /// The inverse of run_json: run_json(run_from_json(j).run, ...context) gives j again (apart
@@ -90,6 +91,11 @@ struct RunSettings {
   /// Threads of batch evaluation. The Err does not depend on them (optimize()), the timings do:
   /// `study` compares them (its report states them and plots timings), `optimize` does not.
   std::optional<int> threads;
+  /// The run file's format (recorded), or kRunFileFormat (now).
+  int format = kRunFileFormat;
+  /// Now: some camera's domain has the ceiling preset's pitch range (core::has_ceiling_pitch),
+  /// which formats 1–3 did not have (their ceiling cameras could look up).
+  bool ceiling_pitch = false;
 };
 
 /// What a run file records about its settings (all members but `scene` of a file without
