@@ -6,8 +6,8 @@ set ylabel 'exact Err [m²]'
 set logscale xy
 set grid
 set key outside right top box
-set xrange [0.004459152:4.540406711]
-set yrange [0.004459152:4.540406711]
+set xrange [0.004131617:4.540406711]
+set yrange [0.004131617:4.540406711]
 set arrow 1 from 0.020833333, graph 0 to 0.020833333, graph 1 nohead dt 2 lc rgb 'gray40'
 set arrow 2 from graph 0, first 0.020833333 to graph 1, first 0.020833333 nohead dt 2 lc rgb 'gray40'
 set arrow 3 from 0.046875000, graph 0 to 0.046875000, graph 1 nohead dt 2 lc rgb 'gray40'
