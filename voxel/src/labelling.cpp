@@ -699,8 +699,8 @@ VoxelEvaluator::Impl::Cone VoxelEvaluator::Impl::cone_test(const TriangleCone& t
 ///    returns Cone::miss for every voxel inside (not near_miss, which would test back faces).
 /// Then judge() finds no candidate for any voxel inside, and each voxel is free for the camera.
 /// tests/voxel/legacy_equivalence_test.cpp compares the models it gives with the old labeller's.
-bool VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& lo,
-                                       const Vec3& hi) const {
+bool VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& lo, const Vec3& hi,
+                                       bool* in_view) const {
   const Vec3 center = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
   const Vec3 w = center - cam.c;
   const double d = w.norm(), r = half.norm();
@@ -724,6 +724,7 @@ bool VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& lo,
   const double box_z = cam.abs_axis.dot(half);
   const double z_lo = z - box_z, z_hi = z + box_z;
   if (!(z_lo > 0.0)) return false;
+  if (in_view) *in_view = true;
   const double x0 = x - box_x, x1 = x + box_x, y0 = y - box_y, y1 = y + box_y;
   double vx0 = x0 / (x0 >= 0 ? z_hi : z_lo), vx1 = x1 / (x1 >= 0 ? z_lo : z_hi);
   double vy0 = y0 / (y0 >= 0 ? z_hi : z_lo), vy1 = y1 / (y1 >= 0 ? z_lo : z_hi);
@@ -953,16 +954,25 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
     // voxels, then the 2³ blocks of those that no camera cleared for every state; then voxel by
     // voxel.
     constexpr int kBlock = 4;
+    std::vector<std::uint8_t> block_view(n_cam, 0);  // per camera: the 4³ block in its FOV
     auto visit = [&](int i0, int i1, int j0, int j1, int k0, int k1, int size, StateMask clear,
                      auto& self) -> void {
       if (conservative && (i1 - i0) * (j1 - j0) * (k1 - k0) > 1) {
         const Vec3 lo(box_min[0][i0], box_min[1][j0], box_min[2][k0]);
         const Vec3 hi(box_max[0][i1 - 1], box_max[1][j1 - 1], box_max[2][k1 - 1]);
-        // Every camera, from the last one to clear a block on (a 2³ block that a camera clears
-        // saves 8 voxels' FOV tests and judge() calls for ~n_cam block_clear calls).
+        // Every camera on the 4³ blocks, from the last one to clear a block on; on their 2³
+        // blocks that one and those that saw the whole 4³ block in their FOV (a triangle kept
+        // it from being clear; a 2³ block may miss that triangle). Which cameras are tried
+        // changes no label: block_clear holds for any camera.
+        const bool top = size == kBlock;
+        if (top) std::fill(block_view.begin(), block_view.end(), 0);
         for (std::size_t step = 0; step < n_cam && clear != all; ++step) {
           const std::size_t c = (block_hint + step) % n_cam;
-          if ((seeing[c] & ~clear) && block_clear(cameras[c], lo, hi)) {
+          if (!top && step > 0 && !block_view[c]) continue;
+          bool in_view = false;
+          const bool cleared = (seeing[c] & ~clear) && block_clear(cameras[c], lo, hi, &in_view);
+          if (top) block_view[c] = in_view;
+          if (cleared) {
             clear |= seeing[c];
             block_hint = c;
           }
