@@ -553,6 +553,7 @@ void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d
   bool exact_ready = false;
   ++scratch.visit;  // the bins' lists repeat triangles; `everywhere` holds others
   // True when `out` changed. `once`: t cannot come up again for this voxel (no stamp needed).
+  // Inlined into judge_candidates' loops (GCC and Clang): 5% of an evaluation at 36×27×27.
   auto test = [&](int t, bool once) __attribute__((always_inline)) {
     if (!once) {
       if (scratch.stamp[t] == scratch.visit) return false;
