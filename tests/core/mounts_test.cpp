@@ -144,11 +144,17 @@ TEST(Mount, BadMountsAndKeepOutAreRejected) {
   expect_rejected(write_scene(room, "flat-box"), "/cameras/keep_out/0", "degenerate");
 }
 
-TEST(KeepOut, RepairMovesToTheNearestFreePoint) {
+/// The box domain [0, 4] × [0, 3] × [0, 3] (m), angles unrestricted.
+core::CameraDomain room_domain() {
   core::CameraDomain room;
   room.x = {0, 4};
   room.y = {0, 3};
   room.z = {0, 3};
+  return room;
+}
+
+TEST(KeepOut, RepairMovesToTheNearestFreePoint) {
+  const core::CameraDomain room = room_domain();
   std::vector<core::KeepOut> boxes(1);
   boxes[0].box = {core::Vec3(1, 1, 0), core::Vec3(3, 2, 2.5)};
   // Nearest face: x = 1 (0.2 away) for (1.2, 1.5, 1); y = 1 (0.4 away) for (2, 1.4, 1).
@@ -185,10 +191,7 @@ TEST(KeepOut, RepairMovesToTheNearestFreePoint) {
 // Against a brute-force search on a fine grid: the repair is free, in the domain and no farther
 // than the nearest free grid point (up to the grid's spacing).
 TEST(KeepOut, RepairIsNoFartherThanABruteForceSearch) {
-  core::CameraDomain room;
-  room.x = {0, 4};
-  room.y = {0, 3};
-  room.z = {0, 3};
+  const core::CameraDomain room = room_domain();
   std::vector<core::KeepOut> boxes(3);
   boxes[0].box = {core::Vec3(0.5, 0.5, 0), core::Vec3(2.5, 2, 2)};
   boxes[1].box = {core::Vec3(2, 1, 1), core::Vec3(3.5, 3, 3)};

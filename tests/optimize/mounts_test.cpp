@@ -23,22 +23,7 @@ namespace {
 using nlohmann::json;
 constexpr double kDeg = M_PI / 180.0;
 
-std::string temp_path(const std::string& name) {
-  return (std::filesystem::temp_directory_path() /
-          ("camplace-mounts-" + std::to_string(::getpid()) + "-" + name))
-      .string();
-}
-
-/// The small scene (S = 3 × 3 × 2.5 m) with `cameras` merged into its cameras block.
-core::Scene scene_with(const json& cameras, const std::string& name) {
-  json s = json::parse(testing::small_scene_json("\"room\""));
-  s["cameras"].update(cameras);
-  const std::string path = temp_path(name + ".json");
-  std::ofstream(path) << s.dump(1);
-  core::Scene scene = core::load_scene(path);
-  std::filesystem::remove(path);
-  return scene;
-}
+using testing::temp_path;
 
 json two_mounts() {
   return json::parse(R"({
@@ -52,7 +37,7 @@ json two_mounts() {
 }
 
 TEST(MountEncoding, DecisionVectorHoldsSurfaceCoordinatesAndRelativeAngles) {
-  const core::Scene scene = scene_with(two_mounts(), "encoding");
+  const core::Scene scene = testing::small_scene_with(two_mounts());
   const Encoding encoding(scene);
   // Cones: s, t, yaw', pitch' on each mount, 5 variables for the room camera.
   ASSERT_EQ(encoding.dimension(), 4u + 4u + 5u);
@@ -86,7 +71,7 @@ TEST(MountEncoding, DecisionVectorHoldsSurfaceCoordinatesAndRelativeAngles) {
 }
 
 TEST(MountEncoding, CornerStartLiesOnTheMounts) {
-  const core::Scene scene = scene_with(two_mounts(), "corner");
+  const core::Scene scene = testing::small_scene_with(two_mounts());
   const core::CameraConfig c = corner_start(scene);
   EXPECT_DOUBLE_EQ(c[0].position.z(), 2.5);
   EXPECT_DOUBLE_EQ(c[1].position.y(), 3.0);
@@ -99,7 +84,7 @@ TEST(MountEncoding, CornerStartLiesOnTheMounts) {
 TEST(MountEncoding, StartFilesOffTheirMountsOrInKeepOutAreRefused) {
   json cams = two_mounts();
   cams["keep_out"] = json::parse(R"([{"name": "reach", "min": [0, 0, 0], "max": [1, 1, 2]}])");
-  const core::Scene scene = scene_with(cams, "start");
+  const core::Scene scene = testing::small_scene_with(cams);
   VoxelObjective objective(scene, {});
   const auto run_from = [&](const core::CameraConfig& config, const std::string& name) {
     const std::string path = temp_path(name + ".json");
@@ -152,7 +137,7 @@ TEST(KeepOutRun, NoCameraEndsInAKeepOutBox) {
     "keep_out": [{"name": "big", "min": [-1, -1, -1], "max": [2.7, 4, 2.2]},
                  {"name": "top", "min": [0.5, 0.5, 2.0], "max": [2.9, 2.9, 3]}]
   })");
-  const core::Scene scene = scene_with(cams, "keep-out");
+  const core::Scene scene = testing::small_scene_with(cams);
   const Encoding encoding(scene);
   const auto [lo, hi] = encoding.bounds();
   std::mt19937 rng(5);

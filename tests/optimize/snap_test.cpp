@@ -24,17 +24,12 @@ namespace {
 using nlohmann::json;
 constexpr double kDeg = M_PI / 180.0;
 
-std::string temp_path(const std::string& name) {
-  return (std::filesystem::temp_directory_path() /
-          ("camplace-snap-" + std::to_string(::getpid()) + "-" + name))
-      .string();
-}
+using testing::temp_path;
 
 /// The small scene with a ceiling mount (camera 0), a wall mount (camera 1), a box domain
 /// (camera 2) and a keep-out box over the robot.
 core::Scene snap_scene() {
-  json s = json::parse(testing::small_scene_json("\"room\""));
-  s["cameras"].update(json::parse(R"({
+  return testing::small_scene_with(json::parse(R"({
     "mounts": [
       {"name": "ceiling", "corner": [0, 0, 2.5], "edges": [[0, 3, 0], [3, 0, 0]],
        "pitch_deg": [-40, 40], "yaw_deg": [-40, 40]},
@@ -44,11 +39,6 @@ core::Scene snap_scene() {
     "camera_domains": [{"mount": "ceiling"}, {"mount": "wall"},
                        {"x": [0.05, 2.95], "y": [0.05, 2.95], "z": [1.0, 2.45]}]
   })"));
-  const std::string path = temp_path("scene.json");
-  std::ofstream(path) << s.dump(1);
-  core::Scene scene = core::load_scene(path);
-  std::filesystem::remove(path);
-  return scene;
 }
 
 /// True when v is a multiple of step (relative rounding 1e-9) or one of the bounds.

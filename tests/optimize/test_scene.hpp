@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "camplace/core/scene.hpp"
@@ -33,19 +34,33 @@ inline std::string small_scene_json(const std::string& domain) {
 })";
 }
 
-/// Writes the small scene with the given domain (a JSON value, e.g. "\"room\"") and loads it.
-inline core::Scene small_scene(const std::string& domain = "\"room\"") {
+/// A path in the temporary directory named after this process and `name`.
+inline std::string temp_path(const std::string& name) {
+  return (std::filesystem::temp_directory_path() /
+          ("camplace-optimize-test-" + std::to_string(::getpid()) + "-" + name))
+      .string();
+}
+
+/// Writes the scene text to a temporary file and loads it.
+inline core::Scene load_scene_text(const std::string& text) {
   static int counter = 0;
-  const auto path = std::filesystem::temp_directory_path() /
-                    ("camplace-optimize-test-" + std::to_string(::getpid()) + "-" +
-                     std::to_string(counter++) + ".json");
-  {
-    std::ofstream out(path);
-    out << small_scene_json(domain);
-  }
-  core::Scene scene = core::load_scene(path.string());
+  const std::string path = temp_path("scene-" + std::to_string(counter++) + ".json");
+  std::ofstream(path) << text;
+  core::Scene scene = core::load_scene(path);
   std::filesystem::remove(path);
   return scene;
+}
+
+/// Writes the small scene with the given domain (a JSON value, e.g. "\"room\"") and loads it.
+inline core::Scene small_scene(const std::string& domain = "\"room\"") {
+  return load_scene_text(small_scene_json(domain));
+}
+
+/// The small scene (domain "room") with `cameras` merged into its cameras block, loaded.
+inline core::Scene small_scene_with(const nlohmann::json& cameras) {
+  nlohmann::json s = nlohmann::json::parse(small_scene_json("\"room\""));
+  s["cameras"].update(cameras);
+  return load_scene_text(s.dump(1));
 }
 
 }  // namespace camplace::optimize::testing

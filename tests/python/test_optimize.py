@@ -25,11 +25,16 @@ def comparable(run):
     return out
 
 
-def test_run_equals_the_command_lines_run_file(paper, tmp_path):
-    result = run_cli("optimize", SCENE, "--mode", "center", "--max-evals", 150, "--threads", 1,
-                     "--seed", 3, "--algorithm", "gaco", "--quiet", "--out", tmp_path)
+def cli_run_file(out, seed, evaluations, *options):
+    """The run file of `camplace optimize` on the scene, center mode, one thread."""
+    result = run_cli("optimize", SCENE, "--mode", "center", "--max-evals", evaluations,
+                     "--threads", 1, "--seed", seed, *options, "--quiet", "--out", out)
     assert result.returncode == 0, result.stderr
-    expected = json.loads((tmp_path / "run-3.json").read_text())
+    return json.loads((out / f"run-{seed}.json").read_text())
+
+
+def test_run_equals_the_command_lines_run_file(paper, tmp_path):
+    expected = cli_run_file(tmp_path, 3, 150, "--algorithm", "gaco")
     got = camplace.optimize(paper, mode="center", max_evaluations=150, threads=1, seed=3,
                             algorithm="gaco")
     assert comparable(got) == comparable(expected)
@@ -118,10 +123,7 @@ def test_algorithms_are_the_command_lines(paper):
 
 
 def test_objective_err_equals_the_command_lines_and_is_recorded(paper, tmp_path):
-    result = run_cli("optimize", SCENE, "--mode", "center", "--max-evals", 120, "--threads", 1,
-                     "--seed", 2, "--objective", "err", "--quiet", "--out", tmp_path)
-    assert result.returncode == 0, result.stderr
-    expected = json.loads((tmp_path / "run-2.json").read_text())
+    expected = cli_run_file(tmp_path, 2, 120, "--objective", "err")
     got = camplace.optimize(paper, mode="center", max_evaluations=120, threads=1, seed=2,
                             objective="err")
     assert comparable(got) == comparable(expected)
