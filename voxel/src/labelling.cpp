@@ -87,6 +87,18 @@ BinRange bin_range(const CameraSetup& cam, double xlo, double xhi, double ylo, d
           bin_of(cam, yhi + py, 1)};
 }
 
+/// The rectangle (x0, x1, y0, y1) of image coordinates (X/Z, Y/Z) holding the projection of a
+/// box whose centre is at (x, y, z) in the camera frame and whose half extents along ex, ey and
+/// the axis are (bx, by, bz), the box lying wholly in front of the camera (z − bz > 0): each
+/// bound is the min or max of (x ± bx) / (z ± bz).
+std::array<double, 4> box_projection(double x, double y, double z, double bx, double by,
+                                     double bz) {
+  const double z_lo = z - bz, z_hi = z + bz;
+  const double x0 = x - bx, x1 = x + bx, y0 = y - by, y1 = y + by;
+  return {x0 / (x0 >= 0 ? z_hi : z_lo), x1 / (x1 >= 0 ? z_lo : z_hi), y0 / (y0 >= 0 ? z_hi : z_lo),
+          y1 / (y1 >= 0 ? z_lo : z_hi)};
+}
+
 }  // namespace
 
 CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera,
@@ -537,15 +549,14 @@ void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d
   double vx0 = -inf, vx1 = inf, vy0 = -inf, vy1 = inf;  // the box's projection lies inside
   const double box_x = cam.box_x * size.factor, box_y = cam.box_y * size.factor;
   const double box_z = cam.box_z * size.factor;
-  const double z_lo = z - box_z, z_hi = z + box_z;
+  const double z_lo = z - box_z;
   if (z_lo > 0.0) {
-    // The box's projection lies in [min, max] of (x ± rx) / (z ± rz), each axis (the
-    // triangles' rectangles are padded, these need not be).
-    const double x0 = x - box_x, x1 = x + box_x, y0 = y - box_y, y1 = y + box_y;
-    vx0 = x0 / (x0 >= 0 ? z_hi : z_lo);
-    vx1 = x1 / (x1 >= 0 ? z_lo : z_hi);
-    vy0 = y0 / (y0 >= 0 ? z_hi : z_lo);
-    vy1 = y1 / (y1 >= 0 ? z_lo : z_hi);
+    // (The triangles' rectangles are padded, this one need not be.)
+    const auto r = box_projection(x, y, z, box_x, box_y, box_z);
+    vx0 = r[0];
+    vx1 = r[1];
+    vy0 = r[2];
+    vy1 = r[3];
   }
   // Needed only once a triangle gets to the cone test.
   Vec3 wc;            // the previous labeller's dir · dist
@@ -723,12 +734,10 @@ bool VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& lo, c
   const double x = w.dot(cam.ex), y = w.dot(cam.ey);
   const double box_x = cam.abs_ex.dot(half), box_y = cam.abs_ey.dot(half);
   const double box_z = cam.abs_axis.dot(half);
-  const double z_lo = z - box_z, z_hi = z + box_z;
-  if (!(z_lo > 0.0)) return false;
+  if (!(z - box_z > 0.0)) return false;
   if (in_view) *in_view = true;
-  const double x0 = x - box_x, x1 = x + box_x, y0 = y - box_y, y1 = y + box_y;
-  double vx0 = x0 / (x0 >= 0 ? z_hi : z_lo), vx1 = x1 / (x1 >= 0 ? z_lo : z_hi);
-  double vy0 = y0 / (y0 >= 0 ? z_hi : z_lo), vy1 = y1 / (y1 >= 0 ? z_lo : z_hi);
+  const auto proj = box_projection(x, y, z, box_x, box_y, box_z);
+  double vx0 = proj[0], vx1 = proj[1], vy0 = proj[2], vy1 = proj[3];
   // Padded against rounding (a voxel's projection is computed from other numbers).
   const double px = kMargin * (1.0 + std::max(std::abs(vx0), std::abs(vx1)));
   const double py = kMargin * (1.0 + std::max(std::abs(vy0), std::abs(vy1)));
