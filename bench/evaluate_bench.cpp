@@ -13,12 +13,14 @@
 //  - BM_ConstructRefine/<L>: building that evaluator (octree obstacle tables, refined bound);
 //  - BM_LegacyLabelling/<mode>/<r>: the labelling stage of the labeller issue 11 replaced
 //    (tests/support/legacy_labeller.cpp), same configuration;
-//  - BM_ReferenceLabelling/<r>: the brute-force reference (tests/support/reference.cpp: every
-//    voxel centre, camera and state, ray against every triangle), center-mode model only;
+//  - BM_ReferenceLabelling/<mode>/<r>: the brute-force reference labelling of that mode's model
+//    (tests/support/reference.cpp: every voxel, state and camera, every triangle; center: the ray
+//    through the voxel centre, conservative: each triangle's cone against the voxel box);
 // with r = 0..3 for 16×12×12, 36×27×27, 64×48×48 and 128×96×96. At the end it prints the
-// speed-ups of a full evaluation over the legacy labelling and over the brute-force reference
-// (CPU time). Without --benchmark_filter it runs the short default set (r ≤ 1, single thread,
-// and the construction at r ≤ 2); `--benchmark_filter=.` runs everything.
+// speed-ups of a full evaluation over the legacy labelling, over the brute-force reference of
+// the same mode and, for conservative mode, over the center reference too (CPU time). Without
+// --benchmark_filter it runs the short default set (r ≤ 1, single thread, and the construction at r
+// ≤ 2); `--benchmark_filter=.` runs everything.
 //   build/release/bench/evaluate_bench [--benchmark_filter=REGEX]
 #include <benchmark/benchmark.h>
 
@@ -153,11 +155,13 @@ void BM_LegacyLabelling(benchmark::State& state, voxel::LabelMode mode) {
   }
 }
 
-// The brute-force reference: every voxel centre, camera and state, ray against every triangle;
-// then the model as in center mode (free for some camera → out). Labelling only.
-void BM_ReferenceLabelling(benchmark::State& state) {
+// The brute-force reference labelling of one mode (tests/support/reference.cpp): every voxel,
+// state and camera (until one sees the voxel free), every triangle; then the model (free for
+// some camera → out). Center mode: the ray through the voxel centre against every triangle;
+// conservative mode: every triangle's cone against the voxel box (reference_box_label).
+void BM_ReferenceLabelling(benchmark::State& state, voxel::LabelMode mode) {
   const core::Scene& scene = paper_scene();
-  const voxel::VoxelEvaluator evaluator(scene, options(voxel::LabelMode::center, state.range(0)));
+  const voxel::VoxelEvaluator evaluator(scene, options(mode, state.range(0)));
   const auto all_states = core::states(scene);
   for (auto _ : state) {
     int in_model = 0;
@@ -165,9 +169,13 @@ void BM_ReferenceLabelling(benchmark::State& state) {
       for (int v = 0; v < evaluator.grid().count(); ++v) {
         bool free = false;
         for (const auto& camera : corners()) {
-          free = testing::reference_label(scene, st.time_step, st.event, camera,
-                                          evaluator.grid().voxel_center(v))
-                     .label == voxel::Label::free;
+          const testing::ReferenceLabel label =
+              mode == voxel::LabelMode::center
+                  ? testing::reference_label(scene, st.time_step, st.event, camera,
+                                             evaluator.grid().voxel_center(v))
+                  : testing::reference_box_label(scene, st.time_step, st.event, camera,
+                                                 evaluator.grid().voxel_box(v));
+          free = label.label == voxel::Label::free;
           if (free) break;
         }
         in_model += !free;
@@ -207,7 +215,12 @@ BENCHMARK_CAPTURE(BM_LegacyLabelling, conservative, LabelMode::conservative)
 BENCHMARK_CAPTURE(BM_LegacyLabelling, center, LabelMode::center)
     ->DenseRange(0, 3)
     ->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_ReferenceLabelling)->DenseRange(0, 1)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_ReferenceLabelling, conservative, LabelMode::conservative)
+    ->DenseRange(0, 1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_ReferenceLabelling, center, LabelMode::center)
+    ->DenseRange(0, 1)
+    ->Unit(benchmark::kMillisecond);
 
 // Remembers each run's CPU time per iteration (the median of repetitions) so main can print
 // the ratios.
@@ -229,7 +242,7 @@ class RatioReporter : public benchmark::ConsoleReporter {
 // The default set: everything at r ≤ 1 single-threaded, the construction up to r = 2.
 constexpr const char* kDefaultFilter =
     "^(BM_Evaluate/[a-z]+/[01]/1|BM_(LegacyLabelling|EvaluateRandom)/[a-z]+/[01]|"
-    "BM_ReferenceLabelling/[01]|BM_Construct/[a-z]+/[012])$";
+    "BM_ReferenceLabelling/[a-z]+/[01]|BM_Construct/[a-z]+/[012])$";
 
 }  // namespace
 
@@ -250,14 +263,23 @@ int main(int argc, char** argv) {
       if (!t.count(fast)) continue;
       const std::string legacy =
           "BM_LegacyLabelling/" + std::string(mode) + "/" + std::to_string(r);
-      const std::string ref = "BM_ReferenceLabelling/" + std::to_string(r);
+      const std::string ref =
+          "BM_ReferenceLabelling/" + std::string(mode) + "/" + std::to_string(r);
+      const std::string center_ref = "BM_ReferenceLabelling/center/" + std::to_string(r);
       std::printf("%s, %s: a full evaluation (%.3f ms CPU)", kResolutionNames[r], mode, t[fast]);
+      const char* joint = " is";
       if (t.count(legacy)) {
-        std::printf(" is %.1fx faster than the legacy labelling alone", t[legacy] / t[fast]);
+        std::printf("%s %.1fx faster than the legacy labelling alone", joint, t[legacy] / t[fast]);
+        joint = ",";
       }
       if (t.count(ref)) {
-        std::printf("%s %.1fx faster than the brute-force reference labelling",
-                    t.count(legacy) ? " and" : " is", t[ref] / t[fast]);
+        std::printf("%s %.1fx faster than the brute-force %s reference labelling", joint,
+                    t[ref] / t[fast], mode);
+        joint = ",";
+      }
+      if (ref != center_ref && t.count(center_ref)) {
+        std::printf("%s %.1fx faster than the brute-force center reference labelling", joint,
+                    t[center_ref] / t[fast]);
       }
       std::printf("\n");
     }

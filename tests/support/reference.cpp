@@ -1,5 +1,7 @@
 #include "reference.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -38,46 +40,20 @@ Hit ray_hits(const Vec3& o, const Vec3& u, const Vec3& a, const Vec3& b, const V
   return hit;
 }
 
-struct Object {
-  const core::TriangleMesh* mesh;
-  bool occupying;
+// Whether p lies in the camera's FOV, computed from the angles directly; `ambiguous` when p
+// lies within `margin` of the FOV's boundary.
+struct FovTest {
+  bool inside = false;
+  bool ambiguous = false;
 };
-}  // namespace
 
-bool reference_inside(const core::TriangleMesh& mesh, const Vec3& p) {
-  const Vec3 dir = Vec3(0.5773, 0.5774, 0.5775).normalized();
-  int crossings = 0;
-  for (const auto& t : mesh.triangles) {
-    if (ray_hits(p, dir, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]).t > 0)
-      ++crossings;
-  }
-  return crossings % 2 == 1;
-}
-
-ReferenceLabel reference_label(const core::Scene& scene, int time_step, int event,
-                               const core::CameraSetting& camera, const Vec3& p, double margin,
-                               int camera_index) {
-  const core::CameraModel& model = scene.cameras.models.at(camera_index);
-  ReferenceLabel out;
-  const bool masked = scene.dynamic_mode == core::DynamicMode::masked;
-  std::vector<Object> objects;
-  for (const auto& o : scene.static_obstacles) objects.push_back({&o.mesh, false});
-  const auto& step = scene.time_steps[time_step];
-  for (const auto& o : step.dynamic_obstacles) objects.push_back({&o.mesh, masked});
-  for (const auto& o : step.events[event].targets) objects.push_back({&o.mesh, true});
-  const Vec3 c = camera.position;
-  for (const Object& o : objects) {
-    if (reference_inside(*o.mesh, c)) return out;  // blind camera
-  }
-  // FOV, computed from the angles directly.
+FovTest fov_test(const core::CameraModel& model, const core::CameraSetting& camera, const Vec3& p,
+                 double margin) {
+  FovTest out;
   const double yaw = camera.yaw, pitch = camera.pitch;
   const Vec3 d(std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw), std::sin(pitch));
-  const Vec3 v = p - c;
+  const Vec3 v = p - camera.position;
   const double dist = v.norm();
-  if (dist < margin) {
-    out.ambiguous = true;
-    return out;
-  }
   const double alpha = model.half_angle;
   const double axial = v.dot(d);
   if (model.range) {
@@ -127,6 +103,126 @@ ReferenceLabel reference_label(const core::Scene& scene, int time_step, int even
       if (side < 0) return out;
     }
   }
+  out.inside = true;
+  return out;
+}
+
+struct Object {
+  const core::TriangleMesh* mesh;
+  bool occupying;
+};
+
+// The objects of state (h, l) with their role (SPEC §3: targets, and dynamic obstacles in
+// masked mode, occupy).
+std::vector<Object> state_objects(const core::Scene& scene, int time_step, int event) {
+  const bool masked = scene.dynamic_mode == core::DynamicMode::masked;
+  std::vector<Object> objects;
+  for (const auto& o : scene.static_obstacles) objects.push_back({&o.mesh, false});
+  const auto& step = scene.time_steps[time_step];
+  for (const auto& o : step.dynamic_obstacles) objects.push_back({&o.mesh, masked});
+  for (const auto& o : step.events[event].targets) objects.push_back({&o.mesh, true});
+  return objects;
+}
+
+// Distance from p to the segment [a, b].
+double point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 ab = b - a;
+  const double t = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+  return (a + t * ab - p).norm();
+}
+
+// Distance from p to the triangle (a, b, e): the plane's when p projects inside, else the
+// nearest edge's.
+double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& e) {
+  const Vec3 n = (b - a).cross(e - a);
+  const double area = n.squaredNorm();
+  const Vec3 q = p - n * (n.dot(p - a) / area);  // p projected onto the plane
+  const double w0 = n.dot((b - q).cross(e - q)) / area;
+  const double w1 = n.dot((e - q).cross(a - q)) / area;
+  if (w0 >= 0 && w1 >= 0 && w0 + w1 <= 1) return (p - q).norm();
+  return std::min({point_segment_distance(p, a, b), point_segment_distance(p, b, e),
+                   point_segment_distance(p, e, a)});
+}
+
+// How deep the box (centre at `w` from the apex, half extents h) reaches into the cone
+// {Σ λ_i n-planes ≥ 0}: t* = max over x in the box of min_i n_i·x (n_i the cone's unit inward
+// plane normals, x relative to the apex); the cone meets the box iff t* ≥ 0. Computed by LP
+// duality, not by separating axes: t* = min over μ in the simplex of
+// F(μ) = Σ_i μ_i n_i·w + Σ_k |m_k(μ)| h_k with m(μ) = Σ_i μ_i n_i, a convex function that is
+// linear between the lines m_k(μ) = 0; so its minimum lies at a vertex of the simplex cut by
+// those lines, and every such vertex is tried.
+double cone_box_depth(const std::array<Vec3, 3>& n, const Vec3& w, const Vec3& h) {
+  // μ = (1 − a − b, a, b).
+  auto value = [&](double a, double b) {
+    const double mu[3] = {1.0 - a - b, a, b};
+    const Vec3 m = mu[0] * n[0] + mu[1] * n[1] + mu[2] * n[2];
+    return mu[0] * n[0].dot(w) + mu[1] * n[1].dot(w) + mu[2] * n[2].dot(w) + m.cwiseAbs().dot(h);
+  };
+  auto in_simplex = [](double a, double b) {
+    constexpr double eps = 1e-12;
+    return a >= -eps && b >= -eps && a + b <= 1.0 + eps;
+  };
+  double best = std::min({value(0, 0), value(1, 0), value(0, 1)});
+  // Line k: p_k + q_k a + r_k b = 0.
+  double p[3], q[3], r[3];
+  for (int k = 0; k < 3; ++k) {
+    p[k] = n[0][k];
+    q[k] = n[1][k] - n[0][k];
+    r[k] = n[2][k] - n[0][k];
+  }
+  auto consider = [&](double a, double b) {
+    if (in_simplex(a, b)) {
+      a = std::clamp(a, 0.0, 1.0);
+      b = std::clamp(b, 0.0, 1.0 - a);
+      best = std::min(best, value(a, b));
+    }
+  };
+  for (int k = 0; k < 3; ++k) {
+    if (q[k] != 0) consider(-p[k] / q[k], 0.0);  // edge b = 0
+    if (r[k] != 0) consider(0.0, -p[k] / r[k]);  // edge a = 0
+    if (q[k] != r[k]) {                          // edge a + b = 1
+      const double a = -(p[k] + r[k]) / (q[k] - r[k]);
+      consider(a, 1.0 - a);
+    }
+    for (int j = k + 1; j < 3; ++j) {  // two lines
+      const double det = q[k] * r[j] - q[j] * r[k];
+      if (det == 0) continue;
+      consider((-p[k] * r[j] + p[j] * r[k]) / det, (-q[k] * p[j] + q[j] * p[k]) / det);
+    }
+  }
+  return best;
+}
+}  // namespace
+
+bool reference_inside(const core::TriangleMesh& mesh, const Vec3& p) {
+  const Vec3 dir = Vec3(0.5773, 0.5774, 0.5775).normalized();
+  int crossings = 0;
+  for (const auto& t : mesh.triangles) {
+    if (ray_hits(p, dir, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]).t > 0)
+      ++crossings;
+  }
+  return crossings % 2 == 1;
+}
+
+ReferenceLabel reference_label(const core::Scene& scene, int time_step, int event,
+                               const core::CameraSetting& camera, const Vec3& p, double margin,
+                               int camera_index) {
+  const core::CameraModel& model = scene.cameras.models.at(camera_index);
+  ReferenceLabel out;
+  const std::vector<Object> objects = state_objects(scene, time_step, event);
+  const Vec3 c = camera.position;
+  for (const Object& o : objects) {
+    if (reference_inside(*o.mesh, c)) return out;  // blind camera
+  }
+  const Vec3 v = p - c;
+  const double dist = v.norm();
+  if (dist < margin) {
+    out.ambiguous = true;
+    return out;
+  }
+  const FovTest fov = fov_test(model, camera, p, margin);
+  out.ambiguous = fov.ambiguous;
+  if (!fov.inside) return out;
   // First hit along the whole ray from c through p.
   const Vec3 u = v / dist;
   double first = std::numeric_limits<double>::infinity();
@@ -151,6 +247,80 @@ ReferenceLabel reference_label(const core::Scene& scene, int time_step, int even
   }
   if (std::isfinite(first) && std::abs(first - dist) < margin) out.ambiguous = true;
   out.label = dist < first ? voxel::Label::free : voxel::Label::undetectable;
+  return out;
+}
+
+ReferenceLabel reference_box_label(const core::Scene& scene, int time_step, int event,
+                                   const core::CameraSetting& camera, const core::Box3& box,
+                                   double margin, int camera_index) {
+  const core::CameraModel& model = scene.cameras.models.at(camera_index);
+  ReferenceLabel out;
+  const std::vector<Object> objects = state_objects(scene, time_step, event);
+  const Vec3 c = camera.position;
+  for (const Object& o : objects) {
+    if (reference_inside(*o.mesh, c)) return out;  // blind camera
+  }
+  const Vec3 half = 0.5 * box.size();
+  const Vec3 w = box.center() - c;
+  // The camera in or at the box's bounding ball: never free.
+  const double r = half.norm(), dist = w.norm();
+  if (std::abs(dist - r) < margin) out.ambiguous = true;
+  if (dist <= r) return out;
+  // Every corner in the FOV (then the whole box: the FOV is convex); `far`: the farthest one.
+  double far = 0.0;
+  for (int q = 0; q < 8; ++q) {
+    const Vec3 corner((q & 1) ? box.max.x() : box.min.x(), (q & 2) ? box.max.y() : box.min.y(),
+                      (q & 4) ? box.max.z() : box.min.z());
+    const FovTest fov = fov_test(model, camera, corner, margin);
+    out.ambiguous = out.ambiguous || fov.ambiguous;
+    if (!fov.inside) return out;
+    far = std::max(far, (corner - c).norm());
+  }
+  // Every triangle's cone against the box. Sure / within the margin: occupying triangles whose
+  // cone meets the box, occluding ones whose cone meets it and that come nearer to the camera
+  // than its farthest point.
+  bool occupied = false, occupied_tie = false, blocked = false, blocked_tie = false;
+  for (const Object& o : objects) {
+    for (const auto& t : o.mesh->triangles) {
+      const Vec3 a = o.mesh->vertices[t[0]] - c, b = o.mesh->vertices[t[1]] - c,
+                 e = o.mesh->vertices[t[2]] - c;
+      const double det = a.dot(b.cross(e));
+      if (std::abs(det) <= 1e-9 * a.norm() * b.norm() * e.norm()) {
+        // The camera in the triangle's plane: a cone without volume, whose rays also meet the
+        // neighbouring triangles of the closed mesh; only touching boxes can tell. A tie.
+        out.ambiguous = true;
+        continue;
+      }
+      const double sign = det > 0 ? 1.0 : -1.0;
+      const std::array<Vec3, 3> n{(sign * a.cross(b)).normalized(),
+                                  (sign * b.cross(e)).normalized(),
+                                  (sign * e.cross(a)).normalized()};
+      const double depth = cone_box_depth(n, w, half);
+      if (depth < -margin) continue;
+      const bool sure = depth > margin;
+      if (o.occupying) {
+        (sure ? occupied : occupied_tie) = true;
+        continue;
+      }
+      const double near = point_triangle_distance(Vec3::Zero(), a, b, e);
+      if (near < far - margin) {
+        (sure ? blocked : blocked_tie) = true;
+      } else if (near < far + margin) {
+        blocked_tie = true;
+      }
+    }
+  }
+  if (occupied) {
+    out.label = voxel::Label::occupied;
+  } else if (occupied_tie) {
+    out.ambiguous = true;
+  } else if (blocked) {
+    out.label = voxel::Label::undetectable;
+  } else if (blocked_tie) {
+    out.ambiguous = true;
+  } else {
+    out.label = voxel::Label::free;
+  }
   return out;
 }
 

@@ -21,6 +21,18 @@ ReferenceLabel reference_label(const core::Scene& scene, int time_step, int even
                                const core::CameraSetting& camera, const core::Vec3& p,
                                double margin = 1e-7, int camera_index = 0);
 
+/// The conservative label of a whole box (SPEC §5) for one camera in state (h, l), as the
+/// voxel pipeline defines it, brute force: free only when the camera is outside the box's
+/// bounding ball, all 8 corners are in the FOV, no triangle of an occupying object has a cone
+/// (from the camera) meeting the box, and no other triangle both has such a cone and comes
+/// nearer to the camera than the box's farthest corner; occupied when an occupying triangle's
+/// cone meets the box, else undetectable. Every triangle is tested (no culling, no bins); the
+/// cone–box test is an LP duality computation, not the pipeline's separating axes. Ties
+/// (`ambiguous`) within `margin` metres.
+ReferenceLabel reference_box_label(const core::Scene& scene, int time_step, int event,
+                                   const core::CameraSetting& camera, const core::Box3& box,
+                                   double margin = 1e-7, int camera_index = 0);
+
 /// True when p is inside the closed mesh, by counting crossings of a fixed skew ray.
 bool reference_inside(const core::TriangleMesh& mesh, const core::Vec3& p);
 

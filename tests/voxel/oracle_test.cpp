@@ -84,6 +84,55 @@ TEST(Oracle, ConservativeFreeVoxelsAreFreeAtSampledPoints) {
   EXPECT_GT(free_voxels, 1000);  // the check is not vacuous
 }
 
+// Conservative mode's every label (free, occupied, undetectable) against the brute-force box
+// reference: every triangle's cone against the whole voxel box by LP duality, the FOV on the 8
+// corners, no culling, bins or blocks. `make_scene` and `make_config` draw one scene and
+// configuration; ties (the reference's margin) are skipped and counted.
+template <class MakeScene, class MakeConfig>
+void expect_conservative_labels_equal_box_reference(std::mt19937& rng, int scenes,
+                                                    const MakeScene& make_scene,
+                                                    const MakeConfig& make_config) {
+  long compared = 0, ties = 0;
+  std::array<long, 3> by_label{};
+  for (int s = 0; s < scenes; ++s) {
+    const core::Scene scene = make_scene(rng);
+    const voxel::VoxelEvaluator evaluator(scene, {LabelMode::conservative, {0, 0, 0}});
+    const core::CameraConfig config = make_config(rng, scene);
+    const auto all_states = core::states(scene);
+    for (std::size_t st = 0; st < all_states.size(); ++st) {
+      for (int c = 0; c < scene.cameras.count; ++c) {
+        const auto labels = evaluator.labels(config[c], static_cast<int>(st), c);
+        for (int v = 0; v < evaluator.grid().count(); ++v) {
+          const ReferenceLabel ref =
+              reference_box_label(scene, all_states[st].time_step, all_states[st].event, config[c],
+                                  evaluator.grid().voxel_box(v), 1e-7, c);
+          if (ref.ambiguous) {
+            ++ties;
+            continue;
+          }
+          ++compared;
+          ++by_label[static_cast<int>(ref.label)];
+          ASSERT_EQ(labels[v], ref.label)
+              << "scene " << s << " state " << st << " camera " << c << " voxel " << v;
+        }
+      }
+    }
+  }
+  EXPECT_GT(compared, 100 * ties);
+  // Every label occurs often: the comparison is not vacuous.
+  for (long n : by_label) EXPECT_GT(n, 500);
+}
+
+TEST(Oracle, ConservativeLabelsEqualBoxReference) {
+  std::mt19937 rng(20261129);
+  expect_conservative_labels_equal_box_reference(
+      rng, kScenes,
+      [](std::mt19937& r) {
+        return random_scene(r, {12, 9, 9});
+      },
+      [](std::mt19937& r, const core::Scene& scene) { return random_config(r, scene); });
+}
+
 TEST(Oracle, ConservativeModelContainsCenterModel) {
   std::mt19937 rng(99);
   for (int s = 0; s < kScenes; ++s) {
@@ -189,6 +238,11 @@ TEST(Oracle, FrustaWithRollConservativeFreeVoxelsAreFree) {
     }
   }
   EXPECT_GT(free_voxels, 500);
+}
+
+TEST(Oracle, FrustaWithRollConservativeLabelsEqualBoxReference) {
+  std::mt19937 rng(1417);
+  expect_conservative_labels_equal_box_reference(rng, 8, frustum_scene, rolled_config);
 }
 
 TEST(Oracle, FrustaWithRollRefinedModelHoldsEveryReferenceModelPoint) {
