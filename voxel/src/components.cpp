@@ -4,6 +4,7 @@
 #include "camplace/voxel/components.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <numeric>
 
@@ -17,6 +18,14 @@ struct Run {
   int row;     ///< j + ny·k
   int i0, i1;  ///< x range, inclusive
 };
+
+/// Eight model bytes (each 0 or 1) as one word; kOnes when all are 1.
+constexpr std::uint64_t kOnes = 0x0101010101010101ULL;
+inline std::uint64_t word(const std::uint8_t* p) {
+  std::uint64_t w;
+  std::memcpy(&w, p, sizeof w);
+  return w;
+}
 
 using detail::find;
 using detail::unite;
@@ -36,12 +45,16 @@ RunForest run_forest(const std::uint8_t* m, const Grid& grid) {
   for (int r = 0; r < rows; ++r) {
     row_start[r] = static_cast<int>(runs.size());
     const std::uint8_t* row = m + static_cast<std::size_t>(r) * nx;
+    // Eight bytes at a time where they are all 0 (outside a run) or all 1 (inside one).
     for (int i = 0; i < nx;) {
       if (!row[i]) {
         ++i;
+        while (i + 8 <= nx && word(row + i) == 0) i += 8;
+        while (i < nx && !row[i]) ++i;
         continue;
       }
       const int i0 = i;
+      while (i + 8 <= nx && word(row + i) == kOnes) i += 8;
       while (i < nx && row[i]) ++i;
       runs.push_back({r, i0, i - 1});
     }
