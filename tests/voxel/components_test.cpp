@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <queue>
+#include <random>
 
 namespace camplace {
 namespace {
@@ -45,6 +47,64 @@ TEST(Components, LabelsNumberComponentsInTheOrderOfTheirFirstVoxel) {
   EXPECT_EQ(labels[at(3, 2, 0)], 2);
   EXPECT_EQ(labels[at(0, 2, 1)], 1);
   EXPECT_EQ(std::count(labels.begin(), labels.end(), -1), grid.count() - 5);
+}
+
+// Breadth-first flood fill over the 6 face neighbours, components numbered in the order of
+// their first voxel: the labels component_labels must give (an independent method).
+std::vector<int> flood_fill_labels(const std::vector<std::uint8_t>& model, const voxel::Grid& g) {
+  const int nx = g.n[0], ny = g.n[1], nz = g.n[2];
+  std::vector<int> labels(model.size(), -1);
+  int next = 0;
+  for (int start = 0; start < g.count(); ++start) {
+    if (!model[start] || labels[start] >= 0) continue;
+    std::queue<int> queue;
+    queue.push(start);
+    labels[start] = next;
+    while (!queue.empty()) {
+      const int v = queue.front();
+      queue.pop();
+      const int i = v % nx, j = (v / nx) % ny, k = v / (nx * ny);
+      const int step[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+      for (const auto& d : step) {
+        const int a = i + d[0], b = j + d[1], c = k + d[2];
+        if (a < 0 || b < 0 || c < 0 || a >= nx || b >= ny || c >= nz) continue;
+        const int u = a + nx * (b + ny * c);
+        if (model[u] && labels[u] < 0) {
+          labels[u] = next;
+          queue.push(u);
+        }
+      }
+    }
+    ++next;
+  }
+  return labels;
+}
+
+TEST(Components, LabelsEqualAFloodFillOnRandomModels) {
+  // Rows shorter and longer than the eight bytes the run scan skips at once, sparse and dense
+  // models, and runs of random lengths (long runs of 1 and of 0 along x).
+  std::mt19937 rng(4242);
+  long voxels = 0;
+  for (const std::array<int, 3> n :
+       {std::array<int, 3>{5, 4, 3}, {9, 5, 4}, {17, 6, 5}, {36, 7, 6}, {64, 3, 3}}) {
+    const voxel::Grid grid = voxel::make_grid({core::Vec3(0, 0, 0), core::Vec3(1, 1, 1)}, n);
+    for (const double density : {0.1, 0.5, 0.9}) {
+      for (int trial = 0; trial < 4; ++trial) {
+        std::vector<std::uint8_t> model(grid.count(), 0);
+        std::bernoulli_distribution start(1.0 - density), stay(0.85);
+        // Runs along x: each voxel repeats its left neighbour with probability 0.85.
+        for (int v = 0; v < grid.count(); ++v) {
+          const bool first = v % n[0] == 0;
+          model[v] = first || !stay(rng) ? static_cast<std::uint8_t>(!start(rng)) : model[v - 1];
+        }
+        const std::vector<int> expected = flood_fill_labels(model, grid);
+        ASSERT_EQ(voxel::component_labels(model, grid), expected)
+            << n[0] << "x" << n[1] << "x" << n[2] << " density " << density;
+        voxels += std::count(model.begin(), model.end(), 1);
+      }
+    }
+  }
+  EXPECT_GT(voxels, 10000);
 }
 
 TEST(Components, FilterRemovesComponentsBelowVolumeOrHeightAndKeepsTheRest) {
