@@ -266,6 +266,15 @@ struct VoxelEvaluator::Impl {
   /// computed on first use by critical_sq (NaN until then; evaluate() is const and runs on
   /// several threads: racing threads store the same double).
   std::vector<std::vector<double>> critical_lb_by_step;
+  /// Per step: every voxel in shells of its lower bound (counting sort on √lb / width: shell b
+  /// holds the voxels with b ≤ √lb / width < b + 1, up to rounding), so that model_distance()
+  /// can stop at the first shell whose bound exceeds the best distance so far.
+  struct LowerBoundShells {
+    double width = 1.0;      ///< m
+    std::vector<int> start;  ///< shells + 1 offsets into `voxels`
+    std::vector<int> voxels;
+  };
+  std::vector<LowerBoundShells> shells_by_step;
   std::vector<std::unique_ptr<std::atomic<double>[]>> critical_by_step;
   std::vector<std::vector<detail::IndexedSolid>> critical_solids_by_step;
   double err_lower_bound = 0.0;  ///< conservative mode only
@@ -302,6 +311,8 @@ struct VoxelEvaluator::Impl {
   /// Voxels whose box, shrunk by contact_depth(), meets the closed solid `mesh`, ascending.
   std::vector<int> voxels_reached(const core::TriangleMesh& mesh) const;
   std::vector<std::uint8_t> obstacle_interiors(const core::TimeStep& step) const;
+  /// The shells of shells_by_step for one step's lower bounds.
+  LowerBoundShells lower_bound_shells(const std::vector<double>& lb) const;
   /// The lower bounds of critical_lb_by_step for one step.
   std::vector<double> critical_distances(const std::vector<detail::IndexedSolid>& solids) const;
   /// d(C_h, voxel v)² as core::box_solid_sq_distance (conservative) or

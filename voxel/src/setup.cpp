@@ -80,6 +80,7 @@ void VoxelEvaluator::Impl::build() {
     std::vector<detail::IndexedSolid> solids;
     for (const core::SceneObject& c : step.critical) solids.push_back(detail::index_solid(c.mesh));
     critical_lb_by_step.push_back(critical_distances(solids));
+    shells_by_step.push_back(lower_bound_shells(critical_lb_by_step.back()));
     critical_solids_by_step.push_back(std::move(solids));
     critical_by_step.emplace_back(new std::atomic<double>[conservative ? grid.count() : 0]);
     for (int v = 0; conservative && v < grid.count(); ++v) {
@@ -264,6 +265,27 @@ std::vector<double> VoxelEvaluator::Impl::critical_distances(
       }
     }
   });
+  return out;
+}
+
+VoxelEvaluator::Impl::LowerBoundShells VoxelEvaluator::Impl::lower_bound_shells(
+    const std::vector<double>& lb) const {
+  LowerBoundShells out;
+  // Shells half the smallest voxel step wide; every √lb lies below S's diagonal (bounds are
+  // distances within S or 0), a few shells beyond it allow for rounding.
+  out.width = 0.5 * grid.step.minCoeff();
+  const double diagonal = (scene.area.max - scene.area.min).norm();
+  const int shells = static_cast<int>(diagonal / out.width) + 3;
+  auto shell = [&](double sq) {
+    const double f = std::sqrt(sq) / out.width;
+    return f < shells - 1 ? static_cast<int>(f) : shells - 1;
+  };
+  out.start.assign(shells + 1, 0);
+  for (double sq : lb) ++out.start[shell(sq) + 1];
+  for (int b = 0; b < shells; ++b) out.start[b + 1] += out.start[b];
+  out.voxels.resize(lb.size());
+  std::vector<int> next(out.start.begin(), out.start.end() - 1);
+  for (int v = 0; v < static_cast<int>(lb.size()); ++v) out.voxels[next[shell(lb[v])]++] = v;
   return out;
 }
 
