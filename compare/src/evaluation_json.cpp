@@ -97,16 +97,46 @@ nlohmann::json voxel_diagnostics(
       for (std::size_t c2 = 0; c2 < config.size(); ++c2)
         target_seen[c2] += labels[c2][v] == voxel::Label::occupied;
     }
-    // The model voxel nearest to the critical objects (as d(C, M) measures: box or centre).
-    int nearest = -1;
-    double best = 0.0;
-    for (int v = 0; v < grid.count(); ++v) {
-      if (!model[v]) continue;
+    // The model voxel nearest to the critical objects (as d(C, M) measures: box or centre),
+    // the first by index among equals. A voxel whose box or centre lies farther from every
+    // critical object's bounding box than a value already found cannot be it (bound ≤ value):
+    // the model voxel with the smallest such bound gives a first value, then only voxels whose
+    // bound does not exceed it are measured.
+    const auto& critical = scene.time_steps[all[s].time_step].critical;
+    std::vector<core::Box3> critical_boxes;
+    for (const auto& o : critical) critical_boxes.push_back(core::bounding_box(o.mesh));
+    auto bound = [&](int v) {
+      const core::Box3 box =
+          boxes ? grid.voxel_box(v) : core::Box3{grid.voxel_center(v), grid.voxel_center(v)};
+      double b = std::numeric_limits<double>::infinity();
+      for (const core::Box3& c : critical_boxes) {
+        const core::Vec3 gap =
+            (c.min - box.max).cwiseMax(box.min - c.max).cwiseMax(core::Vec3::Zero());
+        b = std::min(b, gap.squaredNorm());
+      }
+      return b;
+    };
+    auto value = [&](int v) {
       double d = std::numeric_limits<double>::infinity();
-      for (const auto& o : scene.time_steps[all[s].time_step].critical) {
+      for (const auto& o : critical) {
         d = std::min(d, boxes ? core::box_solid_sq_distance(o.mesh, grid.voxel_box(v))
                               : core::point_solid_sq_distance(o.mesh, grid.voxel_center(v)));
       }
+      return d;
+    };
+    int first = -1;
+    double first_bound = 0.0;
+    for (int v = 0; v < grid.count(); ++v) {
+      if (!model[v]) continue;
+      const double b = bound(v);
+      if (first < 0 || b < first_bound) first = v, first_bound = b;
+    }
+    const double cutoff = first < 0 ? 0.0 : value(first);
+    int nearest = -1;
+    double best = 0.0;
+    for (int v = 0; v < grid.count(); ++v) {
+      if (!model[v] || bound(v) > cutoff) continue;
+      const double d = value(v);
       if (nearest < 0 || d < best) nearest = v, best = d;
     }
     nlohmann::json entry = {{"time_step", all[s].time_step}, {"event", all[s].event}};
