@@ -293,6 +293,8 @@ struct VoxelEvaluator::Impl {
 
   // Set-up (setup.cpp): everything that does not depend on the cameras.
   void build();
+  /// The index of the object in `objects`, added with its triangles, or in conservative mode
+  /// of an equal one added before (same role and mesh; shared by their states).
   int add_object(const core::SceneObject& object, core::ObjectRole role);
   /// The conservative lower bound of Err (err_lower_bound(); the proof is in setup.cpp).
   double lower_bound() const;

@@ -20,6 +20,22 @@ int VoxelEvaluator::Impl::add_object(const core::SceneObject& object, core::Obje
   detail::ObjectInfo info;
   info.mesh = &object.mesh;
   info.occupying = role == core::ObjectRole::occupying;
+  // Conservative mode shares an object between the states that hold an equal one: the same role
+  // and the same mesh (equal vertices, same triangles), as a robot link that does not move or a
+  // target that appears in several time steps. Every test the labeller makes on an object
+  // depends on its role and its triangles' numbers only, and ORs the verdict into the states of
+  // the object: a shared object gives each state the verdict its own copy gave, with one test
+  // instead of one per copy. (Center mode keeps the copies: the first hit on a ray breaks ties by
+  // triangle index, in the order of each state's objects.)
+  if (conservative) {
+    for (std::size_t o = 0; o < objects.size(); ++o) {
+      if (objects[o].occupying == info.occupying &&
+          objects[o].mesh->triangles == object.mesh.triangles &&
+          objects[o].mesh->vertices == object.mesh.vertices) {
+        return static_cast<int>(o);
+      }
+    }
+  }
   info.center = object.bounds.center();
   for (const Vec3& v : object.mesh.vertices) {
     info.radius = std::max(info.radius, (v - info.center).norm());
