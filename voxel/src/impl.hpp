@@ -261,6 +261,12 @@ struct VoxelEvaluator::Impl {
   std::vector<std::vector<detail::StateMask>> chunk_object_states;
   std::vector<std::vector<detail::StateMask>> chunk_step_states;
   std::vector<std::vector<std::uint8_t>> removed_by_step;  ///< obstacle interiors per step
+  /// Conservative mode: per object, the voxels an occupying one reaches into (voxels_reached;
+  /// empty for the others), and per chunk of 64 states and voxel the states where one of them
+  /// does. No camera ever sees such a voxel free (lower_bound() has the proof): raw_models
+  /// keeps it in M for those states without a test.
+  std::vector<std::vector<int>> reached_by_object;
+  std::vector<std::vector<detail::StateMask>> chunk_reached;
   /// Per step and voxel: a lower bound of d(C_h, voxel)² (the centre's distance less the
   /// voxel's radius; in center mode the value itself), and in conservative mode the value,
   /// computed on first use by critical_sq (NaN until then; evaluate() is const and runs on

@@ -922,6 +922,7 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
     const StateMask all = count == 64 ? ~StateMask(0) : (StateMask(1) << count) - 1;
     const StateMask* object_states = chunk_object_states[chunk].data();
     const StateMask* step_states = chunk_step_states[chunk].data();
+    const StateMask* reached = conservative ? chunk_reached[chunk].data() : nullptr;
     const std::vector<StateMask> seeing = seeing_states(cameras, chunk);
     std::uint8_t* out[detail::kChunk];
     for (int s = 0; s < count; ++s) out[s] = models[first + s].data();
@@ -933,6 +934,10 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
       for (int h = 0; h < steps && pending; ++h) {
         if (removed_by_step[h][v]) pending &= ~step_states[h];
       }
+      // Conservative mode: the states where an occupying object reaches into the voxel stay in
+      // M untested; no camera would see it free there (the proof is at lower_bound(), setup.cpp).
+      const StateMask kept = reached ? pending & reached[v] : 0;
+      pending &= ~kept;
       if (pending) {
         const Vec3 center(box_center[0][i], box_center[1][j], box_center[2][k]);
         // Cameras from the one that last freed a voxel on: neighbours tend to be seen by the
@@ -957,6 +962,7 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
           pending &= ~freed;
         }
       }
+      pending |= kept;
       for (int s = 0; s < count; ++s) out[s][v] = (pending >> s) & 1;
     };
     // Conservative mode: the states where some camera sees a whole block free (block_clear,
