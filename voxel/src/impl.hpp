@@ -403,10 +403,12 @@ struct VoxelEvaluator::Impl {
              detail::Scratch& scratch, detail::Verdict& out, bool free_only,
              const detail::CellSize& size, int* witness = nullptr,
              detail::StateMask* sure = nullptr) const;
-  /// Whether every voxel of the block [lo, hi] is surely free for the camera (raw_models).
-  /// `in_view` (optional): set when the block passed the FOV tests (a triangle then decided).
-  bool block_clear(const detail::CameraSetup& cam, const core::Vec3& lo, const core::Vec3& hi,
-                   bool* in_view = nullptr) const;
+  /// The states of `open` where every voxel of the block [lo, hi] is surely free for the camera
+  /// (raw_models). `in_view` (optional): set when the block passed the FOV tests.
+  detail::StateMask block_clear(const detail::CameraSetup& cam, const core::Vec3& lo,
+                                const core::Vec3& hi, detail::StateMask open,
+                                const detail::StateMask* object_states,
+                                bool* in_view = nullptr) const;
   enum class Cone { meet, miss, near_miss };
   Cone cone_test(const detail::TriangleCone& tc, const core::Vec3& w,
                  const detail::CellSize& size) const;

@@ -693,11 +693,11 @@ VoxelEvaluator::Impl::Cone VoxelEvaluator::Impl::cone_test(const TriangleCone& t
   return near_miss ? Cone::near_miss : Cone::meet;
 }
 
-/// Conservative mode: whether every voxel of the block [lo, hi] is free for this camera in every
-/// state it is not blind in, as judge() would label each of them: the block lies in the FOV with
-/// a margin and no triangle can decide any voxel inside it. Each test is one that in_fov() or
-/// judge() makes per voxel, made on the whole block with a larger margin, so it holds for every
-/// voxel inside:
+/// Conservative mode: the states of `open` where every voxel of the block [lo, hi] is free for
+/// this camera, as judge() would label each of them: the block lies in the FOV with a margin and
+/// no triangle of the state's objects can decide any voxel inside it (judge() decides each state
+/// by its own objects' triangles only). Each test is one that in_fov() or judge() makes per
+/// voxel, made on the whole block with a larger margin, so it holds for every voxel inside:
 ///  - FOV: the block's bounding ball lies inside the cone (or the pyramid's or frustum's side
 ///    planes), in front of the camera and between the near and far planes by 1e-9 of the scale,
 ///    and the camera is outside it; so is every voxel's box (the FOV is convex);
@@ -709,32 +709,35 @@ VoxelEvaluator::Impl::Cone VoxelEvaluator::Impl::cone_test(const TriangleCone& t
 ///    grows when the box shrinks inside the block (the support function of a sub-box is at most
 ///    the block's), and a voxel's scale kTouch·(|w| + Σh) is at most the block's, so cone_test()
 ///    returns Cone::miss for every voxel inside (not near_miss, which would test back faces).
-/// Then judge() finds no candidate for any voxel inside, and each voxel is free for the camera.
+/// Then judge() finds no candidate of those states for any voxel inside, and each voxel is free
+/// for the camera in them. A triangle that may decide takes its object's states out; triangles
+/// whose objects hold none of the states left need no test.
 /// tests/voxel/legacy_equivalence_test.cpp compares the models it gives with the old labeller's.
-bool VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& lo, const Vec3& hi,
-                                       bool* in_view) const {
+StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& lo, const Vec3& hi,
+                                            StateMask open, const StateMask* object_states,
+                                            bool* in_view) const {
   const Vec3 center = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
   const Vec3 w = center - cam.c;
   const double d = w.norm(), r = half.norm();
-  if (!(d > r * (1.0 + 1e-9))) return false;
+  if (!(d > r * (1.0 + 1e-9))) return 0;
   const double tol = kMargin * (d + r);
   const double z = w.dot(cam.axis);
-  if (cam.range && !(z + r < *cam.range - tol)) return false;
-  if (cam.near > 0.0 && !(z - r > cam.near + tol)) return false;
-  if (!(z - r > tol)) return false;  // wholly in front (also for the projection below)
+  if (cam.range && !(z + r < *cam.range - tol)) return 0;
+  if (cam.near > 0.0 && !(z - r > cam.near + tol)) return 0;
+  if (!(z - r > tol)) return 0;  // wholly in front (also for the projection below)
   if (cam.pyramid) {
     for (const Vec3& n : cam.normals) {
-      if (!(n.dot(w) > r + tol)) return false;
+      if (!(n.dot(w) > r + tol)) return 0;
     }
   } else {
     const double cos_t = z / d, sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
     const double sin_b = r / d, cos_b = std::sqrt(1.0 - sin_b * sin_b);
-    if (!(cos_t * cos_b - sin_t * sin_b > cam.cos_half + kMargin)) return false;
+    if (!(cos_t * cos_b - sin_t * sin_b > cam.cos_half + kMargin)) return 0;
   }
   const double x = w.dot(cam.ex), y = w.dot(cam.ey);
   const double box_x = cam.abs_ex.dot(half), box_y = cam.abs_ey.dot(half);
   const double box_z = cam.abs_axis.dot(half);
-  if (!(z - box_z > 0.0)) return false;
+  if (!(z - box_z > 0.0)) return 0;
   if (in_view) *in_view = true;
   const auto proj = box_projection(x, y, z, box_x, box_y, box_z);
   double vx0 = proj[0], vx1 = proj[1], vy0 = proj[2], vy1 = proj[3];
@@ -766,19 +769,26 @@ bool VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& lo, c
     }
     return true;
   };
+  StateMask clear = open;
+  // True when no state is left.
+  auto pass = [&](int t) {
+    const StateMask m = object_states[triangle_object[t]] & clear;
+    if (m && decides(t)) clear &= ~m;
+    return !clear;
+  };
   for (int t : cam.everywhere) {
-    if (decides(t)) return false;
+    if (pass(t)) return 0;
   }
   const BinRange bins = bin_range(cam, vx0, vx1, vy0, vy1);
   for (int by = bins.y0; by <= bins.y1; ++by) {
     for (int bx = bins.x0; bx <= bins.x1; ++bx) {
       const int b = by * cam.bins + bx;
       for (int n = cam.bin_start[b]; n < cam.bin_start[b + 1]; ++n) {
-        if (decides(cam.bin_items[n])) return false;
+        if (pass(cam.bin_items[n])) return 0;
       }
     }
   }
-  return true;
+  return clear;
 }
 
 namespace {
@@ -986,10 +996,12 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
           const std::size_t c = (block_hint + step) % n_cam;
           if (!top && step > 0 && !block_view[c]) continue;
           bool in_view = false;
-          const bool cleared = (seeing[c] & ~clear) && block_clear(cameras[c], lo, hi, &in_view);
+          const StateMask open = seeing[c] & ~clear;
+          const StateMask cleared =
+              open ? block_clear(cameras[c], lo, hi, open, object_states, &in_view) : 0;
           if (top) block_view[c] = in_view;
           if (cleared) {
-            clear |= seeing[c];
+            clear |= cleared;
             block_hint = c;
           }
         }
