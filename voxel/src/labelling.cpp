@@ -916,16 +916,10 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
   const std::size_t n_cam = cameras.size();
   Scratch scratch;
   scratch.stamp.assign(triangles.size(), 0);
-  // Per row (j, k) of the slice and camera: row_interval's lo, hi, in_lo, in_hi.
-  std::vector<std::array<int, 4>> rows(static_cast<std::size_t>(ny) * (k_end - k_begin) * n_cam);
-  for (int k = k_begin; k < k_end; ++k) {
-    for (int j = 0; j < ny; ++j) {
-      for (std::size_t c = 0; c < n_cam; ++c) {
-        auto& r = rows[((k - k_begin) * ny + j) * n_cam + c];
-        row_interval(cameras[c], j, k, r[0], r[1], r[2], r[3]);
-      }
-    }
-  }
+  // Per row (j, k) of the slice and camera: row_interval's lo, hi, in_lo, in_hi, computed on
+  // first use (lo = −1 until then: row_interval's lo is ≥ 0).
+  std::vector<std::array<int, 4>> rows(static_cast<std::size_t>(ny) * (k_end - k_begin) * n_cam,
+                                       {-1, 0, 0, 0});
   for (int chunk = 0; chunk * detail::kChunk < state_count; ++chunk) {
     const int first = chunk * detail::kChunk;
     const int count = std::min(detail::kChunk, state_count - first);
@@ -938,7 +932,7 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
     for (int s = 0; s < count; ++s) out[s] = models[first + s].data();
     std::size_t hint = 0, block_hint = 0;
     auto label = [&](int i, int j, int k, StateMask clear) {
-      const auto* row = &rows[((k - k_begin) * ny + j) * n_cam];
+      auto* row = &rows[((k - k_begin) * ny + j) * n_cam];
       const int v = i + nx * (j + ny * k);
       StateMask pending = all & ~clear;  // not removed, not yet seen free
       for (int h = 0; h < steps && pending; ++h) {
@@ -957,11 +951,14 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
           const std::size_t c =
               first_cam + step < n_cam ? first_cam + step : first_cam + step - n_cam;
           const StateMask interest = pending & seeing[c];
-          if (!interest || i < row[c][0] || i > row[c][1]) continue;
+          if (!interest) continue;
+          auto& r = row[c];
+          if (r[0] < 0) row_interval(cameras[c], j, k, r[0], r[1], r[2], r[3]);
+          if (i < r[0] || i > r[1]) continue;
           const CameraSetup& cam = cameras[c];
           const Vec3 w = center - cam.c;
           double d = -1.0;  // |w|, computed when needed
-          if (i < row[c][2] || i > row[c][3]) {
+          if (i < r[2] || i > r[3]) {
             d = w.norm();
             if (!in_fov(cam, i, j, k, w, d)) continue;
           }
