@@ -570,15 +570,15 @@ void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d
       if (scratch.stamp[t] == scratch.visit) return false;
       scratch.stamp[t] = scratch.visit;
     }
-    // (The edge lines of the projection would repeat the cone-plane test of cone_test.)
-    const auto& r = cam.rect[t];
-    if (r[0] > vx1 || r[1] < vx0 || r[2] > vy1 || r[3] < vy0) return false;
     const int o = triangle_object[t];
     const bool occupying = objects[o].occupying;
     StateMask m = object_states[o] & interest;
     // States already decided need no more tests (occupied wins over undetectable).
     m &= (free_only || !occupying) ? ~(out.occupied | out.blocked) : ~out.occupied;
     if (!m) return false;
+    // (The edge lines of the projection would repeat the cone-plane test of cone_test.)
+    const auto& r = cam.rect[t];
+    if (r[0] > vx1 || r[1] < vx0 || r[2] > vy1 || r[3] < vy0) return false;
     const TriangleCone& tc = cam.triangles[t];
     if (tc.flat || tc.back) return false;
     if (!exact_ready) {
