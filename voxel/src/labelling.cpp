@@ -919,9 +919,18 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
   Scratch scratch;
   scratch.stamp.assign(triangles.size(), 0);
   // Per row (j, k) of the slice and camera: row_interval's lo, hi, in_lo, in_hi, computed on
-  // first use (lo = −1 until then: row_interval's lo is ≥ 0).
+  // first use in conservative mode (lo = −1 until then: row_interval's lo is ≥ 0), where blocks
+  // leave many rows without a test, up front in center mode.
   std::vector<std::array<int, 4>> rows(static_cast<std::size_t>(ny) * (k_end - k_begin) * n_cam,
                                        {-1, 0, 0, 0});
+  for (int k = k_begin; k < k_end && !conservative; ++k) {
+    for (int j = 0; j < ny; ++j) {
+      for (std::size_t c = 0; c < n_cam; ++c) {
+        auto& r = rows[((k - k_begin) * ny + j) * n_cam + c];
+        row_interval(cameras[c], j, k, r[0], r[1], r[2], r[3]);
+      }
+    }
+  }
   for (int chunk = 0; chunk * detail::kChunk < state_count; ++chunk) {
     const int first = chunk * detail::kChunk;
     const int count = std::min(detail::kChunk, state_count - first);
