@@ -1000,11 +1000,19 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
         // changes no label: block_clear holds for any camera.
         const bool top = size == kBlock;
         if (top) std::fill(block_view.begin(), block_view.end(), 0);
-        for (std::size_t step = 0; step < n_cam && clear != all; ++step) {
+        // States where an occupying object reaches into a voxel of the block: never free there
+        // (chunk_reached), so block_clear cannot clear them; it need not try.
+        StateMask held = 0;
+        for (int k = k0; k < k1; ++k) {
+          for (int j = j0; j < j1; ++j) {
+            for (int i = i0; i < i1; ++i) held |= reached[i + nx * (j + ny * k)];
+          }
+        }
+        for (std::size_t step = 0; step < n_cam && (clear | held) != all; ++step) {
           const std::size_t c = (block_hint + step) % n_cam;
           if (!top && step > 0 && !block_view[c]) continue;
           bool in_view = false;
-          const StateMask open = seeing[c] & ~clear;
+          const StateMask open = seeing[c] & ~clear & ~held;
           const StateMask cleared =
               open ? block_clear(cameras[c], lo, hi, open, object_states, &in_view) : 0;
           if (top) block_view[c] = in_view;
