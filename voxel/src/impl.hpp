@@ -404,11 +404,10 @@ struct VoxelEvaluator::Impl {
              const detail::CellSize& size, int* witness = nullptr,
              detail::StateMask* sure = nullptr) const;
   /// The states of `open` where every voxel of the block [lo, hi] is surely free for the camera
-  /// (raw_models). `in_view` (optional): set when the block passed the FOV tests.
+  /// (raw_models); `object_states`: the chunk's states of each object.
   detail::StateMask block_clear(const detail::CameraSetup& cam, const core::Vec3& lo,
                                 const core::Vec3& hi, detail::StateMask open,
-                                const detail::StateMask* object_states,
-                                bool* in_view = nullptr) const;
+                                const detail::StateMask* object_states) const;
   enum class Cone { meet, miss, near_miss };
   Cone cone_test(const detail::TriangleCone& tc, const core::Vec3& w,
                  const detail::CellSize& size) const;

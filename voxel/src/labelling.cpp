@@ -23,8 +23,13 @@
 //    touching configurations, is in camera_setup; center mode's labels then differ only where
 //    the ray through a centre touches an edge or a vertex, a tie);
 //  - conservative mode first tries whole blocks of 4³, then 2³ voxels: the states where a camera
-//    sees every voxel of a block free (block_clear, tests on the block with a wider margin) need
-//    no test per voxel;
+//    sees every voxel of a block free (block_clear, tests on the block with a wider margin: the
+//    states none of whose objects' triangles can decide a voxel of it) need no test per voxel;
+//    the states cleared by the cameras add up;
+//  - conservative mode keeps a voxel in M untested in the states where an occupying object
+//    reaches into it (no camera sees it free there: the proof of the lower bound in setup.cpp),
+//    and tests an object that several states hold (same role and mesh) once for all of them
+//    (setup.cpp);
 //  - each triangle is tested once per voxel and camera for all states (bit masks), not once
 //    per state, a voxel is done as soon as some camera sees it free in every state, and a
 //    camera is done with a voxel once every state of interest is decided;
@@ -716,8 +721,7 @@ VoxelEvaluator::Impl::Cone VoxelEvaluator::Impl::cone_test(const TriangleCone& t
 /// whose objects hold none of the states left need no test.
 /// tests/voxel/legacy_equivalence_test.cpp compares the models it gives with the old labeller's.
 StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& lo, const Vec3& hi,
-                                            StateMask open, const StateMask* object_states,
-                                            bool* in_view) const {
+                                            StateMask open, const StateMask* object_states) const {
   const Vec3 center = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
   const Vec3 w = center - cam.c;
   const double d = w.norm(), r = half.norm();
@@ -740,7 +744,6 @@ StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& 
   const double box_x = cam.abs_ex.dot(half), box_y = cam.abs_ey.dot(half);
   const double box_z = cam.abs_axis.dot(half);
   if (!(z - box_z > 0.0)) return 0;
-  if (in_view) *in_view = true;
   const auto proj = box_projection(x, y, z, box_x, box_y, box_z);
   double vx0 = proj[0], vx1 = proj[1], vy0 = proj[2], vy1 = proj[3];
   // Padded against rounding (a voxel's projection is computed from other numbers).
@@ -984,22 +987,18 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
       for (int s = 0; s < count; ++s) out[s][v] = (pending >> s) & 1;
     };
     // Conservative mode: the states where some camera sees a whole block free (block_clear,
-    // tried from the camera that last cleared a block on) need no test per voxel; blocks of 4³
-    // voxels, then the 2³ blocks of those that no camera cleared for every state; then voxel by
-    // voxel.
+    // every camera from the one that last cleared a block on) need no test per voxel; blocks of
+    // 4³ voxels, then the 2³ blocks of those that the cameras did not clear for every state;
+    // then voxel by voxel.
     constexpr int kBlock = 4;
-    std::vector<std::uint8_t> block_view(n_cam, 0);  // per camera: the 4³ block in its FOV
     auto visit = [&](int i0, int i1, int j0, int j1, int k0, int k1, int size, StateMask clear,
                      auto& self) -> void {
       if (conservative && (i1 - i0) * (j1 - j0) * (k1 - k0) > 1) {
         const Vec3 lo(box_min[0][i0], box_min[1][j0], box_min[2][k0]);
         const Vec3 hi(box_max[0][i1 - 1], box_max[1][j1 - 1], box_max[2][k1 - 1]);
-        // Every camera on the 4³ blocks, from the last one to clear a block on; on their 2³
-        // blocks that one and those that saw the whole 4³ block in their FOV (a triangle kept
-        // it from being clear; a 2³ block may miss that triangle). Which cameras are tried
-        // changes no label: block_clear holds for any camera.
-        const bool top = size == kBlock;
-        if (top) std::fill(block_view.begin(), block_view.end(), 0);
+        // Every camera, from the last one to clear a block on, until every state is cleared:
+        // states one camera leaves (a triangle of theirs may decide a voxel) another may clear.
+        // Which cameras are tried changes no label: block_clear holds for any camera.
         // States where an occupying object reaches into a voxel of the block: never free there
         // (chunk_reached), so block_clear cannot clear them; it need not try.
         StateMask held = 0;
@@ -1010,12 +1009,8 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
         }
         for (std::size_t step = 0; step < n_cam && (clear | held) != all; ++step) {
           const std::size_t c = (block_hint + step) % n_cam;
-          if (!top && step > 0 && !block_view[c]) continue;
-          bool in_view = false;
           const StateMask open = seeing[c] & ~clear & ~held;
-          const StateMask cleared =
-              open ? block_clear(cameras[c], lo, hi, open, object_states, &in_view) : 0;
-          if (top) block_view[c] = in_view;
+          const StateMask cleared = open ? block_clear(cameras[c], lo, hi, open, object_states) : 0;
           if (cleared) {
             clear |= cleared;
             block_hint = c;
