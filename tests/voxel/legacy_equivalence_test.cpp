@@ -169,6 +169,28 @@ TEST(LegacyEquivalence, MoreThan64StatesAreHandledInChunks) {
   }
 }
 
+TEST(LegacyEquivalence, EqualObjectsOfSeveralStatesKeepEachStatesLabels) {
+  // Conservative mode tests an object that several states hold (the same role, equal meshes)
+  // once for all of them (voxel/src/setup.cpp): here the events repeat in both time steps, and
+  // step 0's dynamic obstacle, occluding (modelled mode), comes back as a target (occupying) in
+  // step 1, which must not be shared.
+  std::mt19937 rng(41);
+  for (int s = 0; s < 3; ++s) {
+    core::Scene scene = random_scene(rng, {12, 9, 9});
+    scene.dynamic_mode = core::DynamicMode::modelled;
+    ASSERT_EQ(scene.time_steps.size(), 2u);
+    core::TimeStep& second = scene.time_steps[1];
+    second.events = scene.time_steps[0].events;
+    second.events[0].targets.push_back(scene.time_steps[0].dynamic_obstacles.at(0));
+    const core::CameraConfig config = random_config(rng, scene);
+    for (LabelMode mode : {LabelMode::center, LabelMode::conservative}) {
+      Tally t;
+      compare_all(scene, config, mode, {12, 9, 9}, "scene " + std::to_string(s), t);
+      EXPECT_EQ(t.differing, 0) << core::name_of(mode) << " scene " << s;
+    }
+  }
+}
+
 TEST(LegacyEquivalence, ThreadsDoNotChangeTheResult) {
   std::mt19937 rng(23);
   for (int s = 0; s < 4; ++s) {

@@ -261,6 +261,12 @@ struct VoxelEvaluator::Impl {
   std::vector<std::vector<detail::StateMask>> chunk_object_states;
   std::vector<std::vector<detail::StateMask>> chunk_step_states;
   std::vector<std::vector<std::uint8_t>> removed_by_step;  ///< obstacle interiors per step
+  /// Conservative mode: per object, the voxels an occupying one reaches into (voxels_reached;
+  /// empty for the others), and per chunk of 64 states and voxel the states where one of them
+  /// does. No camera ever sees such a voxel free (lower_bound() has the proof): raw_models
+  /// keeps it in M for those states without a test.
+  std::vector<std::vector<int>> reached_by_object;
+  std::vector<std::vector<detail::StateMask>> chunk_reached;
   /// Per step and voxel: a lower bound of d(C_h, voxel)² (the centre's distance less the
   /// voxel's radius; in center mode the value itself), and in conservative mode the value,
   /// computed on first use by critical_sq (NaN until then; evaluate() is const and runs on
@@ -302,6 +308,8 @@ struct VoxelEvaluator::Impl {
 
   // Set-up (setup.cpp): everything that does not depend on the cameras.
   void build();
+  /// The index of the object in `objects`, added with its triangles, or in conservative mode
+  /// of an equal one added before (same role and mesh; shared by their states).
   int add_object(const core::SceneObject& object, core::ObjectRole role);
   /// The conservative lower bound of Err (err_lower_bound(); the proof is in setup.cpp).
   double lower_bound() const;
@@ -406,10 +414,11 @@ struct VoxelEvaluator::Impl {
              detail::Scratch& scratch, detail::Verdict& out, bool free_only,
              const detail::CellSize& size, int* witness = nullptr,
              detail::StateMask* sure = nullptr) const;
-  /// Whether every voxel of the block [lo, hi] is surely free for the camera (raw_models).
-  /// `in_view` (optional): set when the block passed the FOV tests (a triangle then decided).
-  bool block_clear(const detail::CameraSetup& cam, const core::Vec3& lo, const core::Vec3& hi,
-                   bool* in_view = nullptr) const;
+  /// The states of `open` where every voxel of the block [lo, hi] is surely free for the camera
+  /// (raw_models); `object_states`: the chunk's states of each object.
+  detail::StateMask block_clear(const detail::CameraSetup& cam, const core::Vec3& lo,
+                                const core::Vec3& hi, detail::StateMask open,
+                                const detail::StateMask* object_states) const;
   enum class Cone { meet, miss, near_miss };
   Cone cone_test(const detail::TriangleCone& tc, const core::Vec3& w,
                  const detail::CellSize& size) const;

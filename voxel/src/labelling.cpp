@@ -23,8 +23,13 @@
 //    touching configurations, is in camera_setup; center mode's labels then differ only where
 //    the ray through a centre touches an edge or a vertex, a tie);
 //  - conservative mode first tries whole blocks of 4³, then 2³ voxels: the states where a camera
-//    sees every voxel of a block free (block_clear, tests on the block with a wider margin) need
-//    no test per voxel;
+//    sees every voxel of a block free (block_clear, tests on the block with a wider margin: the
+//    states none of whose objects' triangles can decide a voxel of it) need no test per voxel;
+//    the states cleared by the cameras add up;
+//  - conservative mode keeps a voxel in M untested in the states where an occupying object
+//    reaches into it (no camera sees it free there: the proof of the lower bound in setup.cpp),
+//    and tests an object that several states hold (same role and mesh) once for all of them
+//    (setup.cpp);
 //  - each triangle is tested once per voxel and camera for all states (bit masks), not once
 //    per state, a voxel is done as soon as some camera sees it free in every state, and a
 //    camera is done with a voxel once every state of interest is decided;
@@ -93,10 +98,12 @@ BinRange bin_range(const CameraSetup& cam, double xlo, double xhi, double ylo, d
 /// bound is the min or max of (x ± bx) / (z ± bz).
 std::array<double, 4> box_projection(double x, double y, double z, double bx, double by,
                                      double bz) {
-  const double z_lo = z - bz, z_hi = z + bz;
+  // Two divisions, then products: within a few ulps of the quotients (the triangles'
+  // rectangles are padded by 2e-9 relative).
+  const double i_lo = 1.0 / (z - bz), i_hi = 1.0 / (z + bz);
   const double x0 = x - bx, x1 = x + bx, y0 = y - by, y1 = y + by;
-  return {x0 / (x0 >= 0 ? z_hi : z_lo), x1 / (x1 >= 0 ? z_lo : z_hi), y0 / (y0 >= 0 ? z_hi : z_lo),
-          y1 / (y1 >= 0 ? z_lo : z_hi)};
+  return {x0 * (x0 >= 0 ? i_hi : i_lo), x1 * (x1 >= 0 ? i_lo : i_hi), y0 * (y0 >= 0 ? i_hi : i_lo),
+          y1 * (y1 >= 0 ? i_lo : i_hi)};
 }
 
 }  // namespace
@@ -570,15 +577,15 @@ void VoxelEvaluator::Impl::judge(const CameraSetup& cam, const Vec3& w, double d
       if (scratch.stamp[t] == scratch.visit) return false;
       scratch.stamp[t] = scratch.visit;
     }
-    // (The edge lines of the projection would repeat the cone-plane test of cone_test.)
-    const auto& r = cam.rect[t];
-    if (r[0] > vx1 || r[1] < vx0 || r[2] > vy1 || r[3] < vy0) return false;
     const int o = triangle_object[t];
     const bool occupying = objects[o].occupying;
     StateMask m = object_states[o] & interest;
     // States already decided need no more tests (occupied wins over undetectable).
     m &= (free_only || !occupying) ? ~(out.occupied | out.blocked) : ~out.occupied;
     if (!m) return false;
+    // (The edge lines of the projection would repeat the cone-plane test of cone_test.)
+    const auto& r = cam.rect[t];
+    if (r[0] > vx1 || r[1] < vx0 || r[2] > vy1 || r[3] < vy0) return false;
     const TriangleCone& tc = cam.triangles[t];
     if (tc.flat || tc.back) return false;
     if (!exact_ready) {
@@ -693,11 +700,11 @@ VoxelEvaluator::Impl::Cone VoxelEvaluator::Impl::cone_test(const TriangleCone& t
   return near_miss ? Cone::near_miss : Cone::meet;
 }
 
-/// Conservative mode: whether every voxel of the block [lo, hi] is free for this camera in every
-/// state it is not blind in, as judge() would label each of them: the block lies in the FOV with
-/// a margin and no triangle can decide any voxel inside it. Each test is one that in_fov() or
-/// judge() makes per voxel, made on the whole block with a larger margin, so it holds for every
-/// voxel inside:
+/// Conservative mode: the states of `open` where every voxel of the block [lo, hi] is free for
+/// this camera, as judge() would label each of them: the block lies in the FOV with a margin and
+/// no triangle of the state's objects can decide any voxel inside it (judge() decides each state
+/// by its own objects' triangles only). Each test is one that in_fov() or judge() makes per
+/// voxel, made on the whole block with a larger margin, so it holds for every voxel inside:
 ///  - FOV: the block's bounding ball lies inside the cone (or the pyramid's or frustum's side
 ///    planes), in front of the camera and between the near and far planes by 1e-9 of the scale,
 ///    and the camera is outside it; so is every voxel's box (the FOV is convex);
@@ -709,33 +716,34 @@ VoxelEvaluator::Impl::Cone VoxelEvaluator::Impl::cone_test(const TriangleCone& t
 ///    grows when the box shrinks inside the block (the support function of a sub-box is at most
 ///    the block's), and a voxel's scale kTouch·(|w| + Σh) is at most the block's, so cone_test()
 ///    returns Cone::miss for every voxel inside (not near_miss, which would test back faces).
-/// Then judge() finds no candidate for any voxel inside, and each voxel is free for the camera.
+/// Then judge() finds no candidate of those states for any voxel inside, and each voxel is free
+/// for the camera in them. A triangle that may decide takes its object's states out; triangles
+/// whose objects hold none of the states left need no test.
 /// tests/voxel/legacy_equivalence_test.cpp compares the models it gives with the old labeller's.
-bool VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& lo, const Vec3& hi,
-                                       bool* in_view) const {
+StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& lo, const Vec3& hi,
+                                            StateMask open, const StateMask* object_states) const {
   const Vec3 center = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
   const Vec3 w = center - cam.c;
   const double d = w.norm(), r = half.norm();
-  if (!(d > r * (1.0 + 1e-9))) return false;
+  if (!(d > r * (1.0 + 1e-9))) return 0;
   const double tol = kMargin * (d + r);
   const double z = w.dot(cam.axis);
-  if (cam.range && !(z + r < *cam.range - tol)) return false;
-  if (cam.near > 0.0 && !(z - r > cam.near + tol)) return false;
-  if (!(z - r > tol)) return false;  // wholly in front (also for the projection below)
+  if (cam.range && !(z + r < *cam.range - tol)) return 0;
+  if (cam.near > 0.0 && !(z - r > cam.near + tol)) return 0;
+  if (!(z - r > tol)) return 0;  // wholly in front (also for the projection below)
   if (cam.pyramid) {
     for (const Vec3& n : cam.normals) {
-      if (!(n.dot(w) > r + tol)) return false;
+      if (!(n.dot(w) > r + tol)) return 0;
     }
   } else {
     const double cos_t = z / d, sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
     const double sin_b = r / d, cos_b = std::sqrt(1.0 - sin_b * sin_b);
-    if (!(cos_t * cos_b - sin_t * sin_b > cam.cos_half + kMargin)) return false;
+    if (!(cos_t * cos_b - sin_t * sin_b > cam.cos_half + kMargin)) return 0;
   }
   const double x = w.dot(cam.ex), y = w.dot(cam.ey);
   const double box_x = cam.abs_ex.dot(half), box_y = cam.abs_ey.dot(half);
   const double box_z = cam.abs_axis.dot(half);
-  if (!(z - box_z > 0.0)) return false;
-  if (in_view) *in_view = true;
+  if (!(z - box_z > 0.0)) return 0;
   const auto proj = box_projection(x, y, z, box_x, box_y, box_z);
   double vx0 = proj[0], vx1 = proj[1], vy0 = proj[2], vy1 = proj[3];
   // Padded against rounding (a voxel's projection is computed from other numbers).
@@ -766,19 +774,26 @@ bool VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& lo, c
     }
     return true;
   };
+  StateMask clear = open;
+  // True when no state is left.
+  auto pass = [&](int t) {
+    const StateMask m = object_states[triangle_object[t]] & clear;
+    if (m && decides(t)) clear &= ~m;
+    return !clear;
+  };
   for (int t : cam.everywhere) {
-    if (decides(t)) return false;
+    if (pass(t)) return 0;
   }
   const BinRange bins = bin_range(cam, vx0, vx1, vy0, vy1);
   for (int by = bins.y0; by <= bins.y1; ++by) {
     for (int bx = bins.x0; bx <= bins.x1; ++bx) {
       const int b = by * cam.bins + bx;
       for (int n = cam.bin_start[b]; n < cam.bin_start[b + 1]; ++n) {
-        if (decides(cam.bin_items[n])) return false;
+        if (pass(cam.bin_items[n])) return 0;
       }
     }
   }
-  return true;
+  return clear;
 }
 
 namespace {
@@ -906,9 +921,12 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
   const std::size_t n_cam = cameras.size();
   Scratch scratch;
   scratch.stamp.assign(triangles.size(), 0);
-  // Per row (j, k) of the slice and camera: row_interval's lo, hi, in_lo, in_hi.
-  std::vector<std::array<int, 4>> rows(static_cast<std::size_t>(ny) * (k_end - k_begin) * n_cam);
-  for (int k = k_begin; k < k_end; ++k) {
+  // Per row (j, k) of the slice and camera: row_interval's lo, hi, in_lo, in_hi, computed on
+  // first use in conservative mode (lo = −1 until then: row_interval's lo is ≥ 0), where blocks
+  // leave many rows without a test, up front in center mode.
+  std::vector<std::array<int, 4>> rows(static_cast<std::size_t>(ny) * (k_end - k_begin) * n_cam,
+                                       {-1, 0, 0, 0});
+  for (int k = k_begin; k < k_end && !conservative; ++k) {
     for (int j = 0; j < ny; ++j) {
       for (std::size_t c = 0; c < n_cam; ++c) {
         auto& r = rows[((k - k_begin) * ny + j) * n_cam + c];
@@ -922,17 +940,22 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
     const StateMask all = count == 64 ? ~StateMask(0) : (StateMask(1) << count) - 1;
     const StateMask* object_states = chunk_object_states[chunk].data();
     const StateMask* step_states = chunk_step_states[chunk].data();
+    const StateMask* reached = conservative ? chunk_reached[chunk].data() : nullptr;
     const std::vector<StateMask> seeing = seeing_states(cameras, chunk);
     std::uint8_t* out[detail::kChunk];
     for (int s = 0; s < count; ++s) out[s] = models[first + s].data();
     std::size_t hint = 0, block_hint = 0;
     auto label = [&](int i, int j, int k, StateMask clear) {
-      const auto* row = &rows[((k - k_begin) * ny + j) * n_cam];
+      auto* row = &rows[((k - k_begin) * ny + j) * n_cam];
       const int v = i + nx * (j + ny * k);
       StateMask pending = all & ~clear;  // not removed, not yet seen free
       for (int h = 0; h < steps && pending; ++h) {
         if (removed_by_step[h][v]) pending &= ~step_states[h];
       }
+      // Conservative mode: the states where an occupying object reaches into the voxel stay in
+      // M untested; no camera would see it free there (the proof is at lower_bound(), setup.cpp).
+      const StateMask kept = reached ? pending & reached[v] : 0;
+      pending &= ~kept;
       if (pending) {
         const Vec3 center(box_center[0][i], box_center[1][j], box_center[2][k]);
         // Cameras from the one that last freed a voxel on: neighbours tend to be seen by the
@@ -942,11 +965,14 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
           const std::size_t c =
               first_cam + step < n_cam ? first_cam + step : first_cam + step - n_cam;
           const StateMask interest = pending & seeing[c];
-          if (!interest || i < row[c][0] || i > row[c][1]) continue;
+          if (!interest) continue;
+          auto& r = row[c];
+          if (r[0] < 0) row_interval(cameras[c], j, k, r[0], r[1], r[2], r[3]);
+          if (i < r[0] || i > r[1]) continue;
           const CameraSetup& cam = cameras[c];
           const Vec3 w = center - cam.c;
           double d = -1.0;  // |w|, computed when needed
-          if (i < row[c][2] || i > row[c][3]) {
+          if (i < r[2] || i > r[3]) {
             d = w.norm();
             if (!in_fov(cam, i, j, k, w, d)) continue;
           }
@@ -957,33 +983,36 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
           pending &= ~freed;
         }
       }
+      pending |= kept;
       for (int s = 0; s < count; ++s) out[s][v] = (pending >> s) & 1;
     };
     // Conservative mode: the states where some camera sees a whole block free (block_clear,
-    // tried from the camera that last cleared a block on) need no test per voxel; blocks of 4³
-    // voxels, then the 2³ blocks of those that no camera cleared for every state; then voxel by
-    // voxel.
+    // every camera from the one that last cleared a block on) need no test per voxel; blocks of
+    // 4³ voxels, then the 2³ blocks of those that the cameras did not clear for every state;
+    // then voxel by voxel.
     constexpr int kBlock = 4;
-    std::vector<std::uint8_t> block_view(n_cam, 0);  // per camera: the 4³ block in its FOV
     auto visit = [&](int i0, int i1, int j0, int j1, int k0, int k1, int size, StateMask clear,
                      auto& self) -> void {
       if (conservative && (i1 - i0) * (j1 - j0) * (k1 - k0) > 1) {
         const Vec3 lo(box_min[0][i0], box_min[1][j0], box_min[2][k0]);
         const Vec3 hi(box_max[0][i1 - 1], box_max[1][j1 - 1], box_max[2][k1 - 1]);
-        // Every camera on the 4³ blocks, from the last one to clear a block on; on their 2³
-        // blocks that one and those that saw the whole 4³ block in their FOV (a triangle kept
-        // it from being clear; a 2³ block may miss that triangle). Which cameras are tried
-        // changes no label: block_clear holds for any camera.
-        const bool top = size == kBlock;
-        if (top) std::fill(block_view.begin(), block_view.end(), 0);
-        for (std::size_t step = 0; step < n_cam && clear != all; ++step) {
+        // Every camera, from the last one to clear a block on, until every state is cleared:
+        // states one camera leaves (a triangle of theirs may decide a voxel) another may clear.
+        // Which cameras are tried changes no label: block_clear holds for any camera.
+        // States where an occupying object reaches into a voxel of the block: never free there
+        // (chunk_reached), so block_clear cannot clear them; it need not try.
+        StateMask held = 0;
+        for (int k = k0; k < k1; ++k) {
+          for (int j = j0; j < j1; ++j) {
+            for (int i = i0; i < i1; ++i) held |= reached[i + nx * (j + ny * k)];
+          }
+        }
+        for (std::size_t step = 0; step < n_cam && (clear | held) != all; ++step) {
           const std::size_t c = (block_hint + step) % n_cam;
-          if (!top && step > 0 && !block_view[c]) continue;
-          bool in_view = false;
-          const bool cleared = (seeing[c] & ~clear) && block_clear(cameras[c], lo, hi, &in_view);
-          if (top) block_view[c] = in_view;
+          const StateMask open = seeing[c] & ~clear & ~held;
+          const StateMask cleared = open ? block_clear(cameras[c], lo, hi, open, object_states) : 0;
           if (cleared) {
-            clear |= seeing[c];
+            clear |= cleared;
             block_hint = c;
           }
         }

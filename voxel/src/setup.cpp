@@ -20,6 +20,22 @@ int VoxelEvaluator::Impl::add_object(const core::SceneObject& object, core::Obje
   detail::ObjectInfo info;
   info.mesh = &object.mesh;
   info.occupying = role == core::ObjectRole::occupying;
+  // Conservative mode shares an object between the states that hold an equal one: the same role
+  // and the same mesh (equal vertices, same triangles), as a robot link that does not move or a
+  // target that appears in several time steps. Every test the labeller makes on an object
+  // depends on its role and its triangles' numbers only, and ORs the verdict into the states of
+  // the object: a shared object gives each state the verdict its own copy gave, with one test
+  // instead of one per copy. (Center mode keeps the copies: the first hit on a ray breaks ties by
+  // triangle index, in the order of each state's objects.)
+  if (conservative) {
+    for (std::size_t o = 0; o < objects.size(); ++o) {
+      if (objects[o].occupying == info.occupying &&
+          objects[o].mesh->triangles == object.mesh.triangles &&
+          objects[o].mesh->vertices == object.mesh.vertices) {
+        return static_cast<int>(o);
+      }
+    }
+  }
   info.center = object.bounds.center();
   for (const Vec3& v : object.mesh.vertices) {
     info.radius = std::max(info.radius, (v - info.center).norm());
@@ -100,6 +116,19 @@ void VoxelEvaluator::Impl::build() {
     chunk_object_states.push_back(std::move(by_object));
     chunk_step_states.push_back(std::move(by_step));
   }
+  if (conservative) {
+    reached_by_object.assign(objects.size(), {});
+    for (std::size_t o = 0; o < objects.size(); ++o) {
+      if (objects[o].occupying) reached_by_object[o] = voxels_reached(*objects[o].mesh);
+    }
+    for (const auto& by_object : chunk_object_states) {
+      std::vector<detail::StateMask> reached(grid.count(), 0);
+      for (std::size_t o = 0; o < objects.size(); ++o) {
+        for (int v : reached_by_object[o]) reached[v] |= by_object[o];
+      }
+      chunk_reached.push_back(std::move(reached));
+    }
+  }
   if (levels > 0) build_refinement();
   if (conservative) err_lower_bound = levels > 0 ? refined_lower_bound() : lower_bound();
 }
@@ -117,6 +146,15 @@ void VoxelEvaluator::Impl::build() {
 ///    and, unless it lies wholly inside an obstacle of the step (removed_by_step), it is in M
 ///    before the filter. Voxels that X touches only at their boundary are not counted: there
 ///    rounding decides (a ray through a vertex of X grazing a voxel's edge: seen free).
+///    That triangle is one judge() tests: it faces the camera (the back-face culling lemma in
+///    camera_setup), so it is not culled; a culled object has no flat triangle (all tilts
+///    > 1e-9), and in an unculled one a flat triangle's cone is a sliver of relative width
+///    < 1e-12, narrower than the rays through the ball of radius contact_depth() about q (1e-9
+///    of the scale), so some ray through that ball, deep inside the box, enters X through a
+///    triangle that is not flat; its rectangle overlaps the box's projection (both hold the
+///    ray's). raw_models (labelling.cpp) relies on this too: it keeps these voxels in M for the
+///    states of X without testing them (chunk_reached), and
+///    tests/voxel/legacy_equivalence_test.cpp checks that its models equal the old labeller's.
 ///  - Such voxels that form a 6-connected group G lie in one component of M before the filter,
 ///    and that component holds G: its volume ≥ |G|·voxel volume and its z-extent ≥ G's. The
 ///    filter keeps components by thresholds (core::Plausibility::keeps, monotone in both), so if
@@ -132,21 +170,13 @@ void VoxelEvaluator::Impl::build() {
 /// The bound sums the states' terms as Err does (core::error_functional); Err and the bound add
 /// the same terms in different orders, so compare through core::lower_bound_threshold.
 double VoxelEvaluator::Impl::lower_bound() const {
-  // The voxels an occupying object reaches into, computed once: objects are shared by states.
-  std::vector<std::vector<int>> reached(objects.size());
-  std::vector<std::uint8_t> known(objects.size(), 0);
   std::vector<std::uint8_t> group(grid.count());
   std::vector<core::ErrTerm> terms;
   for (const detail::StateInfo& state : states) {
     const auto& removed = removed_by_step[state.time_step];
     std::fill(group.begin(), group.end(), std::uint8_t(0));
     for (int o : state.objects) {
-      if (!objects[o].occupying) continue;
-      if (!known[o]) {
-        reached[o] = voxels_reached(*objects[o].mesh);
-        known[o] = 1;
-      }
-      for (int v : reached[o]) {
+      for (int v : reached_by_object[o]) {  // (empty for occluding objects)
         if (!removed[v]) group[v] = 1;
       }
     }
