@@ -191,6 +191,37 @@ TEST(LegacyEquivalence, EqualObjectsOfSeveralStatesKeepEachStatesLabels) {
   }
 }
 
+TEST(LegacyEquivalence, BlocksCutShortKeepVoxelsWhoseBallHoldsTheCamera) {
+  // A 2×2×1 block of 1 m voxels, [2, 4]² × [0, 1] (the grid has one layer: blocks are cut short
+  // in z), and a 170° × 170° frustum camera 1.53 m from the block's centre toward its corner
+  // (2, 2): outside the block's bounding ball (radius 1.5 m), which lies in the frustum, but
+  // within 0.87 m (a voxel's radius) of voxel (2, 2, 0)'s centre. Per voxel, a camera in or at a
+  // voxel's bounding ball never proves it free (in_fov); a whole-block test must not either.
+  const double pi = 3.14159265358979323846;
+  core::Scene scene = simple_scene({core::Vec3(0, 0, 0), core::Vec3(8, 8, 1)}, {8, 8, 1}, 1, 30,
+                                   {box_object("critical", {7, 7, 0}, {8, 8, 1})},
+                                   {box_object("target", {0, 6, 0}, {1, 7, 1})});
+  scene.plausibility = {};
+  core::CameraModel& model = scene.cameras.models.at(0);
+  model.fov = core::FovShape::frustum;
+  model.horizontal = model.vertical = 170.0 * pi / 180.0;
+  const core::Vec3 corner_dir = core::Vec3(-1, -1, 0).normalized();
+  const core::Vec3 position = core::Vec3(3, 3, 0.5) + 1.53 * corner_dir;
+  const core::CameraConfig config{camera_at(position, 45, 0)};
+  ASSERT_LT((position - core::Vec3(2.5, 2.5, 0.5)).norm(), std::sqrt(0.75));
+  const voxel::VoxelEvaluator evaluator(scene, {LabelMode::conservative, {8, 8, 1}});
+  const int v = 2 + 8 * 2;
+  EXPECT_EQ(evaluator.model(config, 0)[v], 1);
+  // The box reference agrees: a camera within the voxel's ball never sees it free.
+  EXPECT_EQ(reference_box_label(scene, 0, 0, config[0], evaluator.grid().voxel_box(v)).label,
+            Label::undetectable);
+  // Its neighbours in the block are seen free, here and by the old labeller.
+  for (const int u : {3 + 8 * 2, 2 + 8 * 3, 3 + 8 * 3}) EXPECT_EQ(evaluator.model(config, 0)[u], 0);
+  Tally t;
+  compare_all(scene, config, LabelMode::conservative, {8, 8, 1}, "block cut short", t);
+  EXPECT_EQ(t.differing, 0);
+}
+
 TEST(LegacyEquivalence, ThreadsDoNotChangeTheResult) {
   std::mt19937 rng(23);
   for (int s = 0; s < 4; ++s) {

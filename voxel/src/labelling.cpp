@@ -707,7 +707,10 @@ VoxelEvaluator::Impl::Cone VoxelEvaluator::Impl::cone_test(const TriangleCone& t
 /// voxel, made on the whole block with a larger margin, so it holds for every voxel inside:
 ///  - FOV: the block's bounding ball lies inside the cone (or the pyramid's or frustum's side
 ///    planes), in front of the camera and between the near and far planes by 1e-9 of the scale,
-///    and the camera is outside it; so is every voxel's box (the FOV is convex);
+///    and the camera is outside it; so is every voxel's box (the FOV is convex). in_fov() also
+///    wants the camera outside each voxel's bounding ball, which can stick out of the block's
+///    (a block cut short at the grid's edge, 2×2×1 voxels, reaches 5% beyond it): the camera
+///    lies farther than a voxel's radius from the box spanned by the voxels' centres, by 1e-9;
 ///  - a triangle is passed over when its padded rectangle misses the block's projection (which
 ///    holds each voxel's projection); when judge() never tests it (flat, culled); when it only
 ///    occludes and lies at least as far from the camera as the block's farthest point (then as
@@ -726,6 +729,9 @@ StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& 
   const Vec3 w = center - cam.c;
   const double d = w.norm(), r = half.norm();
   if (!(d > r * (1.0 + 1e-9))) return 0;
+  const Vec3 to_centres =
+      (lo + half_step - cam.c).cwiseMax(cam.c - (hi - half_step)).cwiseMax(Vec3::Zero());
+  if (!(to_centres.norm() > voxel_radius * (1.0 + 1e-9))) return 0;
   const double tol = kMargin * (d + r);
   const double z = w.dot(cam.axis);
   if (cam.range && !(z + r < *cam.range - tol)) return 0;
