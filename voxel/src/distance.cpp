@@ -13,16 +13,17 @@ namespace camplace::voxel {
 VoxelEvaluator::Impl::ModelDistance VoxelEvaluator::Impl::model_distance(
     const std::vector<std::uint8_t>& model, int time_step) const {
   ModelDistance out;
-  // Model bytes are 0 or 1: eight at a time, their sum is the popcount of the word.
+  // Model bytes are 0 or 1: eight at a time, the product with 0x0101…01 adds them up into the
+  // top byte (at most 8).
   long members = 0;
   const int count = grid.count();
   int v = 0;
   for (; v + 8 <= count; v += 8) {
     std::uint64_t word;
     std::memcpy(&word, model.data() + v, sizeof word);
-    members += __builtin_popcountll(word);
+    members += static_cast<long>((word * 0x0101010101010101ULL) >> 56);
   }
-  for (; v < count; ++v) members += model[v] != 0;
+  for (; v < count; ++v) members += model[v];
   out.volume = static_cast<double>(members) * voxel_volume;
   if (members == 0) {
     out.d_model = core::empty_model_distance(scene.area);
