@@ -101,6 +101,10 @@ TEST(Components, LabelsEqualAFloodFillOnRandomModels) {
         ASSERT_EQ(voxel::component_labels(model, grid), expected)
             << n[0] << "x" << n[1] << "x" << n[2] << " density " << density;
         voxels += std::count(model.begin(), model.end(), 1);
+        // Any byte other than 0 is in the model.
+        std::uniform_int_distribution<int> value(1, 255);
+        for (auto& b : model) b = b ? static_cast<std::uint8_t>(value(rng)) : 0;
+        ASSERT_EQ(voxel::component_labels(model, grid), expected) << "bytes other than 1";
       }
     }
   }

@@ -19,12 +19,13 @@ struct Run {
   int i0, i1;  ///< x range, inclusive
 };
 
-/// Eight model bytes (each 0 or 1) as one word; kOnes when all are 1.
-constexpr std::uint64_t kOnes = 0x0101010101010101ULL;
-inline std::uint64_t word(const std::uint8_t* p) {
+/// Eight model bytes as one word with 1 in each byte that is not 0, 0 elsewhere (byte k holds
+/// p[k]: little-endian order).
+inline std::uint64_t nonzero_bytes(const std::uint8_t* p) {
   std::uint64_t w;
   std::memcpy(&w, p, sizeof w);
-  return w;
+  constexpr std::uint64_t low7 = 0x7f7f7f7f7f7f7f7fULL;
+  return (((w & low7) + low7) | w) >> 7 & 0x0101010101010101ULL;
 }
 
 using detail::find;
@@ -45,19 +46,31 @@ RunForest run_forest(const std::uint8_t* m, const Grid& grid) {
   for (int r = 0; r < rows; ++r) {
     row_start[r] = static_cast<int>(runs.size());
     const std::uint8_t* row = m + static_cast<std::size_t>(r) * nx;
-    // Eight bytes at a time where they are all 0 (outside a run) or all 1 (inside one).
-    for (int i = 0; i < nx;) {
-      if (!row[i]) {
-        ++i;
-        while (i + 8 <= nx && word(row + i) == 0) i += 8;
-        while (i < nx && !row[i]) ++i;
-        continue;
+    // A run starts or ends where a byte differs from the one before (0 before the row). Eight
+    // bytes at a time: byte k of w ^ (w << 8 | previous) is 1 where byte k differs from byte
+    // k − 1; then byte by byte for the rest of the row.
+    bool inside = false;
+    int i0 = 0;
+    auto toggle = [&](int i) {
+      if (inside) runs.push_back({r, i0, i - 1});
+      i0 = i;
+      inside = !inside;
+    };
+    int i = 0;
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+    std::uint64_t previous = 0;
+    for (; i + 8 <= nx; i += 8) {
+      const std::uint64_t w = nonzero_bytes(row + i);
+      for (std::uint64_t edges = w ^ (w << 8 | previous); edges; edges &= edges - 1) {
+        toggle(i + __builtin_ctzll(edges) / 8);
       }
-      const int i0 = i;
-      while (i + 8 <= nx && word(row + i) == kOnes) i += 8;
-      while (i < nx && row[i]) ++i;
-      runs.push_back({r, i0, i - 1});
+      previous = w >> 56;
     }
+#endif
+    for (; i < nx; ++i) {
+      if ((row[i] != 0) != inside) toggle(i);
+    }
+    if (inside) runs.push_back({r, i0, nx - 1});
   }
   row_start[rows] = static_cast<int>(runs.size());
   std::vector<int>& parent = forest.parent;

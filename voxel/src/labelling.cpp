@@ -92,6 +92,16 @@ BinRange bin_range(const CameraSetup& cam, double xlo, double xhi, double ylo, d
           bin_of(cam, yhi + py, 1)};
 }
 
+/// Whether the ball of radius `depth` about the point at w from the camera (axial coordinate z)
+/// lies inside the camera's cone (half angle α < 90°): the point's distance to the cone's
+/// surface, z sin α − ρ cos α with ρ its distance from the axis (in the meridian plane, to the
+/// nearer generator; z > 0 there), exceeds `depth`. Squared, no root.
+bool ball_in_cone(const CameraSetup& cam, const Vec3& w, double z, double depth) {
+  const double inner = cam.sin_half * z - depth;
+  const double lateral_sq = std::max(0.0, w.squaredNorm() - z * z);
+  return inner > 0.0 && inner * inner > cam.cos_half * cam.cos_half * lateral_sq;
+}
+
 /// The rectangle (x0, x1, y0, y1) of image coordinates (X/Z, Y/Z) holding the projection of a
 /// box whose centre is at (x, y, z) in the camera frame and whose half extents along ex, ey and
 /// the axis are (bx, by, bz), the box lying wholly in front of the camera (z − bz > 0): each
@@ -397,12 +407,7 @@ bool VoxelEvaluator::Impl::box_in_fov(const CameraSetup& cam, const Vec3& lo, co
   }
   if (!cam.pyramid) {
     if (axial < d * cam.cos_half - tol) return false;
-    if (ball_inside) {
-      // Angle θ of the centre off the axis plus the ball's angular radius β within α.
-      const double cos_t = axial / d, sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
-      const double sin_b = r / d, cos_b = std::sqrt(1.0 - sin_b * sin_b);
-      if (cos_t * cos_b - sin_t * sin_b > cam.cos_half + kMargin) return true;
-    }
+    if (ball_inside && ball_in_cone(cam, w, axial, r + tol)) return true;
   } else {
     bool clear = ball_inside;
     for (const Vec3& n : cam.normals) {
@@ -731,7 +736,8 @@ StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& 
   if (!(d > r * (1.0 + 1e-9))) return 0;
   const Vec3 to_centres =
       (lo + half_step - cam.c).cwiseMax(cam.c - (hi - half_step)).cwiseMax(Vec3::Zero());
-  if (!(to_centres.norm() > voxel_radius * (1.0 + 1e-9))) return 0;
+  const double clear_of_balls = voxel_radius * (1.0 + 1e-9);
+  if (!(to_centres.squaredNorm() > clear_of_balls * clear_of_balls)) return 0;
   const double tol = kMargin * (d + r);
   const double z = w.dot(cam.axis);
   if (cam.range && !(z + r < *cam.range - tol)) return 0;
@@ -741,10 +747,8 @@ StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& 
     for (const Vec3& n : cam.normals) {
       if (!(n.dot(w) > r + tol)) return 0;
     }
-  } else {
-    const double cos_t = z / d, sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
-    const double sin_b = r / d, cos_b = std::sqrt(1.0 - sin_b * sin_b);
-    if (!(cos_t * cos_b - sin_t * sin_b > cam.cos_half + kMargin)) return 0;
+  } else if (!ball_in_cone(cam, w, z, r + tol)) {
+    return 0;
   }
   const double x = w.dot(cam.ex), y = w.dot(cam.ey);
   const double box_x = cam.abs_ex.dot(half), box_y = cam.abs_ey.dot(half);
