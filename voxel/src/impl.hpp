@@ -379,7 +379,8 @@ struct VoxelEvaluator::Impl {
   detail::CameraSetup camera_setup(const core::CameraSetting& camera,
                                    const core::CameraModel& model) const;
   /// Unfiltered models of all states (1 = no camera sees the voxel free, minus obstacle
-  /// interiors), for voxel slices k ∈ [k_begin, k_end); `models[s]` holds grid.count() bytes.
+  /// interiors), for voxel slices k ∈ [k_begin, k_end): sets their voxels in M to 1; `models[s]`
+  /// holds grid.count() bytes, zero beforehand.
   void raw_models(const std::vector<detail::CameraSetup>& cameras, int k_begin, int k_end,
                   std::vector<std::vector<std::uint8_t>>& models) const;
   /// The unfiltered models of all states for a configuration (checked against the scene), into

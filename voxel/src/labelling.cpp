@@ -994,7 +994,7 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
         }
       }
       pending |= kept;
-      for (int s = 0; s < count; ++s) out[s][v] = (pending >> s) & 1;
+      for (StateMask m = pending; m; m &= m - 1) out[__builtin_ctzll(m)][v] = 1;
     };
     // Conservative mode: the states where some camera sees a whole block free (block_clear,
     // every camera from the one that last cleared a block on) need no test per voxel; blocks of
@@ -1084,7 +1084,8 @@ void VoxelEvaluator::Impl::all_raw_models(const core::CameraConfig& config,
     cameras.push_back(camera_setup(config[i], scene.cameras.models[i]));
   }
   models.resize(states.size());
-  for (auto& model : models) model.resize(grid.count());  // every byte is written below
+  // raw_models() writes only the voxels in M.
+  for (auto& model : models) model.assign(grid.count(), 0);
   // Slices of a few z-layers each, shared out among the threads (results do not depend on it).
   const int nz = grid.n[2];
   const int slices = options.threads <= 1 ? 1 : std::min(nz, 4 * options.threads);
