@@ -124,6 +124,14 @@ std::vector<Object> state_objects(const core::Scene& scene, int time_step, int e
   return objects;
 }
 
+// A camera inside an object of the state sees nothing (SPEC §3.3).
+bool blind(const std::vector<Object>& objects, const Vec3& c) {
+  for (const Object& o : objects) {
+    if (reference_inside(*o.mesh, c)) return true;
+  }
+  return false;
+}
+
 // Distance from p to the segment [a, b].
 double point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
   const Vec3 ab = b - a;
@@ -211,9 +219,7 @@ ReferenceLabel reference_label(const core::Scene& scene, int time_step, int even
   ReferenceLabel out;
   const std::vector<Object> objects = state_objects(scene, time_step, event);
   const Vec3 c = camera.position;
-  for (const Object& o : objects) {
-    if (reference_inside(*o.mesh, c)) return out;  // blind camera
-  }
+  if (blind(objects, c)) return out;
   const Vec3 v = p - c;
   const double dist = v.norm();
   if (dist < margin) {
@@ -257,9 +263,7 @@ ReferenceLabel reference_box_label(const core::Scene& scene, int time_step, int 
   ReferenceLabel out;
   const std::vector<Object> objects = state_objects(scene, time_step, event);
   const Vec3 c = camera.position;
-  for (const Object& o : objects) {
-    if (reference_inside(*o.mesh, c)) return out;  // blind camera
-  }
+  if (blind(objects, c)) return out;
   const Vec3 half = 0.5 * box.size();
   const Vec3 w = box.center() - c;
   // The camera in or at the box's bounding ball: never free.

@@ -17,32 +17,57 @@ using voxel::Label;
 using voxel::LabelMode;
 constexpr int kScenes = 12;
 
-TEST(Oracle, CenterLabelsEqualReferenceAtVoxelCentres) {
-  std::mt19937 rng(20261123);
+struct LabelTally {
   long compared = 0, ties = 0;
-  for (int s = 0; s < kScenes; ++s) {
-    const core::Scene scene = random_scene(rng, {12, 9, 9});
-    const voxel::VoxelEvaluator evaluator(scene, {LabelMode::center, {0, 0, 0}});
-    const core::CameraConfig config = random_config(rng, scene);
+  std::array<long, 3> by_label{};  ///< compared labels by the reference's label
+};
+
+// Every label of `mode` against the brute-force reference of that mode: center mode the ray
+// through the voxel centre (reference_label), conservative mode every triangle's cone against
+// the whole voxel box by LP duality, the FOV on the 8 corners (reference_box_label); no culling,
+// bins or blocks. `make_scene` and `make_config` draw each scene and configuration; ties (the
+// reference's margin) are skipped and counted.
+template <class MakeScene, class MakeConfig>
+void compare_labels_with_reference(std::mt19937& rng, int scenes, LabelMode mode,
+                                   const MakeScene& make_scene, const MakeConfig& make_config,
+                                   LabelTally& tally) {
+  for (int s = 0; s < scenes; ++s) {
+    const core::Scene scene = make_scene(rng);
+    const voxel::VoxelEvaluator evaluator(scene, {mode, {0, 0, 0}});
+    const core::CameraConfig config = make_config(rng, scene);
     const auto all_states = core::states(scene);
     for (std::size_t st = 0; st < all_states.size(); ++st) {
-      for (const auto& camera : config) {
-        const auto labels = evaluator.labels(camera, static_cast<int>(st));
+      const int h = all_states[st].time_step, l = all_states[st].event;
+      for (int c = 0; c < scene.cameras.count; ++c) {
+        const auto labels = evaluator.labels(config[c], static_cast<int>(st), c);
         for (int v = 0; v < evaluator.grid().count(); ++v) {
+          const voxel::Grid& grid = evaluator.grid();
           const ReferenceLabel ref =
-              reference_label(scene, all_states[st].time_step, all_states[st].event, camera,
-                              evaluator.grid().voxel_center(v));
+              mode == LabelMode::center
+                  ? reference_label(scene, h, l, config[c], grid.voxel_center(v), 1e-7, c)
+                  : reference_box_label(scene, h, l, config[c], grid.voxel_box(v), 1e-7, c);
           if (ref.ambiguous) {
-            ++ties;
+            ++tally.ties;
             continue;
           }
-          ++compared;
-          ASSERT_EQ(labels[v], ref.label) << "scene " << s << " state " << st << " voxel " << v;
+          ++tally.compared;
+          ++tally.by_label[static_cast<int>(ref.label)];
+          ASSERT_EQ(labels[v], ref.label)
+              << "scene " << s << " state " << st << " camera " << c << " voxel " << v;
         }
       }
     }
   }
-  EXPECT_GT(compared, 100 * ties);  // ties are rare; the comparison is not vacuous
+}
+
+core::Scene small_random_scene(std::mt19937& rng) { return random_scene(rng, {12, 9, 9}); }
+
+TEST(Oracle, CenterLabelsEqualReferenceAtVoxelCentres) {
+  std::mt19937 rng(20261123);
+  LabelTally t;
+  compare_labels_with_reference(rng, kScenes, LabelMode::center, small_random_scene, random_config,
+                                t);
+  EXPECT_GT(t.compared, 100 * t.ties);  // ties are rare; the comparison is not vacuous
 }
 
 TEST(Oracle, ConservativeFreeVoxelsAreFreeAtSampledPoints) {
@@ -84,53 +109,13 @@ TEST(Oracle, ConservativeFreeVoxelsAreFreeAtSampledPoints) {
   EXPECT_GT(free_voxels, 1000);  // the check is not vacuous
 }
 
-// Conservative mode's every label (free, occupied, undetectable) against the brute-force box
-// reference: every triangle's cone against the whole voxel box by LP duality, the FOV on the 8
-// corners, no culling, bins or blocks. `make_scene` and `make_config` draw one scene and
-// configuration; ties (the reference's margin) are skipped and counted.
-template <class MakeScene, class MakeConfig>
-void expect_conservative_labels_equal_box_reference(std::mt19937& rng, int scenes,
-                                                    const MakeScene& make_scene,
-                                                    const MakeConfig& make_config) {
-  long compared = 0, ties = 0;
-  std::array<long, 3> by_label{};
-  for (int s = 0; s < scenes; ++s) {
-    const core::Scene scene = make_scene(rng);
-    const voxel::VoxelEvaluator evaluator(scene, {LabelMode::conservative, {0, 0, 0}});
-    const core::CameraConfig config = make_config(rng, scene);
-    const auto all_states = core::states(scene);
-    for (std::size_t st = 0; st < all_states.size(); ++st) {
-      for (int c = 0; c < scene.cameras.count; ++c) {
-        const auto labels = evaluator.labels(config[c], static_cast<int>(st), c);
-        for (int v = 0; v < evaluator.grid().count(); ++v) {
-          const ReferenceLabel ref =
-              reference_box_label(scene, all_states[st].time_step, all_states[st].event, config[c],
-                                  evaluator.grid().voxel_box(v), 1e-7, c);
-          if (ref.ambiguous) {
-            ++ties;
-            continue;
-          }
-          ++compared;
-          ++by_label[static_cast<int>(ref.label)];
-          ASSERT_EQ(labels[v], ref.label)
-              << "scene " << s << " state " << st << " camera " << c << " voxel " << v;
-        }
-      }
-    }
-  }
-  EXPECT_GT(compared, 100 * ties);
-  // Every label occurs often: the comparison is not vacuous.
-  for (long n : by_label) EXPECT_GT(n, 500);
-}
-
 TEST(Oracle, ConservativeLabelsEqualBoxReference) {
   std::mt19937 rng(20261129);
-  expect_conservative_labels_equal_box_reference(
-      rng, kScenes,
-      [](std::mt19937& r) {
-        return random_scene(r, {12, 9, 9});
-      },
-      [](std::mt19937& r, const core::Scene& scene) { return random_config(r, scene); });
+  LabelTally t;
+  compare_labels_with_reference(rng, kScenes, LabelMode::conservative, small_random_scene,
+                                random_config, t);
+  EXPECT_GT(t.compared, 100 * t.ties);
+  for (long n : t.by_label) EXPECT_GT(n, 500);  // every label occurs often: not vacuous
 }
 
 TEST(Oracle, ConservativeModelContainsCenterModel) {
@@ -172,33 +157,13 @@ core::CameraConfig rolled_config(std::mt19937& rng, const core::Scene& scene) {
 
 TEST(Oracle, FrustaWithRollCenterLabelsEqualReference) {
   std::mt19937 rng(1414);
-  long compared = 0, ties = 0, seen = 0;
-  for (int s = 0; s < 8; ++s) {
-    const core::Scene scene = frustum_scene(rng);
-    const voxel::VoxelEvaluator evaluator(scene, {LabelMode::center, {0, 0, 0}});
-    const core::CameraConfig config = rolled_config(rng, scene);
-    const auto all_states = core::states(scene);
-    for (std::size_t st = 0; st < all_states.size(); ++st) {
-      for (int c = 0; c < scene.cameras.count; ++c) {
-        const auto labels = evaluator.labels(config[c], static_cast<int>(st), c);
-        for (int v = 0; v < evaluator.grid().count(); ++v) {
-          const ReferenceLabel ref =
-              reference_label(scene, all_states[st].time_step, all_states[st].event, config[c],
-                              evaluator.grid().voxel_center(v), 1e-7, c);
-          if (ref.ambiguous) {
-            ++ties;
-            continue;
-          }
-          ++compared;
-          seen += ref.label != Label::undetectable;
-          ASSERT_EQ(labels[v], ref.label)
-              << "scene " << s << " state " << st << " camera " << c << " voxel " << v;
-        }
-      }
-    }
-  }
-  EXPECT_GT(compared, 100 * ties);
-  EXPECT_GT(seen, 1000);  // the frusta see something: not vacuous
+  LabelTally t;
+  compare_labels_with_reference(rng, 8, LabelMode::center, frustum_scene, rolled_config, t);
+  EXPECT_GT(t.compared, 100 * t.ties);
+  // The frusta see something: not vacuous.
+  EXPECT_GT(
+      t.by_label[static_cast<int>(Label::free)] + t.by_label[static_cast<int>(Label::occupied)],
+      1000);
 }
 
 TEST(Oracle, FrustaWithRollConservativeFreeVoxelsAreFree) {
@@ -242,7 +207,10 @@ TEST(Oracle, FrustaWithRollConservativeFreeVoxelsAreFree) {
 
 TEST(Oracle, FrustaWithRollConservativeLabelsEqualBoxReference) {
   std::mt19937 rng(1417);
-  expect_conservative_labels_equal_box_reference(rng, 8, frustum_scene, rolled_config);
+  LabelTally t;
+  compare_labels_with_reference(rng, 8, LabelMode::conservative, frustum_scene, rolled_config, t);
+  EXPECT_GT(t.compared, 100 * t.ties);
+  for (long n : t.by_label) EXPECT_GT(n, 500);
 }
 
 TEST(Oracle, FrustaWithRollRefinedModelHoldsEveryReferenceModelPoint) {
