@@ -727,7 +727,9 @@ VoxelEvaluator::Impl::Cone VoxelEvaluator::Impl::cone_test(const TriangleCone& t
 /// Then judge() finds no candidate of those states for any voxel inside, and each voxel is free
 /// for the camera in them. A triangle that may decide takes its object's states out; triangles
 /// whose objects hold none of the states left need no test.
-/// tests/voxel/legacy_equivalence_test.cpp compares the models it gives with the old labeller's.
+/// tests/voxel/legacy_equivalence_test.cpp checks that the models equal the per-voxel labels of
+/// their cameras (ModelsEqualThePerVoxelLabelsOfTheirCameras, BlocksCutShort…) and the old
+/// labeller's on the paper's scene.
 StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& lo, const Vec3& hi,
                                             StateMask open, const StateMask* object_states) const {
   const Vec3 center = 0.5 * (lo + hi), half = 0.5 * (hi - lo);

@@ -29,9 +29,10 @@ int VoxelEvaluator::Impl::add_object(const core::SceneObject& object, core::Obje
   // triangle index, in the order of each state's objects.)
   if (conservative) {
     for (std::size_t o = 0; o < objects.size(); ++o) {
+      // Vertices first: copies of a mesh elsewhere (robot links, boxes) share their triangles.
       if (objects[o].occupying == info.occupying &&
-          objects[o].mesh->triangles == object.mesh.triangles &&
-          objects[o].mesh->vertices == object.mesh.vertices) {
+          objects[o].mesh->vertices == object.mesh.vertices &&
+          objects[o].mesh->triangles == object.mesh.triangles) {
         return static_cast<int>(o);
       }
     }
@@ -154,7 +155,8 @@ void VoxelEvaluator::Impl::build() {
 ///    triangle that is not flat; its rectangle overlaps the box's projection (both hold the
 ///    ray's). raw_models (labelling.cpp) relies on this too: it keeps these voxels in M for the
 ///    states of X without testing them (chunk_reached), and
-///    tests/voxel/legacy_equivalence_test.cpp checks that its models equal the old labeller's.
+///    tests/voxel/legacy_equivalence_test.cpp checks that its models equal the per-voxel labels
+///    of their cameras (ModelsEqualThePerVoxelLabelsOfTheirCameras).
 ///  - Such voxels that form a 6-connected group G lie in one component of M before the filter,
 ///    and that component holds G: its volume ≥ |G|·voxel volume and its z-extent ≥ G's. The
 ///    filter keeps components by thresholds (core::Plausibility::keeps, monotone in both), so if
