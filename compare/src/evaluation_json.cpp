@@ -109,11 +109,7 @@ nlohmann::json voxel_diagnostics(
       const core::Box3 box =
           boxes ? grid.voxel_box(v) : core::Box3{grid.voxel_center(v), grid.voxel_center(v)};
       double b = std::numeric_limits<double>::infinity();
-      for (const core::Box3& c : critical_boxes) {
-        const core::Vec3 gap =
-            (c.min - box.max).cwiseMax(box.min - c.max).cwiseMax(core::Vec3::Zero());
-        b = std::min(b, gap.squaredNorm());
-      }
+      for (const core::Box3& c : critical_boxes) b = std::min(b, core::box_box_sq_distance(c, box));
       return b;
     };
     auto value = [&](int v) {

@@ -49,11 +49,6 @@ Box3 triangle_bounds(const Vec3& a, const Vec3& b, const Vec3& c) {
   return {a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c)};
 }
 
-double box_gap_sq(const Box3& a, const Box3& b) {
-  const Vec3 gap = (a.min - b.max).cwiseMax(b.min - a.max).cwiseMax(0.0);
-  return gap.squaredNorm();
-}
-
 }  // namespace
 
 Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
@@ -122,7 +117,7 @@ ClosestPoints closest_points(const std::vector<const TriangleMesh*>& a,
         const Box3 a_bounds = triangle_bounds(p0, p1, p2);
         for (std::size_t j = 0; j < mb->triangles.size(); ++j) {
           // The gap between bounding boxes bounds the pair's distance from below.
-          if (box_gap_sq(a_bounds, b_bounds[j]) > nearest.best.sq_distance) continue;
+          if (box_box_sq_distance(a_bounds, b_bounds[j]) > nearest.best.sq_distance) continue;
           const auto& tb = mb->triangles[j];
           const ClosestPoints pair = closest_points_of_triangles(
               p0, p1, p2, mb->vertices[tb[0]], mb->vertices[tb[1]], mb->vertices[tb[2]]);

@@ -113,6 +113,11 @@ double point_box_sq_distance(const Vec3& p, const Box3& box) {
   return (p - clamped).squaredNorm();
 }
 
+double box_box_sq_distance(const Box3& a, const Box3& b) {
+  const Vec3 gap = (a.min - b.max).cwiseMax(b.min - a.max).cwiseMax(0.0);
+  return gap.squaredNorm();
+}
+
 bool triangle_box_overlap(const Vec3& a, const Vec3& b, const Vec3& c, const Box3& box) {
   // Separating-axis test (Akenine-Möller): 3 box normals, the triangle normal and the 9 cross
   // products of box axes with triangle edges. Closed sets: touching counts as overlap.

@@ -82,5 +82,18 @@ TEST(Geometry, InsideVolumeAndRayHits) {
   EXPECT_DOUBLE_EQ(core::box_solid_sq_distance(cube.mesh, {Vec3(3, 3, 0), Vec3(4, 4, 1)}), 2.0);
 }
 
+TEST(Geometry, BoxBoxDistanceByHand) {
+  const core::Box3 unit{Vec3(0, 0, 0), Vec3(1, 1, 1)};
+  // Apart along one axis, along two (corner to edge), along three (corner to corner).
+  EXPECT_DOUBLE_EQ(core::box_box_sq_distance(unit, {Vec3(3, 0.5, 0.5), Vec3(4, 2, 2)}), 4.0);
+  EXPECT_DOUBLE_EQ(core::box_box_sq_distance({Vec3(2, 3, 0), Vec3(5, 5, 1)}, unit), 1.0 + 4.0);
+  EXPECT_DOUBLE_EQ(core::box_box_sq_distance(unit, {Vec3(-3, -2, 3), Vec3(-1, -1, 4)}),
+                   1.0 + 1.0 + 4.0);
+  // Touching, overlapping and nested boxes: 0.
+  EXPECT_EQ(core::box_box_sq_distance(unit, {Vec3(1, 0, 0), Vec3(2, 1, 1)}), 0.0);
+  EXPECT_EQ(core::box_box_sq_distance(unit, {Vec3(0.5, 0.5, 0.5), Vec3(2, 2, 2)}), 0.0);
+  EXPECT_EQ(core::box_box_sq_distance(unit, {Vec3(0.2, 0.2, 0.2), Vec3(0.3, 0.3, 0.3)}), 0.0);
+}
+
 }  // namespace
 }  // namespace camplace::testing

@@ -95,7 +95,7 @@ void triangle_box(const IndexedSolid& s, std::size_t t, const Box3& box,
   const auto& tri = s.triangles[t];
   // Overlap needs the bounding boxes to meet; separated by more than the margin, core's test
   // (whose first axes are the box normals) says no as well.
-  if (!beyond(box_gap_sq(s.triangle_bounds[t], box), 0.0) &&
+  if (!beyond(core::box_box_sq_distance(s.triangle_bounds[t], box), 0.0) &&
       core::triangle_box_overlap(tri[0], tri[1], tri[2], box)) {
     best = 0.0;
     return;
@@ -157,15 +157,6 @@ IndexedSolid index_solid(const core::TriangleMesh& mesh) {
   return s;
 }
 
-double box_gap_sq(const Box3& a, const Box3& b) {
-  double sum = 0.0;
-  for (int i = 0; i < 3; ++i) {
-    const double gap = std::max({0.0, a.min[i] - b.max[i], b.min[i] - a.max[i]});
-    sum += gap * gap;
-  }
-  return sum;
-}
-
 double vertex_upper_bound(const std::vector<IndexedSolid>& solids, const Box3& box) {
   double best = kInf;
   for (const IndexedSolid& s : solids) {
@@ -201,7 +192,7 @@ double box_solids_sq_distance(const std::vector<IndexedSolid>& solids, const Box
   near.clear();
   for (std::size_t o = 0; o < solids.size(); ++o) {
     const IndexedSolid& s = solids[o];
-    if (beyond(box_gap_sq(s.bounds, box), cutoff)) continue;
+    if (beyond(core::box_box_sq_distance(s.bounds, box), cutoff)) continue;
     if (s.bounds.contains(center) && core::inside_mesh(*s.mesh, center)) return 0.0;
     for (std::size_t t = 0; t < s.triangles.size(); ++t) {
       const auto& tri = s.triangles[t];
@@ -220,7 +211,7 @@ double box_solids_sq_distance(const std::vector<IndexedSolid>& solids, const Box
     const double cut = std::min(best, cutoff);
     const double gap = std::sqrt(n.centre_sq) - radius;
     if (gap > 0.0 && beyond(gap * gap * (1.0 - 1e-9), cut)) break;  // so are all later ones
-    if (beyond(box_gap_sq(s.triangle_bounds[n.triangle], box), cut)) continue;
+    if (beyond(core::box_box_sq_distance(s.triangle_bounds[n.triangle], box), cut)) continue;
     if (!have_corners) {
       corners = box_corners(box);
       have_corners = true;

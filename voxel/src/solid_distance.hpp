@@ -29,10 +29,6 @@ IndexedSolid index_solid(const core::TriangleMesh& mesh);
 /// True when the lower bound `lb` (m²) proves a distance larger than `cutoff` (m²).
 inline bool beyond(double lb, double cutoff) { return lb > cutoff * (1.0 + 1e-9) + 1e-18; }
 
-/// Squared gap between two boxes (0 when they meet): a lower bound of the squared distance
-/// between any points inside them.
-double box_gap_sq(const core::Box3& a, const core::Box3& b);
-
 /// Smallest squared distance from `box` to any vertex of the solids: an upper bound of the
 /// box–solid distance (vertices belong to the solids).
 double vertex_upper_bound(const std::vector<IndexedSolid>& solids, const core::Box3& box);

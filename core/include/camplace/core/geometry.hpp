@@ -60,6 +60,9 @@ std::pair<Vec3, Vec3> closest_points_of_segments(const Vec3& p0, const Vec3& p1,
 double segment_segment_sq_distance(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1);
 /// Squared distance from p to the closed box.
 double point_box_sq_distance(const Vec3& p, const Box3& box);
+/// Squared distance between two closed boxes (0 when they meet): a lower bound of the squared
+/// distance between anything inside them.
+double box_box_sq_distance(const Box3& a, const Box3& b);
 /// True when triangle (a, b, c) and the closed box share a point (separating-axis test).
 bool triangle_box_overlap(const Vec3& a, const Vec3& b, const Vec3& c, const Box3& box);
 /// Squared distance between triangle (a, b, c) and the closed box; 0 when they overlap.
