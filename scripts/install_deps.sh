@@ -4,12 +4,14 @@
 # `camplace export`, libjs-three is the three.js it copies beside the viewer page, chromium runs
 # the page headless in the test labelled `browser`. openmpi-bin and libopenmpi-dev: `mpirun camplace
 # study|validate` (docs/cluster.md).
+# libassimp-dev reads mesh files (DAE, glTF, 3MF, ...), liburdfdom-dev robot descriptions (URDF).
 # The one list of dependencies; README commands and .ci/run call this script.
 set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libcgal-dev libssl-dev libgmp-dev libmpfr-dev libboost-dev libeigen3-dev
   libpagmo-dev libtbb-dev nlohmann-json3-dev libcli11-dev libjemalloc-dev
+  libassimp-dev liburdfdom-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 gnuplot-nox clang-format clang libclang-rt-14-dev
   pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib

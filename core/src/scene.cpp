@@ -85,7 +85,7 @@ class SceneParser {
         scene_.plausibility.min_height = p.at("min_height").number_in(0, 1e9);
     }
     if (root.has("static_obstacles")) {
-      scene_.static_obstacles = parse_objects(root.at("static_obstacles"));
+      scene_.static_obstacles = parse_objects(root.at("static_obstacles"), Role::static_obstacle);
     }
     parse_time_steps(root.at("time_steps"));
     check_targets_clear_of_obstacles(root);
@@ -470,7 +470,11 @@ class SceneParser {
     return d;
   }
 
-  SceneObject parse_object(const JsonNode& node) const {
+  /// What an object is in its state: obstacles and critical objects may reach beyond S (they
+  /// occlude and, masked, change pixels wherever they are); targets must lie in S (SPEC §2).
+  enum class Role { static_obstacle, dynamic_obstacle, critical, target };
+
+  SceneObject parse_object(const JsonNode& node, Role role) const {
     node.only_keys({"name", "box", "tetrahedron", "mesh", "file", "transform"});
     SceneObject object;
     object.entry = node.pointer();
@@ -518,18 +522,19 @@ class SceneParser {
     detail::validate_and_orient(object.mesh, path_, node.pointer());
     object.bounds = bounding_box(object.mesh);
     const Box3& s = scene_.area;
-    if ((object.bounds.min.array() < s.min.array() - kAreaSlack).any() ||
-        (object.bounds.max.array() > s.max.array() + kAreaSlack).any()) {
-      node.fail("object \"" + object.name + "\" leaves the area S: its bounds " +
+    if (role == Role::target && ((object.bounds.min.array() < s.min.array() - kAreaSlack).any() ||
+                                 (object.bounds.max.array() > s.max.array() + kAreaSlack).any())) {
+      node.fail("target \"" + object.name + "\" leaves the area S: its bounds " +
                 format_vec(object.bounds.min) + "–" + format_vec(object.bounds.max) +
                 " are not inside " + format_vec(s.min) + "–" + format_vec(s.max));
     }
     return object;
   }
 
-  std::vector<SceneObject> parse_objects(const JsonNode& list) const {
+  std::vector<SceneObject> parse_objects(const JsonNode& list, Role role) const {
     std::vector<SceneObject> objects;
-    for (std::size_t i = 0; i < list.array_size(); ++i) objects.push_back(parse_object(list.at(i)));
+    for (std::size_t i = 0; i < list.array_size(); ++i)
+      objects.push_back(parse_object(list.at(i), role));
     return objects;
   }
 
@@ -546,9 +551,10 @@ class SceneParser {
       TimeStep step;
       step.t = node.has("t") ? node.at("t").number() : static_cast<double>(h);
       if (node.has("dynamic_obstacles"))
-        step.dynamic_obstacles = parse_objects(node.at("dynamic_obstacles"));
-      step.critical =
-          node.has("critical") ? parse_objects(node.at("critical")) : step.dynamic_obstacles;
+        step.dynamic_obstacles =
+            parse_objects(node.at("dynamic_obstacles"), Role::dynamic_obstacle);
+      step.critical = node.has("critical") ? parse_objects(node.at("critical"), Role::critical)
+                                           : step.dynamic_obstacles;
       if (step.critical.empty()) {
         node.fail("time step has no critical objects: give \"critical\" or \"dynamic_obstacles\"");
       }
@@ -574,7 +580,7 @@ class SceneParser {
         }
         const JsonNode targets = e.at("targets");
         if (targets.array_size() == 0) targets.fail("an event needs at least one target");
-        event.targets = parse_objects(targets);
+        event.targets = parse_objects(targets, Role::target);
         step.events.push_back(std::move(event));
       }
       scene_.time_steps.push_back(std::move(step));

@@ -450,10 +450,10 @@ TEST(SceneRejection, BrokenOrMissingMeshFiles) {
   expect_rejected(write_file(dir + "/d.json", s.dump()), "/static_obstacles/0", "open");
 }
 
-TEST(SceneRejection, ObjectLeavesArea) {
+TEST(SceneRejection, TargetLeavesArea) {
   json s = base_scene();
-  s["static_obstacles"][0]["box"]["max"] = {1, 1, 3.5};
-  expect_rejected(s, "leaves", "/static_obstacles/0", "leaves the area S");
+  s["time_steps"][0]["events"][0]["targets"][0]["box"]["max"][2] = 3.5;
+  expect_rejected(s, "leaves", "/time_steps/0/events/0/targets/0", "leaves the area S");
 }
 
 TEST(SceneRejection, TargetIntersectsObstacleOfItsState) {

@@ -159,6 +159,21 @@ struct Plausibility {
   }
 };
 
+/// A mesh the loader repaired instead of refusing it (an object's or the scene's "repair"):
+/// which object, what was wrong with it and what it became. Reported by every command, since
+/// an enclosing repair is conservative for targets and critical objects (distances can only
+/// shrink) but changes what an obstacle occludes and where a person may be.
+struct MeshRepair {
+  std::string object;  ///< the object's name
+  std::string entry;   ///< JSON pointer (and URDF element) of the object
+  std::string role;    ///< "static obstacle", "dynamic obstacle", "critical object" or "target"
+  std::string method;  ///< "wrap" or "hull"
+  std::string defect;  ///< why the mesh failed the checks ("" when repaired although valid)
+  int triangles_before = 0;
+  int triangles_after = 0;
+  double offset = 0.0;  ///< wrap: the offset (m) by which the wrap may stand off the input
+};
+
 struct Scene {
   std::string file;  ///< path the scene was loaded from
   Box3 area;         ///< surveillance area S
@@ -168,8 +183,12 @@ struct Scene {
   std::vector<TimeStep> time_steps;
   DynamicMode dynamic_mode = DynamicMode::masked;
   Plausibility plausibility;
-  /// Mesh files the scene references, as opened (in order of first use; for provenance).
+  /// Mesh files the scene references, as opened (in order of first use; for provenance); also
+  /// the URDF and trajectory files of its robots.
   std::vector<std::string> mesh_files;
+  /// Every mesh repaired while loading, in the order loaded (an object repaired once and
+  /// reused at several time steps, e.g. a robot link, is listed once).
+  std::vector<MeshRepair> repairs;
 };
 
 /// One state (time step h, event l) of the error functional, as indices into the scene.
