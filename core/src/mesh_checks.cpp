@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "camplace/core/error.hpp"
+#include "mesh_assimp.hpp"
 #include "mesh_file_scan.hpp"
 
 namespace camplace::core::detail {
@@ -84,25 +85,16 @@ void drop_unused_vertices(TriangleMesh& mesh) {
 
 }  // namespace
 
-TriangleMesh read_mesh_file(const std::string& path, const std::string& scene_file,
-                            const std::string& entry) {
-  const std::string ext = std::filesystem::path(path).extension().string();
-  std::string lower = ext;
-  std::transform(lower.begin(), lower.end(), lower.begin(),
-                 [](unsigned char c) { return char(std::tolower(c)); });
-  if (ext != ".off" && ext != ".obj" && ext != ".stl" && ext != ".ply" && ext != ".OFF" &&
-      ext != ".OBJ" && ext != ".STL" && ext != ".PLY") {
-    throw InputError(scene_file, entry,
-                     "mesh file " + path + ": unsupported format \"" + ext +
-                         "\" (expected .off, .obj, .stl or .ply)");
-  }
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) {
-    throw InputError(scene_file, entry, "mesh file " + path + " does not exist");
-  }
-  if (!std::filesystem::is_regular_file(path, ec)) {
-    throw InputError(scene_file, entry, "mesh file " + path + " is not a regular file");
-  }
+namespace {
+
+// COLLADA is read y up by assimp (it applies <up_axis> and <unit> itself), glTF is y up by its
+// specification; every other format is taken as written (z up).
+bool file_is_y_up(const std::string& lower_ext) {
+  return lower_ext == ".dae" || lower_ext == ".gltf" || lower_ext == ".glb";
+}
+
+TriangleMesh read_cgal_mesh_file(const std::string& path, const std::string& lower,
+                                 const std::string& scene_file, const std::string& entry) {
   if (const std::optional<std::string> defect = mesh_file_defect(path, lower)) {
     throw InputError(scene_file, entry, "mesh file " + path + " cannot be read: " + *defect);
   }
@@ -142,18 +134,66 @@ TriangleMesh read_mesh_file(const std::string& path, const std::string& scene_fi
   return mesh;
 }
 
-void validate_and_orient(TriangleMesh& mesh, const std::string& file, const std::string& entry) {
-  auto fail = [&](const std::string& reason) { throw InputError(file, entry, reason); };
-  if (mesh.triangles.empty()) fail("mesh has no triangles");
+}  // namespace
+
+TriangleMesh read_mesh_file(const std::string& path, const std::string& scene_file,
+                            const std::string& entry, const MeshFileOptions& options) {
+  const std::string ext = std::filesystem::path(path).extension().string();
+  std::string lower = ext;
+  std::transform(lower.begin(), lower.end(), lower.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  // The CGAL readers keep their historical case rule (.off or .OFF, not .Off).
+  const bool cgal = ext == ".off" || ext == ".obj" || ext == ".stl" || ext == ".ply" ||
+                    ext == ".OFF" || ext == ".OBJ" || ext == ".STL" || ext == ".PLY";
+  const bool assimp = lower == ".dae" || lower == ".gltf" || lower == ".glb" || lower == ".3mf";
+  if (!cgal && !assimp) {
+    throw InputError(scene_file, entry,
+                     "mesh file " + path + ": unsupported format \"" + ext +
+                         "\" (expected .off, .obj, .stl, .ply, .dae, .gltf, .glb or .3mf)");
+  }
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) {
+    throw InputError(scene_file, entry, "mesh file " + path + " does not exist");
+  }
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    throw InputError(scene_file, entry, "mesh file " + path + " is not a regular file");
+  }
+  const bool ignore_file_up = options.up != MeshFileOptions::UpAxis::file;
+  TriangleMesh mesh = cgal ? read_cgal_mesh_file(path, lower, scene_file, entry)
+                           : read_assimp_mesh_file(path, scene_file, entry, ignore_file_up);
+  const bool y_up = options.up == MeshFileOptions::UpAxis::y ||
+                    (options.up == MeshFileOptions::UpAxis::file && file_is_y_up(lower));
+  for (Vec3& v : mesh.vertices) {
+    v *= options.unit_scale;
+    // +90° about x takes the file's y (up) to z: (x, y, z) -> (x, -z, y).
+    if (y_up) v = Vec3(v.x(), -v.z(), v.y());
+  }
+  return mesh;
+}
+
+std::string repair_hint(const MeshDefect& defect) {
+  if (!defect.repairable) return "";
+  if (defect.reason.find("flat") != std::string::npos) {
+    return "; to accept it, add \"repair\": \"wrap\" (an enclosing alpha wrap) to the object "
+           "or the scene (docs/scene-format.md#repair)";
+  }
+  return "; to accept it, add \"repair\": \"wrap\" (an enclosing alpha wrap) or \"repair\": "
+         "\"hull\" to the object or the scene (docs/scene-format.md#repair)";
+}
+
+std::optional<MeshDefect> check_and_orient(TriangleMesh& mesh) {
+  auto fatal = [](const std::string& reason) { return MeshDefect{reason, false}; };
+  auto repairable = [](const std::string& reason) { return MeshDefect{reason, true}; };
+  if (mesh.triangles.empty()) return fatal("mesh has no triangles");
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
     if (!mesh.vertices[i].allFinite())
-      fail("vertex " + std::to_string(i) + " has a non-finite coordinate");
+      return fatal("vertex " + std::to_string(i) + " has a non-finite coordinate");
   }
   const int nv = static_cast<int>(mesh.vertices.size());
   for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
     for (int idx : mesh.triangles[f]) {
       if (idx < 0 || idx >= nv)
-        fail("triangle " + std::to_string(f) + " uses a vertex index out of range");
+        return fatal("triangle " + std::to_string(f) + " uses a vertex index out of range");
     }
   }
   drop_unused_vertices(mesh);
@@ -164,32 +204,40 @@ void validate_and_orient(TriangleMesh& mesh, const std::string& file, const std:
     const Point b(mesh.vertices[t[1]].x(), mesh.vertices[t[1]].y(), mesh.vertices[t[1]].z());
     const Point c(mesh.vertices[t[2]].x(), mesh.vertices[t[2]].y(), mesh.vertices[t[2]].z());
     if (CGAL::collinear(a, b, c))
-      fail("mesh is degenerate: triangle " + std::to_string(f) + " has zero area");
+      return repairable("mesh is degenerate: triangle " + std::to_string(f) + " has zero area");
     polygons.push_back({std::size_t(t[0]), std::size_t(t[1]), std::size_t(t[2])});
   }
   if (!PMP::is_polygon_soup_a_polygon_mesh(polygons)) {
-    fail(
+    return repairable(
         "mesh is not a consistently oriented manifold (an edge is used twice in the same "
         "direction or by more than two triangles)");
   }
   Mesh sm = to_surface_mesh(mesh);
-  if (!CGAL::is_closed(sm)) fail("mesh is open (it has border edges)");
+  if (!CGAL::is_closed(sm)) return repairable("mesh is open (it has border edges)");
   // Before the self-intersection test: a flat shell's faces overlap, but "flat" is the cause.
   for (const double v : component_volumes(sm)) {
-    if (std::abs(v) < 1e-12) fail("mesh is degenerate: a shell encloses no volume (it is flat)");
+    if (std::abs(v) < 1e-12)
+      return repairable("mesh is degenerate: a shell encloses no volume (it is flat)");
   }
-  if (PMP::does_self_intersect(sm)) fail("mesh intersects itself");
+  if (PMP::does_self_intersect(sm)) return repairable("mesh intersects itself");
   // Closed and free of self-intersections, yet the shells can still disagree: an inner shell
   // must face the opposite way from the one around it, disjoint shells the same way.
   if (!PMP::does_bound_a_volume(sm)) {
-    fail(
+    return repairable(
         "mesh does not bound a volume: its shells are inconsistently oriented (nested shells "
         "with the same orientation, or disjoint shells with opposite orientations)");
   }
   const double volume = signed_volume(mesh);
-  if (std::abs(volume) < 1e-12) fail("mesh is degenerate: it encloses no volume");
+  if (std::abs(volume) < 1e-12) return repairable("mesh is degenerate: it encloses no volume");
   if (volume < 0) {
     for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
+  }
+  return std::nullopt;
+}
+
+void validate_and_orient(TriangleMesh& mesh, const std::string& file, const std::string& entry) {
+  if (const std::optional<MeshDefect> defect = check_and_orient(mesh)) {
+    throw InputError(file, entry, defect->reason + repair_hint(*defect));
   }
 }
 

@@ -13,6 +13,7 @@
 #include "camplace/core/json_reader.hpp"
 #include "camplace/core/names.hpp"
 #include "mesh_checks.hpp"
+#include "mesh_repair.hpp"
 #include "scene_format.hpp"
 
 namespace camplace::core {
@@ -61,8 +62,10 @@ class SceneParser {
     const nlohmann::json doc = read_json_file(path_);
     const JsonNode root(doc, path_, "");
     root.only_keys({"area", "voxels", "cameras", "static_obstacles", "time_steps", "dynamic_mode",
-                    "plausibility", "description", "name"});
+                    "plausibility", "description", "name", "repair"});
     scene_.file = path_;
+    // The scene-wide repair is every object's default (an object's own "repair" overrides it).
+    if (root.has("repair")) default_repair_ = detail::parse_repair(root.at("repair"));
     parse_area(root.at("area"));
     scene_.voxels = parse_voxels(root.at("voxels"));
     parse_cameras(root.at("cameras"));
@@ -90,6 +93,7 @@ class SceneParser {
     parse_time_steps(root.at("time_steps"));
     check_targets_clear_of_obstacles(root);
     scene_.mesh_files = std::move(mesh_files_);
+    scene_.repairs = std::move(repairs_);
     return std::move(scene_);
   }
 
@@ -474,8 +478,26 @@ class SceneParser {
   /// occlude and, masked, change pixels wherever they are); targets must lie in S (SPEC §2).
   enum class Role { static_obstacle, dynamic_obstacle, critical, target };
 
+  static const char* role_name(Role role) {
+    switch (role) {
+      case Role::static_obstacle:
+        return "static obstacle";
+      case Role::dynamic_obstacle:
+        return "dynamic obstacle";
+      case Role::critical:
+        return "critical object";
+      case Role::target:
+        return "target";
+    }
+    return "object";
+  }
+
   SceneObject parse_object(const JsonNode& node, Role role) const {
-    node.only_keys({"name", "box", "tetrahedron", "mesh", "file", "transform"});
+    node.only_keys(
+        {"name", "box", "tetrahedron", "mesh", "file", "transform", "units", "up_axis", "repair"});
+    const detail::MeshFileOptions file_options = detail::parse_mesh_file_options(node);
+    const detail::RepairOptions repair =
+        node.has("repair") ? detail::parse_repair(node.at("repair")) : default_repair_;
     SceneObject object;
     object.entry = node.pointer();
     object.name = node.has("name") ? node.at("name").string() : node.pointer();
@@ -514,12 +536,16 @@ class SceneParser {
       const JsonNode f = node.at("file");
       const std::filesystem::path rel = f.string();
       const std::string full = (rel.is_absolute() ? rel : dir_ / rel).string();
-      object.mesh = detail::read_mesh_file(full, path_, f.pointer());
+      object.mesh = detail::read_mesh_file(full, path_, f.pointer(), file_options);
       auto& files = mesh_files_;
       if (std::find(files.begin(), files.end(), full) == files.end()) files.push_back(full);
     }
     if (node.has("transform")) apply_transform(object.mesh, node.at("transform"));
-    detail::validate_and_orient(object.mesh, path_, node.pointer());
+    if (std::optional<MeshRepair> record =
+            detail::finish_mesh(object.mesh, repair, path_, node.pointer(), object.name)) {
+      record->role = role_name(role);
+      repairs_.push_back(std::move(*record));
+    }
     object.bounds = bounding_box(object.mesh);
     const Box3& s = scene_.area;
     if (role == Role::target && ((object.bounds.min.array() < s.min.array() - kAreaSlack).any() ||
@@ -618,6 +644,8 @@ class SceneParser {
   std::filesystem::path dir_;
   Scene scene_;
   mutable std::vector<std::string> mesh_files_;  ///< filled while objects are parsed
+  mutable std::vector<MeshRepair> repairs_;      ///< filled while objects are parsed
+  detail::RepairOptions default_repair_;         ///< the root "repair" (default: none)
 };
 }  // namespace
 

@@ -7,7 +7,9 @@
 #include <chrono>
 #include <cstdint>
 #include <cstring>
+#include <fstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "camplace/core/error.hpp"
 #include "camplace/core/scene.hpp"
@@ -213,6 +215,149 @@ TEST(MeshValidation, FlatTetrahedronIsDegenerateNotSelfIntersecting) {
   json both = two_shells(false, false);
   both["mesh"]["vertices"][7] = {2.3, 1.3, 1};
   expect_rejected(scene_with(dir, both), "/static_obstacles/0", "encloses no volume");
+}
+
+// ---- Formats read through assimp, units and up axis ----------------------------------------
+
+std::string read_text_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream out;
+  out << in.rdbuf();
+  return out.str();
+}
+
+std::string data_mesh(const std::string& name) {
+  return std::string(CAMPLACE_SOURCE_DIR) + "/tests/data/meshes/" + name;
+}
+
+// The first static obstacle of a scene whose first static obstacle is `object`.
+core::SceneObject load_first_obstacle(const std::string& name, const json& object) {
+  return core::load_scene(scene_with(temp_dir("meshformat-" + name), object)).static_obstacles[0];
+}
+
+// Expects the 8 corners of the box lo–hi, each once, and 12 triangles (hand-computed corners;
+// tolerance for glTF's single-precision floats).
+void expect_box(const core::TriangleMesh& mesh, const core::Vec3& lo, const core::Vec3& hi) {
+  ASSERT_EQ(mesh.vertices.size(), 8u);
+  EXPECT_EQ(mesh.triangles.size(), 12u);
+  std::vector<int> hits(8, 0);
+  for (const core::Vec3& v : mesh.vertices) {
+    for (int i = 0; i < 8; ++i) {
+      const core::Vec3 corner((i & 1) ? hi.x() : lo.x(), (i & 2) ? hi.y() : lo.y(),
+                              (i & 4) ? hi.z() : lo.z());
+      if ((v - corner).norm() < 1e-6) ++hits[i];
+    }
+  }
+  for (int i = 0; i < 8; ++i) EXPECT_EQ(hits[i], 1) << "corner " << i;
+}
+
+// Every cube file of tests/data/meshes (make_cube_files.py) holds this box once read with the
+// defaults (world, metres, z up).
+const core::Vec3 kCubeLo(1, 1, 0), kCubeHi(1.5, 2, 0.8);
+
+TEST(MeshFormat, ColladaYUpMillimetresReadsAsZUpMetres) {
+  // File: y up, x in [1000, 1500] mm, y (up) in [0, 800], z in [-2000, -1000]; y up -> z up is
+  // (x, y, z) -> (x, -z, y).
+  expect_box(load_first_obstacle("dae-y", {{"file", data_mesh("cube_yup_mm.dae")}}).mesh, kCubeLo,
+             kCubeHi);
+}
+
+TEST(MeshFormat, ColladaZUpCentimetresKeepsItsAxes) {
+  expect_box(load_first_obstacle("dae-z", {{"file", data_mesh("cube_zup_cm.dae")}}).mesh, kCubeLo,
+             kCubeHi);
+}
+
+TEST(MeshFormat, ColladaUpAxisZTakesTheCoordinatesAsWritten) {
+  // up_axis "z" ignores the file's <up_axis>; its <unit> still applies.
+  expect_box(
+      load_first_obstacle("dae-asis", {{"file", data_mesh("cube_yup_mm.dae")}, {"up_axis", "z"}})
+          .mesh,
+      core::Vec3(1, 0, -2), core::Vec3(1.5, 0.8, -1));
+}
+
+TEST(MeshFormat, GltfIsYUpWithItsNodeTransformAndSharedCornersMerged) {
+  // 24 vertices in the file (4 per face) at x in [0, 0.5], y in [0, 0.8], z in [-2, -1], node
+  // translation [1, 0, 0].
+  expect_box(load_first_obstacle("gltf", {{"file", data_mesh("cube.gltf")}}).mesh, kCubeLo,
+             kCubeHi);
+}
+
+TEST(MeshFormat, GlbReadsAsItsGltf) {
+  expect_box(load_first_obstacle("glb", {{"file", data_mesh("cube.glb")}}).mesh, kCubeLo, kCubeHi);
+}
+
+TEST(MeshFormat, ThreeMfInMillimetresWithUnitsMm) {
+  expect_box(load_first_obstacle("3mf", {{"file", data_mesh("cube_mm.3mf")}, {"units", "mm"}}).mesh,
+             kCubeLo, kCubeHi);
+}
+
+TEST(MeshFormat, ThreeMfWithoutUnitsIsTakenAsMetres) {
+  expect_box(load_first_obstacle("3mf-m", {{"file", data_mesh("cube_mm.3mf")}}).mesh,
+             core::Vec3(1000, 1000, 0), core::Vec3(1500, 2000, 800));
+}
+
+TEST(MeshFormat, CorruptFilesOfEachFormatAreNamed) {
+  for (const char* name : {"cube_yup_mm.dae", "cube.gltf", "cube.glb", "cube_mm.3mf"}) {
+    SCOPED_TRACE(name);
+    const std::string text = read_text_file(data_mesh(name));
+    const std::string dir = temp_dir(std::string("meshcorrupt-") + name);
+    write_file(dir + "/" + name, text.substr(0, text.size() / 2));
+    expect_rejected(scene_with(dir, {{"file", name}}), "/static_obstacles/0/file",
+                    "cannot be read");
+    write_file(dir + "/" + name, "");
+    expect_rejected(scene_with(dir, {{"file", name}}), "/static_obstacles/0/file",
+                    "cannot be read");
+  }
+}
+
+TEST(MeshFormat, UnknownExtensionIsUnsupported) {
+  expect_file_rejected("cube.fbx", "not read", "unsupported format");
+}
+
+TEST(MeshUnits, UnitsThenUpAxisThenTransform) {
+  // kTetV in millimetres, y up, then translated: v -> 0.001 (x, -z, y) + (1, 1, 1).
+  const std::string dir = temp_dir("meshunits-order");
+  write_file(dir + "/tet.off", std::string(kTetOffHeader) + "3 1 2 3\n");
+  const core::SceneObject o =
+      core::load_scene(scene_with(dir, {{"file", "tet.off"},
+                                        {"units", "mm"},
+                                        {"up_axis", "y"},
+                                        {"transform", {{"translate", {1, 1, 1}}}}}))
+          .static_obstacles[0];
+  ASSERT_EQ(o.mesh.vertices.size(), 4u);
+  for (std::size_t i = 0; i < 4; ++i) {
+    const auto& p = kTetV[i];
+    const core::Vec3 expected(1 + 0.001 * p[0], 1 - 0.001 * p[2], 1 + 0.001 * p[1]);
+    EXPECT_LT((o.mesh.vertices[i] - expected).norm(), 1e-15) << i;
+  }
+}
+
+TEST(MeshUnits, InchesAndCentimetresScale) {
+  const std::string dir = temp_dir("meshunits-in");
+  write_file(dir + "/tet.off", std::string(kTetOffHeader) + "3 1 2 3\n");
+  for (const auto& [units, scale] : {std::pair<const char*, double>{"in", 0.0254}, {"cm", 0.01}}) {
+    const core::SceneObject o =
+        core::load_scene(scene_with(dir, {{"file", "tet.off"}, {"units", units}}))
+            .static_obstacles[0];
+    for (std::size_t i = 0; i < 4; ++i) {
+      const core::Vec3 expected(scale * kTetV[i][0], scale * kTetV[i][1], scale * kTetV[i][2]);
+      EXPECT_LT((o.mesh.vertices[i] - expected).norm(), 1e-15) << units << " " << i;
+    }
+  }
+}
+
+TEST(MeshUnits, BadUnitsAndUpAxisAreNamed) {
+  const std::string dir = temp_dir("meshunits-bad");
+  write_file(dir + "/tet.off", std::string(kTetOffHeader) + "3 1 2 3\n");
+  expect_rejected(scene_with(dir, {{"file", "tet.off"}, {"units", "km"}}),
+                  "/static_obstacles/0/units", "unknown units \"km\"");
+  expect_rejected(scene_with(dir, {{"file", "tet.off"}, {"units", 1000}}),
+                  "/static_obstacles/0/units", "");
+  expect_rejected(scene_with(dir, {{"file", "tet.off"}, {"up_axis", "x"}}),
+                  "/static_obstacles/0/up_axis", "unknown up_axis \"x\"");
+  expect_rejected(
+      scene_with(dir, {{"box", {{"min", {1, 1, 1}}, {"max", {2, 2, 2}}}}, {"units", "mm"}}),
+      "/static_obstacles/0/units", "applies only to a \"file\" object");
 }
 
 }  // namespace

@@ -191,6 +191,13 @@ struct Scene {
   std::vector<MeshRepair> repairs;
 };
 
+/// One line per mesh repaired while loading (Scene::repairs, in order), for every command to
+/// print: "FILE: ENTRY: mesh \"NAME\" repaired by wrap (offset 0.005 m, 412 → 1,980 triangles):
+/// it failed the checks (mesh intersects itself); ..." and what the repair means for the
+/// object's role (conservative for targets and critical objects; for obstacles it changes
+/// what is occluded and what may hold a person).
+std::vector<std::string> repair_warnings(const Scene& scene);
+
 /// One state (time step h, event l) of the error functional, as indices into the scene.
 struct StateIndex {
   int time_step = 0;

@@ -1,0 +1,201 @@
+// Mesh repair: CGAL alpha wrap and convex hull (compile cost: the wrap's Delaunay code is here
+// alone).
+#include "mesh_repair.hpp"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/alpha_wrap_3.h>
+#include <CGAL/convex_hull_3.h>
+
+#include <cmath>
+#include <vector>
+
+#include "camplace/core/error.hpp"
+#include "camplace/core/json_reader.hpp"
+#include "mesh_checks.hpp"
+
+namespace camplace::core::detail {
+
+namespace {
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using Mesh = CGAL::Surface_mesh<Point>;
+
+Point point(const Vec3& v) { return Point(v.x(), v.y(), v.z()); }
+
+TriangleMesh from_surface_mesh(const Mesh& sm) {
+  TriangleMesh out;
+  std::vector<int> index(sm.number_of_vertices() + sm.number_of_removed_vertices(), -1);
+  for (const Mesh::Vertex_index v : sm.vertices()) {
+    index[v] = static_cast<int>(out.vertices.size());
+    const Point& p = sm.point(v);
+    out.vertices.emplace_back(p.x(), p.y(), p.z());
+  }
+  for (const Mesh::Face_index f : sm.faces()) {
+    std::vector<int> corners;
+    for (const Mesh::Vertex_index v : sm.vertices_around_face(sm.halfedge(f)))
+      corners.push_back(index[v]);
+    for (std::size_t k = 1; k + 1 < corners.size(); ++k)
+      out.triangles.push_back({corners[0], corners[k], corners[k + 1]});
+  }
+  return out;
+}
+
+std::string method_name(RepairOptions::Method m) {
+  switch (m) {
+    case RepairOptions::Method::wrap:
+      return "wrap";
+    case RepairOptions::Method::hull:
+      return "hull";
+    case RepairOptions::Method::none:
+      break;
+  }
+  return "none";
+}
+
+}  // namespace
+
+TriangleMesh alpha_wrap(const TriangleMesh& mesh, double alpha, double offset) {
+  std::vector<Point> points;
+  points.reserve(mesh.vertices.size());
+  for (const Vec3& v : mesh.vertices) points.push_back(point(v));
+  std::vector<std::array<std::size_t, 3>> faces;
+  faces.reserve(mesh.triangles.size());
+  for (const auto& t : mesh.triangles)
+    faces.push_back({std::size_t(t[0]), std::size_t(t[1]), std::size_t(t[2])});
+  Mesh wrap;
+  CGAL::alpha_wrap_3(points, faces, alpha, offset, wrap);
+  return from_surface_mesh(wrap);
+}
+
+std::optional<TriangleMesh> convex_hull(const TriangleMesh& mesh) {
+  std::vector<Point> points;
+  for (const Vec3& v : mesh.vertices) points.push_back(point(v));
+  // convex_hull_3 gives a polygon or a segment for points of lower dimension: find four points
+  // that span a volume first.
+  std::size_t b = 1, c = 0, d = 0;
+  while (b < points.size() && points[b] == points[0]) ++b;
+  if (b >= points.size()) return std::nullopt;
+  for (c = b + 1; c < points.size() && CGAL::collinear(points[0], points[b], points[c]); ++c) {
+  }
+  if (c >= points.size()) return std::nullopt;
+  for (d = c + 1; d < points.size() && CGAL::coplanar(points[0], points[b], points[c], points[d]);
+       ++d) {
+  }
+  if (d >= points.size()) return std::nullopt;
+  Mesh hull;
+  CGAL::convex_hull_3(points.begin(), points.end(), hull);
+  return from_surface_mesh(hull);
+}
+
+RepairOptions parse_repair(const JsonNode& node) {
+  RepairOptions options;
+  auto method_of = [](const JsonNode& m) {
+    const std::string name = m.string();
+    if (name == "none") return RepairOptions::Method::none;
+    if (name == "wrap") return RepairOptions::Method::wrap;
+    if (name == "hull") return RepairOptions::Method::hull;
+    m.fail("unknown repair method \"" + name + "\" (expected wrap, hull or none)");
+  };
+  if (node.is_string()) {
+    options.method = method_of(node);
+    return options;
+  }
+  if (!node.is_object()) {
+    node.fail("repair must be \"wrap\", \"hull\", \"none\" or an object with a \"method\"");
+  }
+  node.only_keys({"method", "offset_m", "alpha_m", "max_triangles", "always"});
+  options.method = method_of(node.at("method"));
+  for (const char* key : {"offset_m", "alpha_m"}) {
+    if (node.has(key) && options.method != RepairOptions::Method::wrap)
+      node.at(key).fail(std::string("\"") + key + "\" applies only to \"method\": \"wrap\"");
+  }
+  // Upper bounds far beyond any cell (1 km); the lower bounds, relative to the mesh, are
+  // checked when the mesh is known (finish_mesh).
+  if (node.has("offset_m")) {
+    const JsonNode o = node.at("offset_m");
+    options.offset = o.number_in(0, 1000);
+    if (!(options.offset > 0)) o.fail("offset_m must be positive");
+  }
+  if (node.has("alpha_m")) {
+    const JsonNode a = node.at("alpha_m");
+    options.alpha = a.number_in(0, 1000);
+    if (!(options.alpha > 0)) a.fail("alpha_m must be positive");
+  }
+  if (node.has("max_triangles"))
+    options.max_triangles = node.at("max_triangles").integer_in(4, kMaxRepairTriangles);
+  if (node.has("always")) {
+    const JsonNode a = node.at("always");
+    if (!a.value().is_boolean()) a.fail("always must be true or false");
+    options.always = a.value().get<bool>();
+  }
+  return options;
+}
+
+std::optional<MeshRepair> finish_mesh(TriangleMesh& mesh, const RepairOptions& repair,
+                                      const std::string& file, const std::string& entry,
+                                      const std::string& object_name) {
+  auto fail = [&](const std::string& reason) { throw InputError(file, entry, reason); };
+  const std::optional<MeshDefect> defect = check_and_orient(mesh);
+  if (repair.method == RepairOptions::Method::none || (!defect && !repair.always)) {
+    if (defect) fail(defect->reason + repair_hint(*defect));
+    return std::nullopt;
+  }
+  if (defect && !defect->repairable) fail(defect->reason);
+  const std::string method = method_name(repair.method);
+  MeshRepair record;
+  record.object = object_name;
+  record.entry = entry;
+  record.method = method;
+  record.defect = defect ? defect->reason : "";
+  record.triangles_before = static_cast<int>(mesh.triangles.size());
+  TriangleMesh repaired;
+  if (repair.method == RepairOptions::Method::wrap) {
+    const Box3 box = bounding_box(mesh);
+    const double diagonal = box.diagonal();
+    if (!std::isfinite(diagonal) || !(diagonal > 0)) {
+      fail("mesh cannot be wrapped: its bounding box has no finite, positive diagonal");
+    }
+    const double alpha = repair.alpha > 0 ? repair.alpha : diagonal / kDefaultRelativeAlpha;
+    const double offset = repair.offset > 0 ? repair.offset : alpha / kDefaultAlphaPerOffset;
+    if (alpha < diagonal / kMaxRelativeAlpha) {
+      fail("repair alpha_m " + format_number(alpha) + " m is too small for this mesh: it must be " +
+           "at least its bounding-box diagonal / " + format_number(kMaxRelativeAlpha) + " = " +
+           format_number(diagonal / kMaxRelativeAlpha) +
+           " m (the wrap's size grows as (diagonal / alpha)²)");
+    }
+    if (offset < diagonal / kMaxRelativeOffset) {
+      fail("repair offset_m " + format_number(offset) + " m is too small for this mesh: it must " +
+           "be at least its bounding-box diagonal / " + format_number(kMaxRelativeOffset) + " = " +
+           format_number(diagonal / kMaxRelativeOffset) + " m");
+    }
+    repaired = alpha_wrap(mesh, alpha, offset);
+    record.offset = offset;
+  } else {
+    std::optional<TriangleMesh> hull = convex_hull(mesh);
+    if (!hull) {
+      fail("mesh cannot be repaired by hull: its vertices are coplanar, so the hull is flat; " +
+           std::string("use \"repair\": \"wrap\" (docs/scene-format.md#repair)"));
+    }
+    repaired = std::move(*hull);
+  }
+  const std::string why = defect ? " (" + defect->reason + ")" : "";
+  if (repaired.triangles.empty()) {
+    fail("mesh cannot be repaired by " + method + why + ": the repair produced no triangles");
+  }
+  if (static_cast<int>(repaired.triangles.size()) > repair.max_triangles) {
+    fail("mesh repaired by " + method + why + " has " + std::to_string(repaired.triangles.size()) +
+         " triangles, more than max_triangles = " + std::to_string(repair.max_triangles) +
+         (repair.method == RepairOptions::Method::wrap
+              ? "; raise \"max_triangles\" or give a larger \"alpha_m\" in the repair object"
+              : "; raise \"max_triangles\" in the repair object"));
+  }
+  if (const std::optional<MeshDefect> left = check_and_orient(repaired)) {
+    fail("mesh repaired by " + method + why + " still fails the checks: " + left->reason);
+  }
+  record.triangles_after = static_cast<int>(repaired.triangles.size());
+  mesh = std::move(repaired);
+  return record;
+}
+
+}  // namespace camplace::core::detail
