@@ -137,6 +137,14 @@ RobotModel read_urdf(const JsonNode& urdf_node, const std::string& path,
   buffer << in.rdbuf();
   RobotModel model;
   model.entry = urdf_node.pointer();
+  // urdfdom ignores elements it does not know: a xacro file would parse into a robot without
+  // the links its macros make.
+  if (buffer.str().find("<xacro:") != std::string::npos) {
+    urdf_node.fail("URDF file " + path +
+                   " contains xacro macros (<xacro:...>): expand it first, e.g. xacro "
+                   "robot.urdf.xacro > robot.urdf (ROS 2: ros2 run xacro xacro "
+                   "robot.urdf.xacro > robot.urdf)");
+  }
   {
     ConsoleCapture capture;
     try {
@@ -147,11 +155,7 @@ RobotModel read_urdf(const JsonNode& urdf_node, const std::string& path,
     if (!model.urdf) {
       const std::string why = capture.errors();
       urdf_node.fail("URDF file " + path + " cannot be parsed" +
-                     (why.empty() ? std::string(" (urdfdom gave no reason)") : ": " + why) +
-                     (path.size() > 6 && path.substr(path.size() - 6) == ".xacro"
-                          ? " (a .xacro file must first be expanded: xacro robot.urdf.xacro > "
-                            "robot.urdf)"
-                          : ""));
+                     (why.empty() ? std::string(" (urdfdom gave no reason)") : ": " + why));
     }
   }
   const auto joint_fail = [&](const std::string& name, const std::string& reason) {

@@ -486,6 +486,13 @@ TEST_F(RobotErrors, UrdfThatDoesNotParseNamesTheFileAndUrdfdomsReason) {
                {"cannot be parsed: ", "nowhere"});
 }
 
+TEST_F(RobotErrors, XacroFileMustBeExpandedFirst) {
+  write_file(dir_ + "/r.urdf.xacro", R"(<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:macro name="arm"><link name="a"/></xacro:macro><link name="base"/></robot>)");
+  expect_error(dir_, {{"urdf", "r.urdf.xacro"}, {"trajectory", "t.csv"}}, "", "/robots/0/urdf",
+               {"contains xacro macros", "xacro robot.urdf.xacro > robot.urdf"});
+}
+
 TEST_F(RobotErrors, MissingUrdfFile) {
   expect_error(dir_, {{"urdf", "none.urdf"}, {"trajectory", "t.csv"}}, "", "/robots/0/urdf",
                {"URDF file " + dir_ + "/none.urdf does not exist"});
