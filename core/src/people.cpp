@@ -22,14 +22,14 @@ using Point2 = Kernel::Point_2;
 
 // Vertical landmarks as fractions of the stature H: Drillis & Contini (1966), as tabulated in
 // D. A. Winter, Biomechanics and Motor Control of Human Movement, Fig. 4.1 (docs/people.md).
-constexpr double kTop = 1.000;       // vertex (top of the head)
-constexpr double kChin = 0.870;      // chin
-constexpr double kShoulder = 0.818;  // shoulder (acromion)
-constexpr double kElbow = 0.630;     // elbow
-constexpr double kFingertip = 0.377; // tip of the middle finger, arm hanging
-constexpr double kHip = 0.530;       // hip (greater trochanter)
-constexpr double kKnee = 0.285;      // knee
-constexpr double kAnkle = 0.039;     // ankle
+constexpr double kTop = 1.000;        // vertex (top of the head)
+constexpr double kChin = 0.870;       // chin
+constexpr double kShoulder = 0.818;   // shoulder (acromion)
+constexpr double kElbow = 0.630;      // elbow
+constexpr double kFingertip = 0.377;  // tip of the middle finger, arm hanging
+constexpr double kHip = 0.530;        // hip (greater trochanter)
+constexpr double kKnee = 0.285;       // knee
+constexpr double kAnkle = 0.039;      // ankle
 // Widths from the same figure.
 constexpr double kShoulderWidth = 0.259;
 constexpr double kHipWidth = 0.191;
@@ -152,9 +152,9 @@ const char* posture_name(Posture posture) {
 
 const std::vector<std::string>& person_part_names() {
   static const std::vector<std::string> names = {
-      "head",          "neck",        "torso",          "upper_arm_left", "upper_arm_right",
-      "forearm_left",  "forearm_right", "thigh_left",   "thigh_right",    "shank_left",
-      "shank_right",   "foot_left",   "foot_right"};
+      "head",         "neck",          "torso",      "upper_arm_left", "upper_arm_right",
+      "forearm_left", "forearm_right", "thigh_left", "thigh_right",    "shank_left",
+      "shank_right",  "foot_left",     "foot_right"};
   return names;
 }
 
@@ -239,9 +239,9 @@ std::vector<SceneObject> person_parts(double stature, Posture posture, const Vec
   }
   for (int side = 0; side < 2; ++side) {
     const double sy = ankle[side].y();
-    meshes.push_back(box_mesh(Vec3(-kHeelBehind * h, sy - kFootWidth / 2 * h, 0),
-                              Vec3((kFootLength - kHeelBehind) * h, sy + kFootWidth / 2 * h,
-                                   kAnkle * h)));
+    meshes.push_back(
+        box_mesh(Vec3(-kHeelBehind * h, sy - kFootWidth / 2 * h, 0),
+                 Vec3((kFootLength - kHeelBehind) * h, sy + kFootWidth / 2 * h, kAnkle * h)));
   }
   // Body frame to world: yaw about z, then the feet's position.
   const Eigen::Matrix3d yaw = Eigen::AngleAxisd(heading, z).toRotationMatrix();
@@ -339,8 +339,7 @@ PeopleZone parse_people_zone(const JsonNode& node, const Box3& area, int index) 
     if (!(std::abs(a) > 1e-12)) poly.fail("polygon is degenerate: it encloses no area");
     const std::vector<Point2> pts = cgal_points(zone.polygon);
     if (!CGAL::is_simple_2(pts.begin(), pts.end(), Kernel())) {
-      poly.fail(
-          "polygon is not simple: its edges intersect each other (or a point is repeated)");
+      poly.fail("polygon is not simple: its edges intersect each other (or a point is repeated)");
     }
     if (a < 0) std::reverse(zone.polygon.begin(), zone.polygon.end());
     zone.zone_area = std::abs(a);
@@ -388,7 +387,7 @@ PeopleZone parse_people_zone(const JsonNode& node, const Box3& area, int index) 
   return zone;
 }
 
-CandidateStream::CandidateStream(const PeopleZone& zone) : zone_(&zone), engine_(zone.seed) {}
+CandidateStream::CandidateStream(const PeopleZone& zone) : zone_(zone), engine_(zone.seed) {}
 
 double CandidateStream::uniform() {
   // 53 random bits → [0, 1): the same numbers from every standard library (std::mt19937_64's
@@ -397,7 +396,7 @@ double CandidateStream::uniform() {
 }
 
 PersonSample CandidateStream::next() {
-  const PeopleZone& z = *zone_;
+  const PeopleZone& z = zone_;
   PersonSample s;
   s.candidate = index_++;
   std::vector<Point2> pts;
@@ -406,9 +405,8 @@ PersonSample CandidateStream::next() {
     const double px = z.lo.x() + (z.hi.x() - z.lo.x()) * uniform();
     const double py = z.lo.y() + (z.hi.y() - z.lo.y()) * uniform();
     s.feet = Vec3(px, py, z.floor_z);
-    if (z.rectangle ||
-        CGAL::bounded_side_2(pts.begin(), pts.end(), Point2(px, py), Kernel()) ==
-            CGAL::ON_BOUNDED_SIDE) {
+    if (z.rectangle || CGAL::bounded_side_2(pts.begin(), pts.end(), Point2(px, py), Kernel()) ==
+                           CGAL::ON_BOUNDED_SIDE) {
       break;
     }
   }
@@ -471,8 +469,7 @@ std::vector<std::pair<PersonSample, std::vector<SceneObject>>> accepted_people(
       why = "the zone is blocked by obstacle \"" + o.name + "\" (" + o.entry + "), which " +
             thousands(*worst) + " of them met";
     } else {
-      why = "the people leave the area S (" + thousands(left_area) +
-            " of them reached beyond it)";
+      why = "the people leave the area S (" + thousands(left_area) + " of them reached beyond it)";
     }
     throw InputError(scene_file, zone.entry,
                      "only " + std::to_string(out.size()) + " of " + std::to_string(zone.count) +
@@ -495,8 +492,8 @@ std::vector<PersonSample> people_samples(const PeopleZone& zone,
 }
 
 std::vector<Event> people_events(const PeopleZone& zone,
-                                 const std::vector<const SceneObject*>& obstacles,
-                                 const Box3& area, const std::string& scene_file, int time_step) {
+                                 const std::vector<const SceneObject*>& obstacles, const Box3& area,
+                                 const std::string& scene_file, int time_step) {
   std::vector<Event> events;
   for (auto& a : accepted_people(zone, obstacles, area, scene_file, time_step)) {
     Event e;

@@ -46,7 +46,7 @@ PeopleZone parse_people_zone(const JsonNode& node, const Box3& area, int index);
 
 /// One candidate of a zone's stream: where the person stands and how.
 struct PersonSample {
-  long long candidate = 0;  ///< index in the zone's stream (0-based): the `<k>` of its names
+  long long candidate = 0;   ///< index in the zone's stream (0-based): the `<k>` of its names
   Vec3 feet = Vec3::Zero();  ///< floor point midway between the ankles (m, world frame)
   double heading = 0.0;      ///< facing direction (cos, sin, 0) of this yaw (rad, [0, 2π))
   double stature = 0.0;      ///< m
@@ -63,7 +63,7 @@ class CandidateStream {
 
  private:
   double uniform();
-  const PeopleZone* zone_;
+  PeopleZone zone_;
   std::mt19937_64 engine_;
   long long index_ = 0;
 };
@@ -81,8 +81,8 @@ std::vector<PersonSample> people_samples(const PeopleZone& zone,
 /// stream that lie in S and meet none of `obstacles`, each of weight zone.weight / count, its
 /// targets the person's body parts (person_parts). Errors as people_samples.
 std::vector<Event> people_events(const PeopleZone& zone,
-                                 const std::vector<const SceneObject*>& obstacles,
-                                 const Box3& area, const std::string& scene_file, int time_step);
+                                 const std::vector<const SceneObject*>& obstacles, const Box3& area,
+                                 const std::string& scene_file, int time_step);
 
 /// One person's body parts: 13 closed, outward, convex meshes (boxes, a frustum-like torso and
 /// an octagonal-prism head) named `<prefix>/<part>` with the given entry. stature in metres,
