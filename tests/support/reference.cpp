@@ -280,15 +280,48 @@ ReferenceLabel reference_box_label(const core::Scene& scene, int time_step, int 
     if (!fov.inside) return out;
     far = std::max(far, (corner - c).norm());
   }
+  // Back faces (SPEC §3 by the first meeting point: a segment from a camera outside a closed,
+  // outward solid first meets it on a triangle that faces the camera), computed here from the
+  // mesh: an object is culled when its signed volume is positive, the camera lies outside it and
+  // clear of its surface by 1e-6 of the scale, and no triangle is near edge-on (|det| above 1e-6
+  // of |a||b||e|); then its triangles with the camera behind their plane are not tested, as the
+  // pipeline defines the conservative label (a back face's cone can meet the box nearer than its
+  // farthest corner while the front faces over the same rays lie beyond it). Objects near those
+  // thresholds may be culled or not: where that changes the label, a tie.
+  enum class Cull { no, yes, maybe };
+  std::vector<Cull> cull(objects.size(), Cull::no);
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    const core::TriangleMesh& mesh = *objects[i].mesh;
+    double volume = 0.0, clearance = std::numeric_limits<double>::infinity(), scale = 0.0;
+    bool clear_tilts = true;
+    for (const auto& t : mesh.triangles) {
+      const Vec3 a = mesh.vertices[t[0]] - c, b = mesh.vertices[t[1]] - c,
+                 e = mesh.vertices[t[2]] - c;
+      const double det = a.dot(b.cross(e));
+      volume += det;  // 6 × the signed volume, from the camera (the sum does not depend on it)
+      clearance = std::min(clearance, point_triangle_distance(Vec3::Zero(), a, b, e));
+      scale = std::max({scale, a.norm(), b.norm(), e.norm()});
+      clear_tilts = clear_tilts && std::abs(det) > 1e-6 * a.norm() * b.norm() * e.norm();
+    }
+    if (!(volume > 0.0)) continue;  // inward or flat: the pipeline keeps every triangle
+    cull[i] = clear_tilts && clearance > 1e-6 * scale ? Cull::yes : Cull::maybe;
+  }
   // Every triangle's cone against the box. Sure / within the margin: occupying triangles whose
   // cone meets the box, occluding ones whose cone meets it and that come nearer to the camera
-  // than its farthest point.
-  bool occupied = false, occupied_tie = false, blocked = false, blocked_tie = false;
-  for (const Object& o : objects) {
+  // than its farthest point. Twice: with the back faces of the `maybe` objects (`kept`) and
+  // without them (`culled`).
+  struct Flags {
+    bool occupied = false, occupied_tie = false, blocked = false, blocked_tie = false;
+  };
+  Flags kept, culled;
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    const Object& o = objects[i];
     for (const auto& t : o.mesh->triangles) {
       const Vec3 a = o.mesh->vertices[t[0]] - c, b = o.mesh->vertices[t[1]] - c,
                  e = o.mesh->vertices[t[2]] - c;
       const double det = a.dot(b.cross(e));
+      if (det > 0 && cull[i] == Cull::yes) continue;  // a back face (the camera behind it)
+      const bool maybe_culled = det > 0 && cull[i] == Cull::maybe;
       if (std::abs(det) <= 1e-9 * a.norm() * b.norm() * e.norm()) {
         // The camera in the triangle's plane: a cone without volume, whose rays also meet the
         // neighbouring triangles of the closed mesh; only touching boxes can tell. A tie.
@@ -302,29 +335,37 @@ ReferenceLabel reference_box_label(const core::Scene& scene, int time_step, int 
       const double depth = cone_box_depth(n, w, half);
       if (depth < -margin) continue;
       const bool sure = depth > margin;
-      if (o.occupying) {
-        (sure ? occupied : occupied_tie) = true;
-        continue;
-      }
-      const double near = point_triangle_distance(Vec3::Zero(), a, b, e);
-      if (near < far - margin) {
-        (sure ? blocked : blocked_tie) = true;
-      } else if (near < far + margin) {
-        blocked_tie = true;
+      for (Flags* f : {&kept, &culled}) {
+        if (f == &culled && maybe_culled) continue;
+        if (o.occupying) {
+          (sure ? f->occupied : f->occupied_tie) = true;
+          continue;
+        }
+        const double near = point_triangle_distance(Vec3::Zero(), a, b, e);
+        if (near < far - margin) {
+          (sure ? f->blocked : f->blocked_tie) = true;
+        } else if (near < far + margin) {
+          f->blocked_tie = true;
+        }
       }
     }
   }
-  if (occupied) {
-    out.label = voxel::Label::occupied;
-  } else if (occupied_tie) {
-    out.ambiguous = true;
-  } else if (blocked) {
-    out.label = voxel::Label::undetectable;
-  } else if (blocked_tie) {
-    out.ambiguous = true;
-  } else {
-    out.label = voxel::Label::free;
-  }
+  // The label of one set of flags; `tie` when the margin decides.
+  auto decide = [](const Flags& f, bool& tie) {
+    tie = false;
+    if (f.occupied) return voxel::Label::occupied;
+    if (f.occupied_tie) {
+      tie = true;
+      return voxel::Label::undetectable;
+    }
+    if (f.blocked) return voxel::Label::undetectable;
+    if (f.blocked_tie) tie = true;
+    return f.blocked_tie ? voxel::Label::undetectable : voxel::Label::free;
+  };
+  bool tie_kept = false, tie_culled = false;
+  out.label = decide(kept, tie_kept);
+  const voxel::Label other = decide(culled, tie_culled);
+  if (tie_kept || tie_culled || other != out.label) out.ambiguous = true;
   return out;
 }
 

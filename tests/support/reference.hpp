@@ -26,9 +26,14 @@ ReferenceLabel reference_label(const core::Scene& scene, int time_step, int even
 /// bounding ball, all 8 corners are in the FOV, no triangle of an occupying object has a cone
 /// (from the camera) meeting the box, and no other triangle both has such a cone and comes
 /// nearer to the camera than the box's farthest corner; occupied when an occupying triangle's
-/// cone meets the box, else undetectable. Every triangle is tested (no culling, no bins); the
-/// cone–box test is an LP duality computation, not the pipeline's separating axes. Ties
-/// (`ambiguous`) within `margin` metres.
+/// cone meets the box, else undetectable. Back faces of a closed, outward object that the camera
+/// lies outside of (clear of its surface) are not tested: the first meeting point of a segment
+/// from the camera lies on a front face (SPEC §3), and the pipeline defines the label so (a back
+/// face can come nearer than the box's farthest corner where the front faces over the same rays
+/// lie beyond it: large obstacles, e.g. walls crossing S). Every other triangle is tested (no
+/// bins); the cone–box test is an LP duality computation, not the pipeline's separating axes.
+/// Ties (`ambiguous`) within `margin` metres, and where culling an object near its thresholds
+/// would change the label.
 ReferenceLabel reference_box_label(const core::Scene& scene, int time_step, int event,
                                    const core::CameraSetting& camera, const core::Box3& box,
                                    double margin = 1e-7, int camera_index = 0);

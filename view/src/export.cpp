@@ -306,9 +306,19 @@ std::string state_glb(const core::Scene& scene, const core::CameraConfig& config
     frame.col(1) = u;
     frame.col(2) = -d;
     const Eigen::Vector4d q = quaternion_xyzw(to_gltf * frame);
+    // zfar: beyond S and every object of the state (obstacles and critical objects may extend
+    // beyond S, SPEC §2; they are drawn whole).
     double far = 1.0;
     for (const Vec3& corner : scene.area.corners()) {
       far = std::max(far, (corner - config[c].position).norm() + 1.0);
+    }
+    for (const auto* objects :
+         {&scene.static_obstacles, &step.dynamic_obstacles, &step.critical, &event.targets}) {
+      for (const core::SceneObject& o : *objects) {
+        for (const Vec3& corner : o.bounds.corners()) {
+          far = std::max(far, (corner - config[c].position).norm() + 1.0);
+        }
+      }
     }
     if (spec.range) far = *spec.range;
     // yfov: the frustum's vertical opening, else the cone's (pyramid's) full angle.
