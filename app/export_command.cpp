@@ -13,6 +13,7 @@
 #include "camplace/view/export.hpp"
 #include "cli_checks.hpp"
 #include "commands.hpp"
+#include "scene_input.hpp"
 #include "interrupt.hpp"
 #include "memory_estimate.hpp"
 
@@ -49,7 +50,7 @@ core::StateIndex parse_state(const std::string& text) {
 
 void run_export(const ExportArgs& args) {
   const InterruptSignals signals;
-  const core::Scene scene = core::load_scene(args.scene);
+  const core::Scene scene = load_scene_and_report(args.scene);
   const core::CameraConfig config = core::load_camera_config(args.cameras, scene);
   view::ExportOptions options;
   options.pipeline = parse_enum<core::Pipeline>(args.pipeline);

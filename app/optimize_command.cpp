@@ -27,6 +27,7 @@
 #include "camplace/optimize/voxel_objective.hpp"
 #include "cli_checks.hpp"
 #include "commands.hpp"
+#include "scene_input.hpp"
 #include "interrupt.hpp"
 #include "memory_estimate.hpp"
 #ifdef CAMPLACE_HAVE_STUDY
@@ -134,7 +135,7 @@ void run_optimize(const OptimizeArgs& args) {
   const InterruptSignals signals;
   std::atomic<bool>& stop = InterruptSignals::flag();
 
-  const core::Scene scene = core::load_scene(args.scene);
+  const core::Scene scene = load_scene_and_report(args.scene);
   voxel::VoxelOptions voxel_options;
   voxel_options.mode = parse_enum<core::LabelMode>(args.mode);
   if (!args.resolution.empty()) {
