@@ -16,10 +16,10 @@
 #include "camplace/voxel/evaluator.hpp"
 #include "cli_checks.hpp"
 #include "commands.hpp"
-#include "scene_input.hpp"
 #include "interrupt.hpp"
 #include "memory_estimate.hpp"
 #include "progress.hpp"
+#include "scene_input.hpp"
 
 namespace camplace::app {
 

@@ -13,9 +13,9 @@
 #include "camplace/view/export.hpp"
 #include "cli_checks.hpp"
 #include "commands.hpp"
-#include "scene_input.hpp"
 #include "interrupt.hpp"
 #include "memory_estimate.hpp"
+#include "scene_input.hpp"
 
 namespace camplace::app {
 

@@ -27,9 +27,9 @@
 #include "camplace/optimize/voxel_objective.hpp"
 #include "cli_checks.hpp"
 #include "commands.hpp"
-#include "scene_input.hpp"
 #include "interrupt.hpp"
 #include "memory_estimate.hpp"
+#include "scene_input.hpp"
 #ifdef CAMPLACE_HAVE_STUDY
 #include "camplace/compare/run_validation.hpp"
 #endif
