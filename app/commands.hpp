@@ -13,6 +13,7 @@ inline std::string restart_hint(const std::string& dir) {
 }
 
 void register_evaluate_command(CLI::App& app);
+void register_expand_command(CLI::App& app);
 void register_export_command(CLI::App& app);
 #ifdef CAMPLACE_HAVE_OPTIMIZE
 void register_optimize_command(CLI::App& app);

@@ -18,6 +18,7 @@
 #include "interrupt.hpp"
 #include "memory_estimate.hpp"
 #include "progress.hpp"
+#include "scene_input.hpp"
 
 namespace camplace::app {
 
@@ -93,7 +94,7 @@ std::vector<std::array<int, 3>> parse_resolution_list(const std::string& text) {
 
 void run_compare(const CompareArgs& args, const std::string& command) {
   const InterruptSignals signals;  // a signal before the work starts: StopAtOnce ends it there
-  const core::Scene scene = core::load_scene(args.scene);
+  const core::Scene scene = load_scene_and_report(args.scene);
   const core::CameraConfig config = core::load_camera_config(args.cameras, scene);
   compare::CompareOptions options;
   if (args.resolutions_given) options.resolutions = parse_resolution_list(args.resolutions);
@@ -203,7 +204,7 @@ void register_compare_optimizer_command(CLI::App& app) {
       "exact Err is known; the exit status is then 128 + the signal.");
   cmd->callback([args, resolutions] {
     const InterruptSignals signals;
-    const core::Scene scene = core::load_scene(args->scene);
+    const core::Scene scene = load_scene_and_report(args->scene);
     compare::OptimizerValidationOptions options;
     options.runs_dir = args->runs;
     options.samples = args->samples;

@@ -19,6 +19,7 @@
 #include "interrupt.hpp"
 #include "memory_estimate.hpp"
 #include "progress.hpp"
+#include "scene_input.hpp"
 
 namespace camplace::app {
 
@@ -119,7 +120,7 @@ void run_evaluate(const EvaluateArgs& args) {
   // The first SIGINT, SIGTERM or SIGHUP ends the evaluation at once (nothing to keep yet), also
   // while the scene loads and an evaluator is set up (interrupt.hpp, StopAtOnce below).
   const InterruptSignals signals;
-  const core::Scene scene = core::load_scene(args.scene);
+  const core::Scene scene = load_scene_and_report(args.scene);
   const core::CameraConfig config = core::load_camera_config(args.cameras, scene);
   // Keep-out boxes bind the optimizer only (docs/scene-format.md): evaluate warns and goes on.
   for (std::size_t i = 0; i < config.size(); ++i) {

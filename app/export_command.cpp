@@ -15,6 +15,7 @@
 #include "commands.hpp"
 #include "interrupt.hpp"
 #include "memory_estimate.hpp"
+#include "scene_input.hpp"
 
 namespace camplace::app {
 
@@ -49,7 +50,7 @@ core::StateIndex parse_state(const std::string& text) {
 
 void run_export(const ExportArgs& args) {
   const InterruptSignals signals;
-  const core::Scene scene = core::load_scene(args.scene);
+  const core::Scene scene = load_scene_and_report(args.scene);
   const core::CameraConfig config = core::load_camera_config(args.cameras, scene);
   view::ExportOptions options;
   options.pipeline = parse_enum<core::Pipeline>(args.pipeline);

@@ -49,6 +49,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "camplace 0.1.0");
   camplace::app::register_evaluate_command(app);
   camplace::app::register_export_command(app);
+  camplace::app::register_expand_command(app);
 #ifdef CAMPLACE_HAVE_OPTIMIZE
   camplace::app::register_optimize_command(app);
 #endif

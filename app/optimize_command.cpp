@@ -29,6 +29,7 @@
 #include "commands.hpp"
 #include "interrupt.hpp"
 #include "memory_estimate.hpp"
+#include "scene_input.hpp"
 #ifdef CAMPLACE_HAVE_STUDY
 #include "camplace/compare/run_validation.hpp"
 #endif
@@ -134,7 +135,7 @@ void run_optimize(const OptimizeArgs& args) {
   const InterruptSignals signals;
   std::atomic<bool>& stop = InterruptSignals::flag();
 
-  const core::Scene scene = core::load_scene(args.scene);
+  const core::Scene scene = load_scene_and_report(args.scene);
   voxel::VoxelOptions voxel_options;
   voxel_options.mode = parse_enum<core::LabelMode>(args.mode);
   if (!args.resolution.empty()) {

@@ -14,6 +14,8 @@
 #include "camplace/core/names.hpp"
 #include "mesh_checks.hpp"
 #include "mesh_repair.hpp"
+#include "people.hpp"
+#include "robot.hpp"
 #include "scene_format.hpp"
 
 namespace camplace::core {
@@ -62,7 +64,7 @@ class SceneParser {
     const nlohmann::json doc = read_json_file(path_);
     const JsonNode root(doc, path_, "");
     root.only_keys({"area", "voxels", "cameras", "static_obstacles", "time_steps", "dynamic_mode",
-                    "plausibility", "description", "name", "repair"});
+                    "plausibility", "description", "name", "repair", "robots", "events", "people"});
     scene_.file = path_;
     // The scene-wide repair is every object's default (an object's own "repair" overrides it).
     if (root.has("repair")) default_repair_ = detail::parse_repair(root.at("repair"));
@@ -90,7 +92,7 @@ class SceneParser {
     if (root.has("static_obstacles")) {
       scene_.static_obstacles = parse_objects(root.at("static_obstacles"), Role::static_obstacle);
     }
-    parse_time_steps(root.at("time_steps"));
+    parse_time_steps(root);
     check_targets_clear_of_obstacles(root);
     scene_.mesh_files = std::move(mesh_files_);
     scene_.repairs = std::move(repairs_);
@@ -537,15 +539,10 @@ class SceneParser {
       const std::filesystem::path rel = f.string();
       const std::string full = (rel.is_absolute() ? rel : dir_ / rel).string();
       object.mesh = detail::read_mesh_file(full, path_, f.pointer(), file_options);
-      auto& files = mesh_files_;
-      if (std::find(files.begin(), files.end(), full) == files.end()) files.push_back(full);
+      note_file(full);
     }
     if (node.has("transform")) apply_transform(object.mesh, node.at("transform"));
-    if (std::optional<MeshRepair> record =
-            detail::finish_mesh(object.mesh, repair, path_, node.pointer(), object.name)) {
-      record->role = role_name(role);
-      repairs_.push_back(std::move(*record));
-    }
+    finish_object_mesh(object.mesh, repair, node.pointer(), object.name, role_name(role));
     object.bounds = bounding_box(object.mesh);
     const Box3& s = scene_.area;
     if (role == Role::target && ((object.bounds.min.array() < s.min.array() - kAreaSlack).any() ||
@@ -564,54 +561,182 @@ class SceneParser {
     return objects;
   }
 
-  void parse_time_steps(const JsonNode& list) {
-    if (list.array_size() == 0) list.fail("a scene needs at least one time step");
+  /// An event as parsed, with the JSON pointer of its weight (for the weight checks).
+  struct ParsedEvent {
+    Event event;
+    std::string weight_entry;
+  };
+
+  std::vector<ParsedEvent> parse_events(const JsonNode& events) const {
+    std::vector<ParsedEvent> out;
+    for (std::size_t l = 0; l < events.array_size(); ++l) {
+      const JsonNode e = events.at(l);
+      e.only_keys({"weight", "targets", "name"});
+      ParsedEvent parsed;
+      const JsonNode w = e.at("weight");
+      parsed.event.weight = w.number();
+      parsed.weight_entry = w.pointer();
+      if (parsed.event.weight < 0.0) w.fail("weight must not be negative");
+      const JsonNode targets = e.at("targets");
+      if (targets.array_size() == 0) targets.fail("an event needs at least one target");
+      parsed.event.targets = parse_objects(targets, Role::target);
+      out.push_back(std::move(parsed));
+    }
+    return out;
+  }
+
+  /// The robots of "robots", each expanded into its links at every sample of its trajectory.
+  std::vector<detail::RobotSteps> parse_robots(const JsonNode& list) {
+    std::vector<detail::RobotSteps> robots;
+    const detail::LinkMeshFinisher finish = [this](TriangleMesh& mesh, const std::string& entry,
+                                                   const std::string& name) {
+      finish_object_mesh(mesh, default_repair_, entry, name, role_name(Role::dynamic_obstacle));
+    };
+    for (std::size_t i = 0; i < list.array_size(); ++i) {
+      const JsonNode node = list.at(i);
+      detail::RobotSteps robot = detail::expand_robot(node, dir_, path_, finish);
+      for (const std::string& f : robot.files) note_file(f);
+      if (robot.times.empty() || robot.links.empty()) node.fail("the robot gives no time step");
+      if (!robots.empty() && robot.times.size() != robots.front().times.size()) {
+        node.fail("robot \"" + robot.name + "\" gives " + std::to_string(robot.times.size()) +
+                  " time steps, robot \"" + robots.front().name + "\" (/robots/0) gives " +
+                  std::to_string(robots.front().times.size()) +
+                  ": every robot must give the same number of samples");
+      }
+      robots.push_back(std::move(robot));
+    }
+    if (robots.empty()) list.fail("expected at least one robot");
+    return robots;
+  }
+
+  // The time steps (SPEC §2): those of "time_steps" and, with "robots", one per sample of the
+  // robots' trajectories (the robots' links join each step's dynamic obstacles); each step's
+  // events are its own, then the scene's shared "events", then the people generated for it.
+  void parse_time_steps(const JsonNode& root) {
+    std::vector<detail::RobotSteps> robots;
+    if (root.has("robots")) robots = parse_robots(root.at("robots"));
+    const bool given = root.has("time_steps");
+    if (!given && robots.empty()) {
+      throw InputError(path_, "/",
+                       "missing required field \"time_steps\" (or give \"robots\", whose "
+                       "trajectory makes the time steps)");
+    }
+    std::vector<std::vector<ParsedEvent>> events;  // per step
+    std::vector<bool> own_critical;                // per step: "critical" given
+    std::vector<std::string> step_entry;
+    if (given) {
+      const JsonNode list = root.at("time_steps");
+      if (list.array_size() == 0) list.fail("a scene needs at least one time step");
+      if (!robots.empty() && list.array_size() != robots.front().times.size()) {
+        list.fail("expected one time step per sample of the robots' trajectory (" +
+                  std::to_string(robots.front().times.size()) + "), found " +
+                  std::to_string(list.array_size()));
+      }
+      for (std::size_t h = 0; h < list.array_size(); ++h) {
+        const JsonNode node = list.at(h);
+        node.only_keys({"t", "dynamic_obstacles", "critical", "events"});
+        TimeStep step;
+        step.t = node.has("t") ? node.at("t").number() : static_cast<double>(h);
+        if (!robots.empty()) {
+          const double t = robots.front().times[h];
+          if (node.has("t") && !(std::abs(step.t - t) <= 1e-9 * std::max(1.0, std::abs(t)))) {
+            node.at("t").fail("t " + format_number(step.t) + " differs from the robots' sample " +
+                              std::to_string(h) + " at t = " + format_number(t) +
+                              " (leave \"t\" out: the trajectory gives it)");
+          }
+          step.t = t;
+        }
+        if (node.has("dynamic_obstacles")) {
+          step.dynamic_obstacles =
+              parse_objects(node.at("dynamic_obstacles"), Role::dynamic_obstacle);
+        }
+        own_critical.push_back(node.has("critical"));
+        if (node.has("critical"))
+          step.critical = parse_objects(node.at("critical"), Role::critical);
+        events.push_back(node.has("events") ? parse_events(node.at("events"))
+                                            : std::vector<ParsedEvent>{});
+        step_entry.push_back(node.pointer());
+        scene_.time_steps.push_back(std::move(step));
+      }
+    } else {
+      for (std::size_t h = 0; h < robots.front().times.size(); ++h) {
+        TimeStep step;
+        step.t = robots.front().times[h];
+        scene_.time_steps.push_back(std::move(step));
+        events.emplace_back();
+        own_critical.push_back(false);
+        step_entry.push_back("/robots (sample " + std::to_string(h) + ")");
+      }
+    }
+    const std::size_t steps = scene_.time_steps.size();
+    for (std::size_t h = 0; h < steps; ++h) {
+      TimeStep& step = scene_.time_steps[h];
+      for (const detail::RobotSteps& robot : robots) {
+        step.dynamic_obstacles.insert(step.dynamic_obstacles.end(), robot.links[h].begin(),
+                                      robot.links[h].end());
+      }
+      if (!own_critical[h]) step.critical = step.dynamic_obstacles;
+      if (step.critical.empty()) {
+        throw InputError(path_, step_entry[h],
+                         "time step has no critical objects: give \"critical\", "
+                         "\"dynamic_obstacles\" or \"robots\"");
+      }
+    }
+    if (root.has("events")) {
+      const std::vector<ParsedEvent> shared = parse_events(root.at("events"));
+      for (auto& e : events) e.insert(e.end(), shared.begin(), shared.end());
+    }
+    if (root.has("people")) {
+      const JsonNode list = root.at("people");
+      for (std::size_t i = 0; i < list.array_size(); ++i) {
+        const detail::PeopleZone zone =
+            detail::parse_people_zone(list.at(i), scene_.area, static_cast<int>(i));
+        const std::string weight_entry =
+            list.at(i).has("weight") ? list.at(i).at("weight").pointer() : list.at(i).pointer();
+        for (std::size_t h = 0; h < steps; ++h) {
+          std::vector<const SceneObject*> obstacles;
+          for (const SceneObject& o : scene_.static_obstacles) obstacles.push_back(&o);
+          for (const SceneObject& o : scene_.time_steps[h].dynamic_obstacles)
+            obstacles.push_back(&o);
+          for (Event& e :
+               detail::people_events(zone, obstacles, scene_.area, path_, static_cast<int>(h))) {
+            events[h].push_back({std::move(e), weight_entry});
+          }
+        }
+      }
+    }
     double weight_sum = 0.0;
     // Err ≤ Σ ω · diag(S)² (kMaxErr): the largest sum of weights whose Err stays finite with a
     // wide margin. (S is parsed before the time steps.)
     const double diagonal_sq = scene_.area.diagonal() * scene_.area.diagonal();
     const double max_weight_sum = kMaxErr / diagonal_sq;
-    for (std::size_t h = 0; h < list.array_size(); ++h) {
-      const JsonNode node = list.at(h);
-      node.only_keys({"t", "dynamic_obstacles", "critical", "events"});
-      TimeStep step;
-      step.t = node.has("t") ? node.at("t").number() : static_cast<double>(h);
-      if (node.has("dynamic_obstacles"))
-        step.dynamic_obstacles =
-            parse_objects(node.at("dynamic_obstacles"), Role::dynamic_obstacle);
-      step.critical = node.has("critical") ? parse_objects(node.at("critical"), Role::critical)
-                                           : step.dynamic_obstacles;
-      if (step.critical.empty()) {
-        node.fail("time step has no critical objects: give \"critical\" or \"dynamic_obstacles\"");
+    for (std::size_t h = 0; h < steps; ++h) {
+      if (events[h].empty()) {
+        throw InputError(path_, given ? step_entry[h] + "/events" : step_entry[h],
+                         "a time step needs at least one event (give its \"events\", the "
+                         "scene's shared \"events\" or \"people\")");
       }
-      const JsonNode events = node.at("events");
-      if (events.array_size() == 0) events.fail("a time step needs at least one event");
-      for (std::size_t l = 0; l < events.array_size(); ++l) {
-        const JsonNode e = events.at(l);
-        e.only_keys({"weight", "targets", "name"});
-        Event event;
-        const JsonNode w = e.at("weight");
-        event.weight = w.number();
-        if (event.weight < 0.0) w.fail("weight must not be negative");
+      for (ParsedEvent& parsed : events[h]) {
         // Checked on the sum itself, before any product with diag(S)² can overflow; a sum that
         // overflows (or a diagonal whose square underflows to 0) is caught as not finite.
-        weight_sum += event.weight;
+        weight_sum += parsed.event.weight;
         if (!(weight_sum <= max_weight_sum) || !std::isfinite(weight_sum)) {
-          w.fail("weight " + format_number(event.weight) +
-                 " is too large: the weights up to here sum to " +
-                 (std::isfinite(weight_sum) ? format_number(weight_sum) : "more than any double") +
-                 ", and Err can reach that sum times diag(S)² = " + format_number(diagonal_sq) +
-                 " m², which must not exceed " + format_number(kMaxErr) +
-                 " m² (so that Err stays finite)");
+          throw InputError(
+              path_, parsed.weight_entry,
+              "weight " + format_number(parsed.event.weight) +
+                  " is too large: the weights up to here sum to " +
+                  (std::isfinite(weight_sum) ? format_number(weight_sum) : "more than any double") +
+                  ", and Err can reach that sum times diag(S)² = " + format_number(diagonal_sq) +
+                  " m², which must not exceed " + format_number(kMaxErr) +
+                  " m² (so that Err stays finite)");
         }
-        const JsonNode targets = e.at("targets");
-        if (targets.array_size() == 0) targets.fail("an event needs at least one target");
-        event.targets = parse_objects(targets, Role::target);
-        step.events.push_back(std::move(event));
+        scene_.time_steps[h].events.push_back(std::move(parsed.event));
       }
-      scene_.time_steps.push_back(std::move(step));
     }
-    if (!(weight_sum > 0.0)) list.fail("all event weights are 0: Err would be identically 0");
+    if (!(weight_sum > 0.0)) {
+      throw InputError(path_, given ? "/time_steps" : "",
+                       "all event weights are 0: Err would be identically 0");
+    }
   }
 
   void check_targets_clear_of_obstacles(const JsonNode& root) const {
@@ -633,6 +758,22 @@ class SceneParser {
       }
     }
     (void)root;
+  }
+
+  /// Records a file the scene reads (for provenance), once.
+  void note_file(const std::string& full) const {
+    if (std::find(mesh_files_.begin(), mesh_files_.end(), full) == mesh_files_.end())
+      mesh_files_.push_back(full);
+  }
+
+  /// Validates and orients an object's mesh, repairing it as `repair` asks; records the repair.
+  void finish_object_mesh(TriangleMesh& mesh, const detail::RepairOptions& repair,
+                          const std::string& entry, const std::string& name,
+                          const char* role) const {
+    if (std::optional<MeshRepair> r = detail::finish_mesh(mesh, repair, path_, entry, name)) {
+      r->role = role;
+      repairs_.push_back(std::move(*r));
+    }
   }
 
   static bool boxes_meet(const Box3& a, const Box3& b) {
