@@ -197,9 +197,11 @@ double VoxelEvaluator::Impl::lower_bound() const {
 }
 
 double VoxelEvaluator::Impl::contact_depth() const {
-  // Hundreds of times the labeller's touching tolerance (1e-12 of the camera's distance plus
-  // the voxel's half extents; cameras lie in S, so that is below 2e-12 of S's diagonal) and far
-  // above the rounding of coordinates as large as S's corners.
+  // Far above the labeller's touching tolerance (1e-12 of the camera's distance plus the
+  // voxel's half extents: below 2e-12 of S's diagonal for cameras in S, where the domains put
+  // them; `evaluate` accepts cameras outside S, still below this depth within ~1000 diagonals of
+  // S) and far above the rounding of coordinates as large as S's corners. Objects outside S do
+  // not enter: only points inside a voxel of S are proven.
   const double far =
       std::max(grid.area.min.cwiseAbs().maxCoeff(), grid.area.max.cwiseAbs().maxCoeff());
   return 1e-9 * (grid.area.diagonal() + far);
@@ -303,8 +305,10 @@ std::vector<double> VoxelEvaluator::Impl::critical_distances(
 VoxelEvaluator::Impl::LowerBoundShells VoxelEvaluator::Impl::lower_bound_shells(
     const std::vector<double>& lb) const {
   LowerBoundShells out;
-  // Shells half the smallest voxel step wide; every √lb lies below S's diagonal (bounds are
-  // distances within S or 0), a few shells beyond it allow for rounding.
+  // Shells half the smallest voxel step wide, as many as S's diagonal needs and a few more for
+  // rounding. Critical objects may lie partly or wholly outside S (SPEC §2), so √lb can exceed
+  // the diagonal: such voxels go to the last shell, whose bound ((shells − 2)·width in
+  // model_distance) stays below their √lb, so the scan stays exact.
   out.width = 0.5 * grid.step.minCoeff();
   const double diagonal = (scene.area.max - scene.area.min).norm();
   const int shells = static_cast<int>(diagonal / out.width) + 3;
