@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "camplace/core/error.hpp"
 #include "mesh_checks.hpp"
@@ -364,9 +365,11 @@ PeopleZone parse_people_zone(const JsonNode& node, const Box3& area, int index) 
   }
   const double footprint = footprint_area(zone.height_lo);
   if (zone.zone_area < footprint) {
+    char rounded[32];  // 4 significant digits: the footprint is a model figure, not an input
+    std::snprintf(rounded, sizeof rounded, "%.4g", footprint);
     zn.fail("zone is smaller than a person's footprint: it covers " + fmt(zone.zone_area) +
-            " m², less than the " + fmt(footprint) + " m² that both feet of a " +
-            fmt(zone.height_lo) + " m person cover");
+            " m², less than the " + rounded + " m² that both feet of a " + fmt(zone.height_lo) +
+            " m person cover");
   }
   zone.count = node.at("count").integer_in(1, 1000);
   if (node.has("seed")) {

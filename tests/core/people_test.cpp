@@ -535,7 +535,8 @@ TEST(PeopleInput, EveryBadEntryIsRejectedWithItsReason) {
   expect_error(with("zone", {{"polygon", {{0.5, 0.5}, {1.5, 0.5}, {1.5}}}}),
                "/people/0/zone/polygon/2", "expected [x, y]");
   expect_error(with("zone", {{"min", {0.5, 0.5}}, {"max", {0.625, 0.625}}}), "/people/0/zone",
-               "zone is smaller than a person's footprint: it covers 0.015625 m²");
+               "zone is smaller than a person's footprint: it covers 0.015625 m², less than "
+               "the 0.05587 m² that both feet of a 1.535 m person cover");
   expect_error(with("height_m", {1.9, 1.6}), "/people/0/height_m", "height range is invalid");
   expect_error(with("height_m", {1600, 1900}), "/people/0/height_m/0", "out of range [0.5, 2.5]");
   expect_error(with("height_m", {1.6}), "/people/0/height_m", "expected [lo, hi]");
