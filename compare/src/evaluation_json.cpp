@@ -188,6 +188,8 @@ nlohmann::json voxel_diagnostics(
                        " states (d(C, M) is then S's diagonal): the filter removed every "
                        "component, or the cameras see all of S free");
   }
+  // Every repaired mesh is named where the results are read (docs/scene-format.md#repair).
+  for (const std::string& line : core::repair_warnings(scene)) warnings.push_back(line);
   return {{"states", states}, {"cameras", cameras}, {"warnings", warnings}};
 }
 

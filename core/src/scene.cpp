@@ -688,9 +688,15 @@ class SceneParser {
     }
     if (root.has("people")) {
       const JsonNode list = root.at("people");
+      std::vector<std::string> names;  // the zones' names prefix their objects': unique
       for (std::size_t i = 0; i < list.array_size(); ++i) {
         const detail::PeopleZone zone =
             detail::parse_people_zone(list.at(i), scene_.area, static_cast<int>(i));
+        if (std::find(names.begin(), names.end(), zone.name) != names.end()) {
+          list.at(i).fail("people zone \"" + zone.name +
+                          "\" is named twice (its people's objects would share their names)");
+        }
+        names.push_back(zone.name);
         const std::string weight_entry =
             list.at(i).has("weight") ? list.at(i).at("weight").pointer() : list.at(i).pointer();
         for (std::size_t h = 0; h < steps; ++h) {
