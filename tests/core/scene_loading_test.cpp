@@ -511,3 +511,30 @@ TEST(SceneRejection, TimeStepWithoutCriticalObjectsOrEvents) {
 
 }  // namespace
 }  // namespace camplace::testing
+
+namespace camplace::testing {
+namespace {
+
+// Shared events and people join every time step's own events; two zones may not share a name.
+TEST(SceneLoading, SharedEventsAndPeopleJoinEachTimeStep) {
+  json s = base_scene();
+  s["events"] = json::parse(
+      R"([{"weight": 0.5, "targets": [{"name": "visitor", "box": {"min": [2, 2, 0], "max": [2.3, 2.3, 1.7]}}]}])");
+  s["people"] = json::parse(
+      R"([{"name": "z", "zone": {"min": [1.2, 1.5], "max": [2.8, 2.9]}, "count": 3, "seed": 2, "weight": 0.9}])");
+  const std::string path = write_scene(s, "shared_people");
+  const core::Scene scene = core::load_scene(path);
+  ASSERT_EQ(scene.time_steps.size(), 1u);
+  const auto& events = scene.time_steps[0].events;
+  ASSERT_EQ(events.size(), 5u) << "own event, the shared one, then 3 people";
+  EXPECT_EQ(events[0].targets[0].name, "person");
+  EXPECT_EQ(events[1].targets[0].name, "visitor");
+  double people = 0;
+  for (std::size_t l = 2; l < 5; ++l) people += events[l].weight;
+  EXPECT_NEAR(people, 0.9, 1e-12);
+  s["people"].push_back(s["people"][0]);
+  expect_rejected(s, "people_twice", "/people/1", "named twice");
+}
+
+}  // namespace
+}  // namespace camplace::testing
