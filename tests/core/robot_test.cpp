@@ -549,6 +549,22 @@ TEST(RobotSwept, EnclosureHoldsAPrismaticAndSkewAxisChain) {
   }
 }
 
+TEST(RobotSwept, MotionThroughARowBetweenSamplesIsEnclosed) {
+  const std::string dir = temp_dir("robot-swept-knot");
+  write_file(dir + "/one.urdf", kOneJointUrdf);
+  // Out to 1.5 rad and back between the samples at t = 0 and t = 2: equal end poses, yet the link
+  // sweeps a quarter circle.
+  write_file(dir + "/one.csv", "t,j\n0,0\n1,1.5\n2,0\n");
+  const Expansion e = expand(dir, {{"urdf", "one.urdf"},
+                                   {"trajectory", "one.csv"},
+                                   {"sample", {{"steps", 2}}},
+                                   {"swept", true}});
+  for (double q = 0; q <= 1.5; q += 0.05) {
+    const Vec3 centre(std::cos(q), std::sin(q), 0);  // the cube's centre, by hand
+    EXPECT_TRUE(in_convex(e.steps.links[0][0].mesh, centre)) << "q = " << q;
+  }
+}
+
 TEST(RobotSwept, LinkAtRestKeepsItsOwnMesh) {
   const std::string dir = temp_dir("robot-swept-rest");
   write_file(dir + "/planar.urdf", kPlanarUrdf);
