@@ -3,6 +3,9 @@
 // description of everything here.
 #include "robot.hpp"
 
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/convex_hull_3.h>
 #include <console_bridge/console.h>
 #include <urdf_parser/urdf_parser.h>
 
@@ -460,6 +463,48 @@ Eigen::Isometry3d joint_motion(const JointMotion& m, double v) {
 }
 
 /// One link geometry element, read and finished once in its link frame.
+/// Sub-steps (at most, per piece between knots) and the margin (m) they aim for.
+constexpr int kSweptSteps = 64;
+constexpr double kSweptMargin = 0.005;
+
+/// The convex hull of the points, each moved by every corner of the cube [−h, h]³ (h ≥ 0, m):
+/// the hull of the points Minkowski-added the cube. Closed and outward.
+TriangleMesh convex_hull_with_cube(const std::vector<Vec3>& points, double h) {
+  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+  using Mesh = CGAL::Surface_mesh<K::Point_3>;
+  std::vector<K::Point_3> cloud;
+  cloud.reserve(points.size() * (h > 0 ? 8 : 1));
+  for (const Vec3& p : points) {
+    if (h > 0) {
+      for (int c = 0; c < 8; ++c)
+        cloud.emplace_back(p.x() + (c & 1 ? h : -h), p.y() + (c & 2 ? h : -h),
+                           p.z() + (c & 4 ? h : -h));
+    } else {
+      cloud.emplace_back(p.x(), p.y(), p.z());
+    }
+  }
+  Mesh hull;
+  CGAL::convex_hull_3(cloud.begin(), cloud.end(), hull);
+  TriangleMesh out;
+  std::map<Mesh::Vertex_index, int> index;
+  for (const auto v : hull.vertices()) {
+    index[v] = static_cast<int>(out.vertices.size());
+    const auto& q = hull.point(v);
+    out.vertices.emplace_back(q.x(), q.y(), q.z());
+  }
+  for (const auto f : hull.faces()) {
+    std::array<int, 3> tri{};
+    int n = 0;
+    for (const auto v : CGAL::vertices_around_face(hull.halfedge(f), hull)) {
+      if (n < 3) tri[n] = index.at(v);
+      ++n;
+    }
+    CAMPLACE_ASSERT(n == 3);
+    out.triangles.push_back(tri);
+  }
+  return out;
+}
+
 struct LinkPart {
   std::string link;
   SceneObject object;  ///< mesh in the link frame
@@ -596,12 +641,12 @@ RobotSteps expand_robot(const JsonNode& node, const std::filesystem::path& scene
     if (b.has("rotate_deg")) base.linear() = rotation_deg(b.at("rotate_deg").vec3());
     if (b.has("translate")) base.translation() = b.at("translate").vec3();
   }
+  bool swept = false;
   if (node.has("swept")) {
     const JsonNode s = node.at("swept");
     if (!s.value().is_boolean())
       s.fail(std::string("expected a boolean, found ") + s.value().type_name());
-    if (s.value().get<bool>())
-      s.fail("swept volumes are not supported yet: leave \"swept\" out or set it to false");
+    swept = s.value().get<bool>();
   }
 
   const JsonNode urdf_node = node.at("urdf");
@@ -695,10 +740,11 @@ RobotSteps expand_robot(const JsonNode& node, const std::filesystem::path& scene
     }
   }
 
-  // Forward kinematics per sample: T(child) = T(parent) · origin(joint) · motion(joint value).
-  out.links.reserve(out.times.size());
-  for (const double t : out.times) {
-    const std::vector<double> q = interpolate(traj, t);
+  // Forward kinematics: T(child) = T(parent) · origin(joint) · motion(joint value).
+  const auto value_of = [&](const JointMotion& m, const std::vector<double>& q) {
+    return m.column < 0 ? 0.0 : m.multiplier * q[m.column] + m.offset;
+  };
+  const auto link_poses = [&](const std::vector<double>& q) {
     std::map<std::string, Eigen::Isometry3d> pose;
     for (const urdf::Link* link : order) {
       if (!link->parent_joint) {
@@ -707,20 +753,88 @@ RobotSteps expand_robot(const JsonNode& node, const std::filesystem::path& scene
       }
       const urdf::Joint& j = *link->parent_joint;
       const JointMotion& m = model.joints.at(j.name);
-      const double v = m.column < 0 ? 0.0 : m.multiplier * q[m.column] + m.offset;
       pose[link->name] = pose.at(j.parent_link_name) *
-                         to_isometry(j.parent_to_joint_origin_transform) * joint_motion(m, v);
+                         to_isometry(j.parent_to_joint_origin_transform) *
+                         joint_motion(m, value_of(m, q));
     }
+    return pose;
+  };
+  const auto placed = [](const LinkPart& part, const Eigen::Isometry3d& tf) {
+    SceneObject o = part.object;
+    for (Vec3& v : o.mesh.vertices) v = tf * v;
+    o.bounds = bounding_box(o.mesh);
+    return o;
+  };
+  out.links.reserve(out.times.size());
+  for (const double t : out.times) {
+    const auto pose = link_poses(interpolate(traj, t));
     std::vector<SceneObject> objects;
     objects.reserve(parts.size());
-    for (const LinkPart& part : parts) {
-      SceneObject o = part.object;
-      const Eigen::Isometry3d& tf = pose.at(part.link);
-      for (Vec3& v : o.mesh.vertices) v = tf * v;
-      o.bounds = bounding_box(o.mesh);
-      objects.push_back(std::move(o));
-    }
+    for (const LinkPart& part : parts) objects.push_back(placed(part, pose.at(part.link)));
     out.links.push_back(std::move(objects));
+  }
+  if (!swept) return out;
+
+  // Swept volumes (docs/robots.md, "Swept volumes"): sample k's object of a link encloses the
+  // link's motion over [t_k, t_k+1]; the last sample keeps its pose. Between trajectory rows the
+  // joint values are linear in t, so each piece [a, b] between consecutive knots (samples and
+  // rows) has constant joint speeds, and a point of the link moves at most
+  //   D = Σ_j |Δv_j| · R_j  (revolute, continuous)  + Σ_j |Δv_j|  (prismatic)
+  // over it, with R_j ≥ the point's distance from joint j's axis throughout [a, b]. Poses at m
+  // equal steps of [a, b] leave every instant within (b − a)/2m of one of them, so every point
+  // stays within D/2m of its position there: the convex hull of the link's vertices at those
+  // poses, Minkowski-added a cube of half-side D/2m (which contains that ball), encloses it.
+  for (std::size_t p = 0; p < parts.size(); ++p) {
+    const LinkPart& part = parts[p];
+    // The joints from the link up to the root, nearest first.
+    std::vector<const urdf::Joint*> chain;
+    for (const urdf::Link* l = model.urdf->getLink(part.link).get(); l && l->parent_joint;
+         l = l->getParent().get())
+      chain.push_back(l->parent_joint.get());
+    double reach = 0.0;  // max |p| over the solid: its vertices bound it (it lies in their hull)
+    for (const Vec3& v : part.object.mesh.vertices) reach = std::max(reach, v.norm());
+    for (std::size_t k = 0; k + 1 < out.times.size(); ++k) {
+      std::vector<double> knots{out.times[k]};
+      for (const double tr : traj.times)
+        if (tr > out.times[k] && tr < out.times[k + 1]) knots.push_back(tr);
+      knots.push_back(out.times[k + 1]);
+      std::vector<Vec3> points;
+      double margin = 0.0;
+      bool moves = false;
+      for (std::size_t i = 0; i + 1 < knots.size(); ++i) {
+        const std::vector<double> qa = interpolate(traj, knots[i]),
+                                  qb = interpolate(traj, knots[i + 1]);
+        double travel = 0.0;     // D above
+        double outward = reach;  // R_j: |p| plus every joint origin and prismatic travel below j
+        for (const urdf::Joint* j : chain) {
+          const JointMotion& m = model.joints.at(j->name);
+          const double va = value_of(m, qa), vb = value_of(m, qb);
+          if (j->type == urdf::Joint::PRISMATIC) {
+            travel += std::abs(vb - va);
+          } else if (j->type == urdf::Joint::REVOLUTE || j->type == urdf::Joint::CONTINUOUS) {
+            travel += std::abs(vb - va) * outward;
+          }
+          const auto& o = j->parent_to_joint_origin_transform.position;
+          outward +=
+              Vec3(o.x, o.y, o.z).norm() +
+              (j->type == urdf::Joint::PRISMATIC ? std::max(std::abs(va), std::abs(vb)) : 0.0);
+        }
+        if (travel > 0) moves = true;
+        const int steps =
+            std::clamp(static_cast<int>(std::ceil(travel / (2 * kSweptMargin))), 1, kSweptSteps);
+        margin = std::max(margin, travel / (2 * steps));
+        for (int s = 0; s <= steps; ++s) {
+          const double t =
+              s == steps ? knots[i + 1] : knots[i] + (knots[i + 1] - knots[i]) * s / steps;
+          const Eigen::Isometry3d tf = link_poses(interpolate(traj, t)).at(part.link);
+          for (const Vec3& v : part.object.mesh.vertices) points.push_back(tf * v);
+        }
+      }
+      if (!moves) continue;  // at rest over the interval: the link itself is its sweep
+      SceneObject& o = out.links[k][p];
+      o.mesh = convex_hull_with_cube(points, margin);
+      o.bounds = bounding_box(o.mesh);
+    }
   }
   return out;
 }
