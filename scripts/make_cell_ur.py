@@ -49,19 +49,19 @@ VELOCITY = [3.14159265, 3.14159265, 3.14159265, 3.14159265, 3.14159265, 3.141592
 # --- The cell (metres, world frame, z up): data/README.md explains every number.
 AREA = {"min": [0, 0, 0], "max": [6, 5, 3]}
 VOXELS = [24, 20, 12]
-ROBOT_BASE = {"rotate_deg": [0, 0, 90], "translate": [3.0, 2.3, 0.8]}
+ROBOT_BASE = {"rotate_deg": [0, 0, 90], "translate": [3.0, 2.0, 0.75]}
 
 # The pick-and-place cycle (rad). Each row was found once by damped least squares on the DH
 # model (flange at a chosen point, tool z straight down, tool x at a chosen yaw), rounded to
 # 4 decimals; wrist_3 is kept continuous across +-pi. check() prints where the tool goes.
 TRAJECTORY = [
-    (0.0, "wait above the conveyor", [-0.1916, -1.093, 1.0683, -1.5461, -1.5708, 2.95]),
-    (1.5, "pick from the conveyor", [-0.1916, -0.9458, 1.4736, -2.0987, -1.5708, 2.95]),
-    (2.5, "lift", [-0.1916, -1.0801, 0.9208, -1.4114, -1.5708, 2.95]),
-    (4.0, "turn toward the table", [0.7338, -1.4825, 1.3192, -1.4075, -1.5708, 3.09]),
-    (5.5, "place on the table", [1.714, -0.5679, 0.9098, -1.9127, -1.5708, 3.2848]),
-    (6.5, "retreat up", [1.6588, -0.8734, 0.8445, -1.5419, -1.5708, 3.2296]),
-    (8.0, "return toward the conveyor", [-0.224, -1.298, 0.966, -1.2388, -1.5708, 2.9176]),
+    (0.0, "wait above the conveyor", [-0.2699, -1.5708, 1.7969, -1.7968, -1.5708, 2.8717]),
+    (1.5, "pick from the conveyor", [-0.2699, -1.3069, 2.1136, -2.3776, -1.5708, 2.8717]),
+    (2.5, "lift", [-0.2699, -1.59, 1.6866, -1.6674, -1.5708, 2.8717]),
+    (4.0, "turn toward the bench", [0.8045, -1.7235, 1.68, -1.5273, -1.5708, 3.1607]),
+    (5.5, "place on the bench", [1.7998, -0.7902, 1.2524, -2.0329, -1.5708, 3.3705]),
+    (6.5, "retreat up", [1.7454, -1.0973, 1.2024, -1.6759, -1.5708, 3.3162]),
+    (8.0, "return toward the conveyor", [-0.2127, -1.8339, 1.7657, -1.5026, -1.5708, 2.9289]),
 ]
 
 PRISM_SIDES = 16  # sides of every prism that stands for a cylinder
@@ -368,18 +368,17 @@ def scene():
     def boxobj(name, lo, hi):
         return {"name": name, "box": {"min": lo, "max": hi}}
 
+    # Every static obstacle except the conveyor's legs lies on the 0.25 m voxel grid
+    # (data/README.md, "Why the obstacles lie on the voxel grid").
     statics = [
-        boxobj("robot pedestal", [2.7, 2.0, 0.0], [3.3, 2.6, 0.8]),
-        boxobj("conveyor belt", [-1.0, 1.2, 0.7], [7.0, 1.8, 0.85]),
+        boxobj("robot pedestal", [2.75, 1.75, 0.0], [3.25, 2.25, 0.75]),
+        boxobj("conveyor belt", [-1.0, 1.25, 0.5], [7.0, 1.75, 0.75]),
     ]
     for x in (-0.5, 1.5, 3.5, 5.5):
-        statics.append(boxobj("conveyor leg x=%s" % fmt(x), [x - 0.04, 1.25, 0.0],
-                              [x + 0.04, 1.75, 0.7]))
-    statics.append(boxobj("work table top", [3.45, 2.0, 0.7], [4.65, 3.0, 0.75]))
-    for k, (x, y) in enumerate([(3.5, 2.05), (4.6, 2.05), (3.5, 2.95), (4.6, 2.95)]):
-        statics.append(boxobj("work table leg %d" % k, [x - 0.025, y - 0.025, 0.0],
-                              [x + 0.025, y + 0.025, 0.7]))
-    statics.append(boxobj("parts shelf", [5.3, 3.9, 0.0], [5.9, 4.9, 1.8]))
+        statics.append(boxobj("conveyor leg x=%s" % fmt(x), [x - 0.04, 1.3, 0.0],
+                              [x + 0.04, 1.7, 0.5]))
+    statics.append(boxobj("work bench", [3.25, 1.75, 0.0], [4.5, 2.75, 0.75]))
+    statics.append(boxobj("parts shelf", [5.25, 4.0, 0.0], [6.0, 5.0, 1.75]))
 
     cameras = {
         "models": [
@@ -396,7 +395,7 @@ def scene():
             {"name": "north_wall", "corner": [0, 5, 1.8], "edges": [[6, 0, 0], [0, 0, 1.2]],
              "yaw_deg": [-60, 60], "pitch_deg": [-70, 10]},
         ],
-        "keep_out": [{"name": "robot reach", "min": [1.9, 1.2, -0.1], "max": [4.1, 3.4, 3.1]}],
+        "keep_out": [{"name": "robot reach", "min": [1.9, 0.9, -0.1], "max": [4.1, 3.1, 3.1]}],
         "list": [
             {"model": "depth", "mount": "west_wall"},
             {"model": "depth", "mount": "north_wall"},
@@ -408,10 +407,10 @@ def scene():
     return {
         "description": (
             "A real-looking human-robot work cell (data/README.md): 6 x 5 x 3 m, a UR5e "
-            "(built from its published DH parameters, data/cell_ur/ur5e.urdf) on a 0.8 m "
+            "(built from its published DH parameters, data/cell_ur/ur5e.urdf) on a 0.75 m "
             "pedestal picks parts from a conveyor that crosses the cell and places them on a "
-            "work table (7 samples of data/cell_ur/pick_place.csv); people at a loading zone "
-            "by the conveyor and an assembly zone by the table; 2 depth and 3 RGB cameras on "
+            "work bench (7 samples of data/cell_ur/pick_place.csv); people at a loading zone "
+            "by the conveyor and an assembly zone by the bench; 2 depth and 3 RGB cameras on "
             "two walls and the ceiling, not within the robot's reach. Written by "
             "scripts/make_cell_ur.py."),
         "area": AREA,
@@ -427,16 +426,16 @@ def scene():
             "trajectory": "cell_ur/pick_place.csv",
         }],
         "people": [
-            {"name": "loading", "zone": {"min": [1.0, 0.2], "max": [5.0, 1.05]},
+            {"name": "loading", "zone": {"min": [1.0, 0.25], "max": [5.0, 1.0]},
              "postures": ["standing", "reaching", "crouching"], "count": 3, "seed": 1,
              "weight": 0.6},
             {"name": "assembly",
-             "zone": {"polygon": [[3.2, 3.3], [5.1, 3.3], [5.1, 3.75], [4.9, 4.6], [3.2, 4.6]]},
+             "zone": {"polygon": [[3.0, 3.25], [5.0, 3.25], [5.0, 3.75], [4.8, 4.5], [3.0, 4.5]]},
              "postures": ["standing", "reaching", "crouching"], "count": 2, "seed": 2,
              "weight": 0.4},
         ],
         "dynamic_mode": "masked",
-        "plausibility": {"min_volume": 0.03, "min_height": 0.9},
+        "plausibility": {"min_volume": 0.03, "min_height": 1.0},
     }
 
 
