@@ -41,6 +41,21 @@ TriangleMesh from_surface_mesh(const Mesh& sm) {
   return out;
 }
 
+// Thrown by StopAfterSteinerPoints out of CGAL's flood fill (which has no other way to stop).
+struct WrapTooLarge {};
+
+// Bounds the wrap's work: every vertex of the wrap is a Steiner point, so a wrap that needs more
+// Steiner points than the budget is abandoned as soon as it does.
+struct StopAfterSteinerPoints : CGAL::Alpha_wraps_3::internal::Wrapping_default_visitor {
+  std::size_t budget = 0;
+  std::size_t inserted = 0;
+  explicit StopAfterSteinerPoints(std::size_t b) : budget(b) {}
+  template <typename Wrapper, typename VertexHandle>
+  void after_Steiner_point_insertion(const Wrapper&, VertexHandle) {
+    if (++inserted > budget) throw WrapTooLarge{};
+  }
+};
+
 std::string method_name(RepairOptions::Method m) {
   switch (m) {
     case RepairOptions::Method::wrap:
@@ -55,7 +70,8 @@ std::string method_name(RepairOptions::Method m) {
 
 }  // namespace
 
-TriangleMesh alpha_wrap(const TriangleMesh& mesh, double alpha, double offset) {
+std::optional<TriangleMesh> alpha_wrap(const TriangleMesh& mesh, double alpha, double offset,
+                                       std::size_t max_steiner_points) {
   std::vector<Point> points;
   points.reserve(mesh.vertices.size());
   for (const Vec3& v : mesh.vertices) points.push_back(point(v));
@@ -64,7 +80,13 @@ TriangleMesh alpha_wrap(const TriangleMesh& mesh, double alpha, double offset) {
   for (const auto& t : mesh.triangles)
     faces.push_back({std::size_t(t[0]), std::size_t(t[1]), std::size_t(t[2])});
   Mesh wrap;
-  CGAL::alpha_wrap_3(points, faces, alpha, offset, wrap);
+  StopAfterSteinerPoints stop{max_steiner_points};
+  try {
+    CGAL::alpha_wrap_3(points, faces, alpha, offset, wrap, CGAL::parameters::default_values(),
+                       CGAL::parameters::visitor(stop));
+  } catch (const WrapTooLarge&) {
+    return std::nullopt;
+  }
   return from_surface_mesh(wrap);
 }
 
@@ -164,12 +186,24 @@ std::optional<MeshRepair> finish_mesh(TriangleMesh& mesh, const RepairOptions& r
            format_number(diagonal / kMaxRelativeAlpha) +
            " m (the wrap's size grows as (diagonal / alpha)²)");
     }
-    if (offset < diagonal / kMaxRelativeOffset) {
-      fail("repair offset_m " + format_number(offset) + " m is too small for this mesh: it must " +
-           "be at least its bounding-box diagonal / " + format_number(kMaxRelativeOffset) + " = " +
-           format_number(diagonal / kMaxRelativeOffset) + " m");
+    if (offset < alpha / kMaxAlphaPerOffset) {
+      fail("repair offset_m " + format_number(offset) + " m is too small for alpha " +
+           format_number(alpha) + " m: it must be at least alpha / " +
+           format_number(kMaxAlphaPerOffset) + " = " + format_number(alpha / kMaxAlphaPerOffset) +
+           " m (a tight offset multiplies the wrap's work)");
     }
-    repaired = alpha_wrap(mesh, alpha, offset);
+    // A closed wrap with V vertices has about 2V triangles; its vertices are Steiner points,
+    // so more than max_triangles Steiner points cannot end within the budget unless most of
+    // them are carved away again: the wrap stops there (a bound on its work).
+    std::optional<TriangleMesh> wrap =
+        alpha_wrap(mesh, alpha, offset, static_cast<std::size_t>(repair.max_triangles));
+    if (!wrap) {
+      fail("mesh repaired by wrap" + std::string(defect ? " (" + defect->reason + ")" : "") +
+           " needs more than max_triangles = " + std::to_string(repair.max_triangles) +
+           " vertices, so more triangles than that; raise \"max_triangles\" or give a larger "
+           "\"alpha_m\" in the repair object");
+    }
+    repaired = std::move(*wrap);
     record.offset = offset;
   } else {
     std::optional<TriangleMesh> hull = convex_hull(mesh);
