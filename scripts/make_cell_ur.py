@@ -427,15 +427,15 @@ def scene():
         }],
         "people": [
             {"name": "loading", "zone": {"min": [1.0, 0.25], "max": [5.0, 1.0]},
-             "postures": ["standing", "reaching", "crouching"], "count": 3, "seed": 1,
+             "postures": ["standing", "reaching"], "count": 3, "seed": 1,
              "weight": 0.6},
             {"name": "assembly",
              "zone": {"polygon": [[3.0, 3.25], [5.0, 3.25], [5.0, 3.75], [4.8, 4.5], [3.0, 4.5]]},
-             "postures": ["standing", "reaching", "crouching"], "count": 2, "seed": 2,
+             "postures": ["standing", "reaching"], "count": 2, "seed": 2,
              "weight": 0.4},
         ],
         "dynamic_mode": "masked",
-        "plausibility": {"min_volume": 0.03, "min_height": 1.0},
+        "plausibility": {"min_volume": 0.03, "min_height": 1.52},
     }
 
 
