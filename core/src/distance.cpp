@@ -7,6 +7,8 @@
 #include <CGAL/intersections.h>
 #include <CGAL/squared_distance_3.h>
 
+#include <algorithm>
+#include <limits>
 #include <sstream>
 #include <type_traits>
 
@@ -21,16 +23,6 @@ using internal::fraction_string;
 using internal::FT;
 using internal::Point;
 using Triangle = K::Triangle_3;
-
-std::vector<Triangle> triangles_of(const TriangleMesh& mesh) {
-  std::vector<Triangle> out;
-  auto pt = [&](int i) {
-    const Vec3& v = mesh.vertices[i];
-    return Point(v.x(), v.y(), v.z());
-  };
-  for (const auto& t : mesh.triangles) out.emplace_back(pt(t[0]), pt(t[1]), pt(t[2]));
-  return out;
-}
 
 bool point_inside(const TriangleMesh& mesh, const Vec3& p) {
   using Mesh = CGAL::Surface_mesh<Point>;
@@ -50,28 +42,100 @@ bool point_inside(const TriangleMesh& mesh, const Vec3& p) {
 ExactSquaredDistance solids_squared_distance(const std::vector<const TriangleMesh*>& a,
                                              const std::vector<const TriangleMesh*>& b) {
   CAMPLACE_ASSERT(!a.empty() && !b.empty());
-  FT best;
-  bool have = false;
-  for (const TriangleMesh* ma : a) {
-    const auto ta = triangles_of(*ma);
-    for (const TriangleMesh* mb : b) {
-      // One solid inside the other: distance 0 although the surfaces never meet.
-      if (point_inside(*mb, ma->vertices.front()) || point_inside(*ma, mb->vertices.front())) {
+  // Branch and bound: the exact squared distance of two triangles is at least the squared gap
+  // of their bounding boxes, so only pairs whose gap does not exceed the best exact value found
+  // so far can hold the minimum; every other pair is skipped unmeasured. The gaps are computed
+  // in doubles from the input coordinates (exact doubles): each coordinate difference, square
+  // and sum is rounded at most 2^-53 relatively, so the computed gap g satisfies
+  // g ≤ (1 + 1e-15) · gap; a pair is skipped only when g · (1 − 1e-12) > best · (1 + 1e-12)
+  // (best rounded to double), i.e. when its exact distance certainly exceeds the minimum.
+  // Same exact minimum as measuring every pair (tests/core/distance_test.cpp).
+  const auto triangle_boxes = [](const TriangleMesh& m) {
+    std::vector<Box3> out;
+    out.reserve(m.triangles.size());
+    for (const auto& t : m.triangles) {
+      Box3 box{m.vertices[t[0]], m.vertices[t[0]]};
+      for (int k = 1; k < 3; ++k) {
+        box.min = box.min.cwiseMin(m.vertices[t[k]]);
+        box.max = box.max.cwiseMax(m.vertices[t[k]]);
+      }
+      out.push_back(box);
+    }
+    return out;
+  };
+  const auto exact_triangle = [](const TriangleMesh& m, std::size_t t) {
+    const auto& tri = m.triangles[t];
+    auto pt = [&](int k) {
+      const Vec3& v = m.vertices[tri[k]];
+      return Point(v.x(), v.y(), v.z());
+    };
+    return Triangle(pt(0), pt(1), pt(2));
+  };
+  struct MeshPair {
+    double gap;
+    std::size_t i, j;
+  };
+  std::vector<MeshPair> pairs;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const Box3 box_a = bounding_box(*a[i]);
+    for (std::size_t j = 0; j < b.size(); ++j) {
+      const Box3 box_b = bounding_box(*b[j]);
+      const double gap = box_box_sq_distance(box_a, box_b);
+      // One solid inside the other: distance 0 although the surfaces never meet (only possible
+      // when the bounding boxes overlap).
+      if (gap == 0.0 && (point_inside(*b[j], a[i]->vertices.front()) ||
+                         point_inside(*a[i], b[j]->vertices.front()))) {
         return {0.0, "0/1"};
       }
-      const auto tb = triangles_of(*mb);
-      for (const Triangle& x : ta) {
-        for (const Triangle& y : tb) {
-          const FT d = CGAL::squared_distance(x, y);
-          if (!have || d < best) {
-            best = d;
-            have = true;
-          }
+      pairs.push_back({gap, i, j});
+    }
+  }
+  std::sort(pairs.begin(), pairs.end(),
+            [](const MeshPair& p, const MeshPair& q) { return p.gap < q.gap; });
+  FT best;
+  bool have = false;
+  double best_upper = std::numeric_limits<double>::infinity();
+  const auto skipped = [&](double gap) { return have && gap * (1.0 - 1e-12) > best_upper; };
+  // Measures one triangle pair exactly; true when the distance is 0 (nothing can beat it).
+  const auto measure = [&](const TriangleMesh& ma, std::size_t x, const TriangleMesh& mb,
+                           std::size_t y) {
+    const FT d = CGAL::squared_distance(exact_triangle(ma, x), exact_triangle(mb, y));
+    if (!have || d < best) {
+      best = d;
+      have = true;
+      best_upper = CGAL::to_double(best) * (1.0 + 1e-12);
+    }
+    return best == 0;
+  };
+  // Pairs of one mesh pair sorted by gap, up to this many (beyond: in file order, same result).
+  constexpr std::size_t kMaxSorted = std::size_t{1} << 22;
+  std::vector<std::pair<double, std::pair<std::size_t, std::size_t>>> candidates;
+  for (const MeshPair& p : pairs) {
+    if (skipped(p.gap)) break;  // sorted: no later mesh pair can hold the minimum
+    const TriangleMesh& ma = *a[p.i];
+    const TriangleMesh& mb = *b[p.j];
+    const std::vector<Box3> ba = triangle_boxes(ma), bb = triangle_boxes(mb);
+    if (ba.size() * bb.size() <= kMaxSorted) {
+      candidates.clear();
+      for (std::size_t x = 0; x < ba.size(); ++x) {
+        for (std::size_t y = 0; y < bb.size(); ++y)
+          candidates.push_back({box_box_sq_distance(ba[x], bb[y]), {x, y}});
+      }
+      std::sort(candidates.begin(), candidates.end(),
+                [](const auto& u, const auto& v) { return u.first < v.first; });
+      for (const auto& [gap, xy] : candidates) {
+        if (skipped(gap)) break;
+        if (measure(ma, xy.first, mb, xy.second)) return {0.0, "0/1"};
+      }
+    } else {
+      for (std::size_t x = 0; x < ba.size(); ++x) {
+        for (std::size_t y = 0; y < bb.size(); ++y) {
+          if (skipped(box_box_sq_distance(ba[x], bb[y]))) continue;
+          if (measure(ma, x, mb, y)) return {0.0, "0/1"};
         }
       }
     }
   }
-  if (have && best == 0) return {0.0, "0/1"};
   return {CGAL::to_double(best), fraction_string(best)};
 }
 
