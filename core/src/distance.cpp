@@ -48,7 +48,7 @@ ExactSquaredDistance solids_squared_distance(const std::vector<const TriangleMes
   // in doubles from the input coordinates (exact doubles): each coordinate difference, square
   // and sum is rounded at most 2^-53 relatively, so the computed gap g satisfies
   // g ≤ (1 + 1e-15) · gap; a pair is skipped only when g · (1 − 1e-12) > best · (1 + 1e-12)
-  // (best rounded to double), i.e. when its exact distance certainly exceeds the minimum.
+  // (best's certified upper bound), i.e. when its exact distance certainly exceeds the minimum.
   // Same exact minimum as measuring every pair (tests/core/distance_test.cpp).
   const auto triangle_boxes = [](const TriangleMesh& m) {
     std::vector<Box3> out;
@@ -95,7 +95,10 @@ ExactSquaredDistance solids_squared_distance(const std::vector<const TriangleMes
   FT best;
   bool have = false;
   double best_upper = std::numeric_limits<double>::infinity();
-  const auto skipped = [&](double gap) { return have && gap * (1.0 - 1e-12) > best_upper; };
+  // The absolute 1e-300 covers gaps whose squares are subnormal (rounded absolutely).
+  const auto skipped = [&](double gap) {
+    return have && gap * (1.0 - 1e-12) - 1e-300 > best_upper;
+  };
   // Measures one triangle pair exactly; true when the distance is 0 (nothing can beat it).
   const auto measure = [&](const TriangleMesh& ma, std::size_t x, const TriangleMesh& mb,
                            std::size_t y) {
@@ -103,7 +106,9 @@ ExactSquaredDistance solids_squared_distance(const std::vector<const TriangleMes
     if (!have || d < best) {
       best = d;
       have = true;
-      best_upper = CGAL::to_double(best) * (1.0 + 1e-12);
+      // The interval's upper end bounds the exact value (to_double may lie below it by up to
+      // the lazy number's relative precision, 1e-5 by default).
+      best_upper = CGAL::to_interval(best).second * (1.0 + 1e-12);
     }
     return best == 0;
   };

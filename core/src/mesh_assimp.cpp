@@ -73,8 +73,8 @@ TriangleMesh read_assimp_mesh_file(const std::string& path, const std::string& s
       const aiMesh* part = scene->mMeshes[node->mMeshes[i]];
       elements += std::size_t(part->mNumVertices) + part->mNumFaces;
       if (elements > 2 * kMaxAssimpElements) {
-        fail("more than " + std::to_string(kMaxAssimpElements) +
-             " vertices or triangles (node instances counted)");
+        fail("more than " + std::to_string(2 * kMaxAssimpElements) +
+             " vertices and triangles together (node instances counted)");
       }
       std::vector<int> local(part->mNumVertices);
       for (unsigned v = 0; v < part->mNumVertices; ++v) {

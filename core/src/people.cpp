@@ -344,6 +344,19 @@ PeopleZone parse_people_zone(const JsonNode& node, const Box3& area, int index) 
     }
     if (a < 0) std::reverse(zone.polygon.begin(), zone.polygon.end());
     zone.zone_area = std::abs(a);
+    // Positions are drawn from the bounding rectangle until one falls in the polygon: a sliver
+    // that fills almost none of its rectangle would take unbounded draws.
+    Eigen::Vector2d lo = zone.polygon.front(), hi = lo;
+    for (const auto& q : zone.polygon) {
+      lo = lo.cwiseMin(q);
+      hi = hi.cwiseMax(q);
+    }
+    const double rectangle = (hi.x() - lo.x()) * (hi.y() - lo.y());
+    if (!(zone.zone_area >= 1e-3 * rectangle)) {
+      poly.fail("polygon fills " + fmt(zone.zone_area) + " m² of its " + fmt(rectangle) +
+                " m² bounding rectangle (less than 0.1%): positions are drawn from that "
+                "rectangle, so split the zone into fuller polygons");
+    }
   } else {
     const Eigen::Vector2d lo = vec2(zn.at("min")), hi = vec2(zn.at("max"));
     if (!(lo.x() < hi.x() && lo.y() < hi.y()))

@@ -35,6 +35,10 @@ constexpr double kLimitSlack = 1e-9;
 /// At most this many samples per robot (an "every_s" far below the trajectory's length would
 /// otherwise make millions of time steps).
 constexpr int kMaxSamples = 100000;
+// Trajectory times (s) beyond this are refused: differences and interpolation stay finite.
+constexpr double kMaxTime = 1e9;
+// Posed link vertices over all samples: beyond this the expansion would take gigabytes.
+constexpr double kMaxPosedVertices = 3e7;
 
 std::string in_quotes(const std::string& s) { return "\"" + s + "\""; }
 
@@ -348,6 +352,11 @@ Trajectory read_csv_trajectory(const JsonNode& node, const std::string& path,
         row[columns[k - 1]] = *v;
       }
     }
+    if (!(std::abs(t) <= kMaxTime)) {
+      throw InputError(
+          path, at_line + ", column \"t\"",
+          "time " + format_number(t) + " s is beyond ±" + format_number(kMaxTime) + " s");
+    }
     if (!traj.times.empty() && !(t > traj.times.back())) {
       throw InputError(path, at_line + ", column \"t\"",
                        "time " + format_number(t) + " s is not after the previous row's " +
@@ -373,6 +382,8 @@ Trajectory read_json_trajectory(const JsonNode& list, const RobotModel& model) {
     row_node.only_keys({"t", "joints"});
     const JsonNode t_node = row_node.at("t");
     const double t = t_node.number();
+    if (!(std::abs(t) <= kMaxTime))
+      t_node.fail("time " + format_number(t) + " s is beyond ±" + format_number(kMaxTime) + " s");
     if (!traj.times.empty() && !(t > traj.times.back())) {
       t_node.fail("time " + format_number(t) + " s is not after the previous row's " +
                   format_number(traj.times.back()) + " s: times must increase strictly");
@@ -415,7 +426,7 @@ std::vector<double> sample_times(const Trajectory& traj, const JsonNode* sample)
   if (sample->has("steps")) {
     const int n = sample->at("steps").integer_in(1, kMaxSamples);
     for (int k = 0; k < n; ++k)
-      times.push_back(k == n - 1 && n > 1 ? t1 : t0 + (t1 - t0) * k / std::max(1, n - 1));
+      times.push_back(k == n - 1 && n > 1 ? t1 : t0 + (t1 - t0) * (double(k) / std::max(1, n - 1)));
     return times;
   }
   const JsonNode dt_node = sample->at("every_s");
@@ -759,18 +770,41 @@ RobotSteps expand_robot(const JsonNode& node, const std::filesystem::path& scene
     }
     return pose;
   };
-  const auto placed = [](const LinkPart& part, const Eigen::Isometry3d& tf) {
+  const auto placed = [&](const LinkPart& part, const Eigen::Isometry3d& tf, double t) {
     SceneObject o = part.object;
     for (Vec3& v : o.mesh.vertices) v = tf * v;
     o.bounds = bounding_box(o.mesh);
+    // A huge joint value or mimic multiplier can throw a link far away or to inf/NaN.
+    if (!(o.bounds.min.array().abs().maxCoeff() <= kMaxCoordinate) ||
+        !(o.bounds.max.array().abs().maxCoeff() <= kMaxCoordinate)) {
+      throw InputError(scene_file, o.entry,
+                       "at t = " + format_number(t) + " s the link lies beyond ±" +
+                           format_number(kMaxCoordinate) +
+                           " m (or at a non-finite position): check the joint values and mimic "
+                           "multipliers");
+    }
     return o;
   };
+  double vertices = 0;
+  for (const LinkPart& part : parts)
+    vertices += static_cast<double>(part.object.mesh.vertices.size());
+  if (vertices * static_cast<double>(out.times.size()) > kMaxPosedVertices) {
+    node.fail("the robot's " + format_number(vertices) + " link vertices at " +
+              std::to_string(out.times.size()) + " samples exceed " +
+              format_number(kMaxPosedVertices) +
+              " posed vertices: sample fewer time steps or use coarser link meshes");
+  }
+  if (parts.empty()) {
+    node.fail(std::string("the URDF has no ") + (visual ? "visual" : "collision") +
+              " geometry: the robot would have no object" +
+              (visual ? "" : " (its visual meshes: \"links\": \"visual\")"));
+  }
   out.links.reserve(out.times.size());
   for (const double t : out.times) {
     const auto pose = link_poses(interpolate(traj, t));
     std::vector<SceneObject> objects;
     objects.reserve(parts.size());
-    for (const LinkPart& part : parts) objects.push_back(placed(part, pose.at(part.link)));
+    for (const LinkPart& part : parts) objects.push_back(placed(part, pose.at(part.link), t));
     out.links.push_back(std::move(objects));
   }
   if (!swept) return out;
@@ -820,8 +854,8 @@ RobotSteps expand_robot(const JsonNode& node, const std::filesystem::path& scene
               (j->type == urdf::Joint::PRISMATIC ? std::max(std::abs(va), std::abs(vb)) : 0.0);
         }
         if (travel > 0) moves = true;
-        const int steps =
-            std::clamp(static_cast<int>(std::ceil(travel / (2 * kSweptMargin))), 1, kSweptSteps);
+        const int steps = static_cast<int>(std::clamp(std::ceil(travel / (2 * kSweptMargin)), 1.0,
+                                                      static_cast<double>(kSweptSteps)));
         margin = std::max(margin, travel / (2 * steps));
         for (int s = 0; s <= steps; ++s) {
           const double t =

@@ -597,6 +597,24 @@ class SceneParser {
       detail::RobotSteps robot = detail::expand_robot(node, dir_, path_, finish);
       for (const std::string& f : robot.files) note_file(f);
       if (robot.times.empty() || robot.links.empty()) node.fail("the robot gives no time step");
+      for (const detail::RobotSteps& other : robots) {
+        if (other.name == robot.name) {
+          node.fail("robot \"" + robot.name +
+                    "\" is named twice (its links' objects would share "
+                    "their names); give each robot its own \"name\"");
+        }
+      }
+      if (!robots.empty() && robot.times.size() == robots.front().times.size()) {
+        for (std::size_t h = 0; h < robot.times.size(); ++h) {
+          const double t = robots.front().times[h];
+          if (!(std::abs(robot.times[h] - t) <= 1e-9 * std::max(1.0, std::abs(t)))) {
+            node.fail("robot \"" + robot.name + "\" samples t = " + format_number(robot.times[h]) +
+                      " s where robot \"" + robots.front().name +
+                      "\" (/robots/0) samples t = " + format_number(t) + " s (sample " +
+                      std::to_string(h) + "): every robot must be sampled at the same times");
+          }
+        }
+      }
       if (!robots.empty() && robot.times.size() != robots.front().times.size()) {
         node.fail("robot \"" + robot.name + "\" gives " + std::to_string(robot.times.size()) +
                   " time steps, robot \"" + robots.front().name + "\" (/robots/0) gives " +
@@ -689,6 +707,9 @@ class SceneParser {
     if (root.has("people")) {
       const JsonNode list = root.at("people");
       std::vector<std::string> names;  // the zones' names prefix their objects': unique
+      // Generated people over all steps (each a dozen meshes checked against the obstacles).
+      constexpr double kMaxPeople = 100000;
+      double total_people = 0;
       for (std::size_t i = 0; i < list.array_size(); ++i) {
         const detail::PeopleZone zone =
             detail::parse_people_zone(list.at(i), scene_.area, static_cast<int>(i));
@@ -697,6 +718,12 @@ class SceneParser {
                           "\" is named twice (its people's objects would share their names)");
         }
         names.push_back(zone.name);
+        total_people += static_cast<double>(zone.count) * static_cast<double>(steps);
+        if (total_people > kMaxPeople) {
+          list.at(i).fail("the people zones give " + format_number(total_people) + " people over " +
+                          std::to_string(steps) + " time steps, more than " +
+                          format_number(kMaxPeople) + ": lower \"count\" or sample fewer steps");
+        }
         const std::string weight_entry =
             list.at(i).has("weight") ? list.at(i).at("weight").pointer() : list.at(i).pointer();
         for (std::size_t h = 0; h < steps; ++h) {
@@ -747,7 +774,8 @@ class SceneParser {
 
   void check_targets_clear_of_obstacles(const JsonNode& root) const {
     // Obstacles are rigid: a target may not meet an obstacle of its own state (SPEC §2).
-    for (const TimeStep& step : scene_.time_steps) {
+    for (std::size_t h = 0; h < scene_.time_steps.size(); ++h) {
+      const TimeStep& step = scene_.time_steps[h];
       for (const Event& event : step.events) {
         for (const SceneObject& target : event.targets) {
           auto check = [&](const SceneObject& obstacle) {
@@ -755,7 +783,9 @@ class SceneParser {
             if (detail::solids_intersect(target.mesh, obstacle.mesh)) {
               throw InputError(path_, target.entry,
                                "target \"" + target.name + "\" intersects obstacle \"" +
-                                   obstacle.name + "\" (" + obstacle.entry + ") of its own state");
+                                   obstacle.name + "\" (" + obstacle.entry +
+                                   ") of its own state (time step " + std::to_string(h) +
+                                   ", t = " + format_number(step.t) + " s)");
             }
           };
           for (const SceneObject& o : scene_.static_obstacles) check(o);

@@ -718,3 +718,35 @@ TEST_F(RobotErrors, BadRobotKeys) {
 
 }  // namespace
 }  // namespace camplace::testing
+
+namespace camplace::testing {
+namespace {
+
+TEST_F(RobotErrors, TimesBeyondABillionSecondsAreRefused) {
+  expect_error(dir_, robot({row(-1e308, 0, 0), row(1e308, 0, 0)}), "", "/robots/0/trajectory/0/t",
+               {"is beyond ±1e+09 s"});
+  expect_error(dir_, csv("t,j1,j2\n0,0,0\n2e9,0,0\n"), "traj.csv", "line 3, column \"t\"",
+               {"is beyond ±1e+09 s"});
+}
+
+TEST_F(RobotErrors, ARobotWithoutGeometryOfTheChosenKindIsRefused) {
+  write_file(dir_ + "/v.urdf", R"(<robot name="v"><link name="body"><visual><geometry>
+    <box size="0.1 0.1 0.1"/></geometry></visual></link></robot>)");
+  expect_error(dir_, {{"urdf", "v.urdf"}, {"trajectory", {{{"t", 0}, {"joints", json::object()}}}}},
+               "", "/robots/0", {"no collision geometry", "\"links\": \"visual\""});
+}
+
+TEST_F(RobotErrors, AMimicThatThrowsALinkFarAwayIsRefused) {
+  write_file(dir_ + "/mm.urdf", R"(<robot name="mm"><link name="base"/>
+    <link name="a"/><link name="b"><collision><geometry><box size="0.1 0.1 0.1"/></geometry>
+    </collision></link>
+    <joint name="j" type="continuous"><parent link="base"/><child link="a"/><axis xyz="0 0 1"/></joint>
+    <joint name="p" type="prismatic"><parent link="a"/><child link="b"/><axis xyz="1 0 0"/>
+      <limit lower="-1e300" upper="1e300" effort="1" velocity="1"/><mimic joint="j" multiplier="1e300"/></joint>
+    </robot>)");
+  expect_error(dir_, {{"urdf", "mm.urdf"}, {"trajectory", {{{"t", 0}, {"joints", {{"j", 2.0}}}}}}},
+               "", "/robots/0 (link \"b\", collision 0)", {"the link lies beyond ±1e+06 m"});
+}
+
+}  // namespace
+}  // namespace camplace::testing

@@ -538,3 +538,34 @@ TEST(SceneLoading, SharedEventsAndPeopleJoinEachTimeStep) {
 
 }  // namespace
 }  // namespace camplace::testing
+
+namespace camplace::testing {
+namespace {
+
+// Two robots: distinct names, the same sample times.
+TEST(SceneLoading, RobotsMustHaveDistinctNamesAndTheSameSampleTimes) {
+  json s = base_scene();
+  s.erase("time_steps");
+  s["events"] = base_scene()["time_steps"][0]["events"];
+  const std::string dir = temp_dir("scene-two-robots");
+  write_file(dir + "/r.urdf",
+             R"(<robot name="r"><link name="body"><collision><origin xyz="3.5 2.5 0.2"/>
+    <geometry><box size="0.2 0.2 0.2"/></geometry></collision></link></robot>)");
+  const json still = json::parse(R"([{"t": 0, "joints": {}}, {"t": 1, "joints": {}}])");
+  s["robots"] = {{{"urdf", "r.urdf"}, {"trajectory", still}},
+                 {{"urdf", "r.urdf"}, {"trajectory", still}}};
+  const std::string path = write_file(dir + "/a.json", s.dump(1));
+  expect_rejected(path, "/robots/1", "is named twice");
+  s["robots"][1]["name"] = "second";
+  write_file(path, s.dump(1));
+  const core::Scene ok = core::load_scene(path);
+  ASSERT_EQ(ok.time_steps.size(), 2u);
+  EXPECT_EQ(ok.time_steps[1].dynamic_obstacles.size(), 2u);
+  EXPECT_EQ(ok.time_steps[1].dynamic_obstacles[1].name, "second/body");
+  s["robots"][1]["trajectory"][1]["t"] = 2;
+  write_file(path, s.dump(1));
+  expect_rejected(path, "/robots/1", "must be sampled at the same times");
+}
+
+}  // namespace
+}  // namespace camplace::testing
