@@ -71,6 +71,10 @@ ExactSquaredDistance solids_squared_distance(const std::vector<const TriangleMes
     };
     return Triangle(pt(0), pt(1), pt(2));
   };
+  // Each mesh's triangle boxes, once (a mesh meets every mesh of the other set).
+  std::vector<std::vector<Box3>> boxes_a, boxes_b;
+  for (const TriangleMesh* m : a) boxes_a.push_back(triangle_boxes(*m));
+  for (const TriangleMesh* m : b) boxes_b.push_back(triangle_boxes(*m));
   struct MeshPair {
     double gap;
     std::size_t i, j;
@@ -119,7 +123,8 @@ ExactSquaredDistance solids_squared_distance(const std::vector<const TriangleMes
     if (skipped(p.gap)) break;  // sorted: no later mesh pair can hold the minimum
     const TriangleMesh& ma = *a[p.i];
     const TriangleMesh& mb = *b[p.j];
-    const std::vector<Box3> ba = triangle_boxes(ma), bb = triangle_boxes(mb);
+    const std::vector<Box3>& ba = boxes_a[p.i];
+    const std::vector<Box3>& bb = boxes_b[p.j];
     if (ba.size() * bb.size() <= kMaxSorted) {
       candidates.clear();
       for (std::size_t x = 0; x < ba.size(); ++x) {
