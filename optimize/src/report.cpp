@@ -355,7 +355,8 @@ std::vector<std::string> settings_changes(const RunSettings& recorded, const Run
         "cameras.domain \"ceiling\": now pitch −90°…0° (looking down or level); this run "
         "file (format " +
         std::to_string(recorded.format) +
-        ", a camplace from before the ceiling preset looked only down) was made when ceiling cameras could look up");
+        ", a camplace from before the ceiling preset looked only down) was made when ceiling "
+        "cameras could look up");
   }
   compare("mode", recorded.mode, now.mode);
   if (recorded.resolution && now.resolution) {
