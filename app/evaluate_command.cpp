@@ -13,6 +13,7 @@
 #include "camplace/core/error.hpp"
 #include "camplace/core/files.hpp"
 #include "camplace/core/scene.hpp"
+#include "camplace/core/threads.hpp"
 #include "camplace/voxel/evaluator.hpp"
 #include "cli_checks.hpp"
 #include "commands.hpp"
@@ -258,7 +259,7 @@ void register_evaluate_command(CLI::App& app) {
                 "exact pipeline: add squared distances as exact fractions \"p/q\"");
   cmd->add_option("--threads", args->threads,
                   "states evaluated in parallel, both pipelines (default: one thread per core)")
-      ->check(in_range(1, voxel::kMaxThreads));
+      ->check(in_range(1, core::kMaxThreads));
   CLI::Option* export_mesh = cmd->add_option(
       "--export-mesh", args->export_dir,
       "exact pipeline: write each state's model and each camera's pyramid (OFF) to DIR");

@@ -10,6 +10,7 @@
 #include "camplace/core/error.hpp"
 #include "camplace/core/files.hpp"
 #include "camplace/core/scene.hpp"
+#include "camplace/core/threads.hpp"
 #include "camplace/view/export.hpp"
 #include "cli_checks.hpp"
 #include "commands.hpp"
@@ -59,8 +60,7 @@ void run_export(const ExportArgs& args) {
   if (!args.resolution.empty()) {
     options.voxel.resolution = core::parse_resolution(args.resolution, "--resolution");
   }
-  const unsigned cores = std::clamp(std::thread::hardware_concurrency(), 1u, 256u);
-  options.voxel.threads = args.threads > 0 ? args.threads : static_cast<int>(cores);
+  options.voxel.threads = args.threads > 0 ? args.threads : core::machine_cores();
   options.threads = args.threads;
   for (const std::string& s : args.states) options.states.push_back(parse_state(s));
   options.three_dir = args.three_dir;
@@ -122,7 +122,7 @@ void register_export_command(CLI::App& app) {
   cmd->add_option("--state", args->states,
                   "export only state H,L (time step, event); repeatable (default: every state)");
   cmd->add_option("--threads", args->threads, "threads (default: one per core)")
-      ->check(in_range(1, voxel::kMaxThreads));
+      ->check(in_range(1, core::kMaxThreads));
   cmd->add_option("--three-dir", args->three_dir,
                   "directory of three.js (Debian's libjs-three) copied beside index.html");
   cmd->callback([args] { run_export(*args); });

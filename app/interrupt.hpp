@@ -1,5 +1,5 @@
 #pragma once
-/// How the long commands stop on a signal (issue 16): the first SIGINT (Ctrl-C), SIGTERM (kill,
+/// How the long commands stop on a signal: the first SIGINT (Ctrl-C), SIGTERM (kill,
 /// a batch system's time limit) or SIGHUP (a closed terminal) sets one flag; the command
 /// finishes what is under way, writes its results and throws Interrupted, which main turns into
 /// the exit status 128 + the signal's number (130, 143, 129), as a shell reports a process the

@@ -1,6 +1,6 @@
 #pragma once
 /// Memory the voxel pipeline needs, estimated before any work starts, against what the machine
-/// has available (issue 16): a command refuses work that would not fit instead of ending in
+/// has available: a command refuses work that would not fit instead of ending in
 /// std::bad_alloc after minutes.
 #include <array>
 #include <optional>

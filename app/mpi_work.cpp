@@ -1,4 +1,4 @@
-// Work spread over MPI ranks (issue 13): rank 0 hands out items one at a time as ranks ask;
+// Work spread over MPI ranks: rank 0 hands out items one at a time as ranks ask;
 // every rank polls, so none spins a core while it waits.
 #include "mpi_work.hpp"
 

@@ -1,5 +1,5 @@
 #pragma once
-/// Work spread over the ranks of an MPI job (issue 13): `mpirun -n N camplace study|validate`.
+/// Work spread over the ranks of an MPI job: `mpirun -n N camplace study|validate`.
 /// Rank 0 plans the work, hands out one item at a time to every rank (itself included) as each
 /// asks, and collects the results; the other ranks carry out what they are given. Everything
 /// polls (MPI_Iprobe, the task's poll, a 2 ms sleep), so no rank spins a core while it waits

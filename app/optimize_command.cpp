@@ -21,6 +21,7 @@
 #include "camplace/core/files.hpp"
 #include "camplace/core/provenance.hpp"
 #include "camplace/core/scene.hpp"
+#include "camplace/core/threads.hpp"
 #include "camplace/optimize/encoding.hpp"
 #include "camplace/optimize/optimizer.hpp"
 #include "camplace/optimize/report.hpp"
@@ -194,7 +195,7 @@ void run_optimize(const OptimizeArgs& args) {
   context.provenance = core::make_provenance(scene);
   context.camera_models = optimize::camera_models(scene);
 
-  // Runs already in --out must have been made like these (issue 13), or --restart discards them.
+  // Runs already in --out must have been made like these, or --restart discards them.
   if (args.restart) {
     const int discarded = discard_output(args.out);
     if (!args.quiet) std::fprintf(stderr, "restart: discarded %d run files\n", discarded);
@@ -242,11 +243,11 @@ void run_optimize(const OptimizeArgs& args) {
   const bool interrupted = stop.load();
   const std::filesystem::path out(args.out);
   // Other optimize processes may write runs into the same folder (a study on a cluster): the
-  // summary covers every run file there, rebuilt under the folder's lock (issue 16).
+  // summary covers every run file there, rebuilt under the folder's lock.
   const optimize::FolderLock lock(args.out);
   const std::vector<optimize::RunResult> all_runs = optimize::runs_in_folder(args.out, results);
   auto summary = optimize::summary_json(all_runs, context, interrupted);
-  // The diagnostics of `evaluate` for the best configuration (issue 12), in the summary and below
+  // The diagnostics of `evaluate` for the best configuration, in the summary and below
   // the table.
   nlohmann::json diagnostics;
   if (summary.contains("best")) {
@@ -329,7 +330,9 @@ void register_optimize_command(CLI::App& app) {
   cmd->add_option("--start", args->start, "random, corners or a camera configuration FILE");
   cmd->add_option("--threads", args->threads,
                   "threads for batch evaluation (gaco, pso_gen), 0 = all cores")
-      ->check(in_range(0, 256, "must lie in [0, 256] (0 = all cores)"));
+      ->check(
+          in_range(0, core::kMaxThreads,
+                   "must lie in [0, " + std::to_string(core::kMaxThreads) + "] (0 = all cores)"));
   cmd->add_option("--population", args->population, "population size, 0 = the solver's default")
       ->check(in_range(0, 100000, "must lie in [0, 100000] (0 = the solver's default)"));
   cmd->add_option("--mode", args->mode, "voxel labelling mode")->check(one_of<core::LabelMode>());

@@ -1,5 +1,5 @@
 #pragma once
-/// Progress of long commands on stderr (issue 16): "NAME: WHAT done/total, 12s elapsed, ETA
+/// Progress of long commands on stderr: "NAME: WHAT done/total, 12s elapsed, ETA
 /// 40s". On a terminal one line updated in place, otherwise (with --progress) one line per
 /// update; at most four updates a second, plus every stage change and the last step. While a
 /// step takes long (an exact evaluation, an evaluator's set-up) the line is repeated with the

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "camplace/compare/run_validation.hpp"
+#include "camplace/core/threads.hpp"
 #include "cli_checks.hpp"
 #include "commands.hpp"
 #include "interrupt.hpp"
@@ -164,7 +165,9 @@ void register_validate_command(CLI::App& app) {
   cmd->add_option("dir", args->options.dir, "folder of camplace optimize or camplace study")
       ->required();
   cmd->add_option("--threads", args->options.threads, "runs checked in parallel, 0 = all cores")
-      ->check(in_range(0, 256, "must lie in [0, 256] (0 = all cores)"));
+      ->check(
+          in_range(0, core::kMaxThreads,
+                   "must lie in [0, " + std::to_string(core::kMaxThreads) + "] (0 = all cores)"));
   cmd->add_flag("--progress", args->progress, "progress lines on stderr also when not a terminal");
   cmd->callback([args] { run_validate(*args); });
 }

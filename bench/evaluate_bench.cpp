@@ -1,17 +1,17 @@
 // The voxel pipeline on data/paper_basic.json with the corners configuration
-// (data/paper_basic_corners.json), issue 11's measurements:
+// (data/paper_basic_corners.json), the measurements of the fast labeller:
 //  - BM_Evaluate/<mode>/<r>/<threads>: one full evaluation (labelling, components, distances);
 //  - BM_EvaluateRandom/<mode>/<r>: the same over the corners and seven random configurations
 //    (seed 1), closer to what an optimizer asks;
 //  - BM_Construct/<mode>/<r>: building the evaluator (obstacle interiors, critical distances,
 //    conservative lower bound);
 //  - BM_EvaluateRefine/corners/<L> and BM_EvaluateRefine/random/<L>: conservative mode at
-//    16×12×12 with `refine` = L levels (issue 11 part 2), the corners configuration / the corners
+//    16×12×12 with `refine` = L levels, the corners configuration / the corners
 //    and the seven random ones in turn; the evaluator is built and warmed first (one evaluation
 //    of each configuration), as an optimizer's is after its first evaluations (node distances
 //    are cached lazily);
 //  - BM_ConstructRefine/<L>: building that evaluator (octree obstacle tables, refined bound);
-//  - BM_LegacyLabelling/<mode>/<r>: the labelling stage of the labeller issue 11 replaced
+//  - BM_LegacyLabelling/<mode>/<r>: the labelling stage of the labeller the fast one replaced
 //    (tests/support/legacy_labeller.cpp), same configuration;
 //  - BM_ReferenceLabelling/<mode>/<r>: the brute-force reference labelling of that mode's model
 //    (tests/support/reference.cpp: every voxel, state and camera, every triangle; center: the ray

@@ -1,4 +1,4 @@
-// The exact pipeline (SPEC §6, issue 10) on data/paper_basic.json with the corner cameras
+// The exact pipeline (SPEC §6) on data/paper_basic.json with the corner cameras
 // (data/paper_basic_corners.json): one state's model, and the whole configuration (six states)
 // with one thread and with one thread per core. One iteration each (a full evaluation takes
 // seconds); prints the figures at the end.

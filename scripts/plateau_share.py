@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""How flat is the plateau (issue 14)? Evaluates N random ceiling configurations of a scene whose
+"""How flat is the plateau? Evaluates N random ceiling configurations of a scene whose
 cameras all sit on the ceiling (default data/paper_ceiling.json, conservative mode) and prints how
 many have Err = sum w d_true^2 (the model touches the critical objects in every state), and how
 many distinct values the tie-breaker of `optimize --objective err+volume` (the weighted volume
@@ -9,7 +9,7 @@ them: distinct values give the solvers a direction.
     PYTHONPATH=build/release/python python3 scripts/plateau_share.py [SCENE] [N] [SEED] [room]
 
 Pitch is drawn from [-90, 0] (the `ceiling` preset) and from [-90, 90] (the preset before
-issue 14), yaw from [-180, 180], x and y from S, z = S's top; with `room` z is drawn from S and
+ceiling cameras were kept from looking up), yaw from [-180, 180], x and y from S, z = S's top; with `room` z is drawn from S and
 pitch from [-90, 90] only (the `room` preset).
 """
 import random

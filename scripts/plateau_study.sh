@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The plateau measurement of issue 14 (README, "The plateau and the tie-breaker"): 20 seeded
+# The plateau measurement (README, "The plateau and the tie-breaker"): 20 seeded
 # conservative runs per solver on data/paper_ceiling.json, with the tie-breaker (err+volume) and
 # without (err), each ended by a 120 s time limit (or the proven lower bound). Prints per group
 # how many runs left the plateau Err = Σ ω d_true² within 2,000 evaluations (from each run's

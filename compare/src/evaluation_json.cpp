@@ -55,7 +55,7 @@ nlohmann::json voxel_json(const voxel::VoxelEvaluator& evaluator, const voxel::E
             {"total", e.timing.total_ms}}}};
 }
 
-/// Why the model sits where it does (issue 12): per state the kept component nearest to the
+/// Why the model sits where it does: per state the kept component nearest to the
 /// critical objects and how many cameras observe it (label `occupied` on at least one of its
 /// voxels: 0 = no camera sees that region, the usual reason for d = 0), per camera the fraction
 /// of S's voxel centres inside its FOV and of the targets' voxel centres it labels occupied,

@@ -31,7 +31,7 @@ struct HeaderScene {
   core::SceneHashes hashes;
 };
 
-/// What every report starts with (issue 13 part 1): a table of the camplace version and commit,
+/// What every report starts with: a table of the camplace version and commit,
 /// the scene files with the first 12 hex digits of their SHA-256 (mesh files too), the resolved
 /// options (name, value), the command, the host and the start time (ISO 8601), then a details
 /// block with every full SHA-256 (beyond the first 3 scenes one row counts the others, their

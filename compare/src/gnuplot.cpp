@@ -51,7 +51,7 @@ bool run_gnuplot(const std::string& dir, const std::string& script, const std::s
 void gnuplot_png(const std::string& png, const std::string& script, int width, int height) {
   namespace fs = std::filesystem;
   // The script is kept beside the plot with every path relative to that folder, so that
-  // `gnuplot NAME.gp` in the report's folder draws NAME.png again (issue 16).
+  // `gnuplot NAME.gp` in the report's folder draws NAME.png again.
   const fs::path dir = fs::path(png).parent_path();
   const std::string name = fs::path(png).filename().string();
   std::string local = script;

@@ -1,4 +1,4 @@
-// `camplace validate` (SPEC §8, issue 10): each run file's best configuration evaluated by the
+// `camplace validate` (SPEC §8): each run file's best configuration evaluated by the
 // exact pipeline and by the voxel pipeline with the same (pyramid) FOV; cached per run.
 #include "camplace/compare/run_validation.hpp"
 

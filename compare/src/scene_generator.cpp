@@ -520,7 +520,7 @@ GeneratedScene build(const SceneFamily& family, int i, unsigned seed) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Families on another base scene (issue 13 part 5)
+// Families on another base scene
 
 /// Thrown when `family` cannot be applied to the base: names the family, the base and why.
 [[noreturn]] void not_applicable(const SceneFamily& family, const BaseScene& base,

@@ -371,7 +371,7 @@ std::string paper_comparison(const std::vector<GroupStats>& groups,
   return t.str();
 }
 
-/// The exact check (issue 10): per group, how the runs' configurations fare in the exact
+/// The exact check: per group, how the runs' configurations fare in the exact
 /// pipeline, and a log–log plot of exact against voxel Err; "" when no run was checked.
 std::string exact_check_section(const std::vector<GroupStats>& groups,
                                 const std::vector<RunRow>& rows, const std::string& dir) {

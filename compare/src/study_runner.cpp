@@ -454,7 +454,7 @@ StudyOutcome run_study(const StudyOptions& options) {
   for (const PlannedRun& run : runs) {
     if (finished(run.before) || now.count(&run) > 0) rows.push_back(run.row);
   }
-  // The exact check of every run (issue 10): now, with --validate, or from an earlier
+  // The exact check of every run: now, with --validate, or from an earlier
   // `camplace validate DIR`. A row counts only when it is of this very run (same voxel Err).
   if (options.validate && !outcome.interrupted && !rows.empty()) {
     ValidateOptions check;

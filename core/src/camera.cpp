@@ -46,10 +46,6 @@ Vec3 up_vector(const CameraSetting& camera) {
   return (std::cos(camera.roll) * up + std::sin(camera.roll) * d.cross(up)).normalized();
 }
 
-Vec3 right_vector(const CameraSetting& camera) {
-  return view_direction(camera).cross(up_vector(camera)).normalized();
-}
-
 Fov::Fov(const CameraSetting& camera, FovShape shape, double half_angle, int sides,
          std::optional<double> range)
     : Fov(camera, model_of(shape, half_angle, sides, range)) {}
@@ -103,24 +99,6 @@ bool Fov::contains(const Vec3& p) const {
     if (n.dot(v) < 0.0) return false;
   }
   return true;
-}
-
-bool Fov::contains_ball(const Vec3& center, double radius) const {
-  const Vec3 v = center - apex_;
-  const double axial = v.dot(axis_);
-  if (range_ && axial + radius > *range_) return false;
-  if (axial - radius < near_) return false;
-  if (shape_ != FovShape::cone) {
-    for (const Vec3& n : normals_) {
-      if (n.dot(v) < radius) return false;
-    }
-    return true;
-  }
-  // Cone: the ball's angular radius asin(r/|v|) plus its angle to the axis must fit in α.
-  const double dist = v.norm();
-  if (dist <= radius) return false;
-  const double axis_angle = std::acos(std::clamp(axial / dist, -1.0, 1.0));
-  return axis_angle + std::asin(radius / dist) <= half_angle_;
 }
 
 CameraConfig load_camera_config(const std::string& path, const Scene& scene) {

@@ -27,7 +27,7 @@ using detail::StopRequested;
 
 /// The configuration as `camplace evaluate --cameras` will read it back from the run file.
 /// Angles are stored in degrees, so rad → deg → rad may move them by an ulp; re-reading through
-/// the real reader makes the reported Err exactly the one evaluate computes (issue 4).
+/// the real reader makes the reported Err exactly the one evaluate computes.
 core::CameraConfig json_round_trip(const core::CameraConfig& config, const core::Scene& scene) {
   namespace fs = std::filesystem;
   std::string pattern = (fs::temp_directory_path() / "camplace-cameras-XXXXXX.json").string();

@@ -1,5 +1,5 @@
 #pragma once
-// `optimize --snap` (issue 14): the best configuration rounded to a grid and improved by a
+// `optimize --snap`: the best configuration rounded to a grid and improved by a
 // coordinate search on that grid.
 #include <cstdint>
 #include <functional>

@@ -1,4 +1,4 @@
-// The Python module `camplace` (issue 15): a thin layer over the C++ modules. Every result is
+// The Python module `camplace`: a thin layer over the C++ modules. Every result is
 // what the command-line tool computes (the same library calls, the same JSON); the layer only
 // converts arguments and results and releases the GIL while C++ works.
 #include <pybind11/numpy.h>
@@ -32,6 +32,7 @@
 #include "camplace/core/names.hpp"
 #include "camplace/core/provenance.hpp"
 #include "camplace/core/scene.hpp"
+#include "camplace/core/threads.hpp"
 #include "camplace/optimize/optimizer.hpp"
 #include "camplace/optimize/report.hpp"
 #include "camplace/optimize/voxel_objective.hpp"
@@ -84,17 +85,16 @@ std::array<int, 3> resolution_argument(const py::object& value) {
 }
 
 int threads_argument(int threads) {
-  if (threads < 0 || threads > voxel::kMaxThreads) {
-    throw core::OptionError("threads", "must lie in [0, " + std::to_string(voxel::kMaxThreads) +
-                                           "] (0 = one per core)");
+  if (threads < 0 || threads > core::kMaxThreads) {
+    throw core::OptionError(
+        "threads", "must lie in [0, " + std::to_string(core::kMaxThreads) + "] (0 = one per core)");
   }
   return threads;
 }
 
 int resolved_threads(int threads) {
   if (threads > 0) return threads;
-  const unsigned cores = std::thread::hardware_concurrency();
-  return static_cast<int>(std::clamp(cores, 1u, static_cast<unsigned>(voxel::kMaxThreads)));
+  return core::machine_cores();
 }
 
 /// The cameras argument: a camera file's path, a camera file's content (a dict with "cameras",
@@ -363,8 +363,9 @@ py::dict optimize_run(const PyScene& scene, const std::string& algorithm,
   if (tolerance && !(std::isfinite(*tolerance) && *tolerance >= 0.0)) {
     throw core::OptionError("tolerance", "must be a finite number >= 0 (m²)");
   }
-  if (threads < 0 || threads > 256) {
-    throw core::OptionError("threads", "must lie in [0, 256] (0 = all cores)");
+  if (threads < 0 || threads > core::kMaxThreads) {
+    throw core::OptionError(
+        "threads", "must lie in [0, " + std::to_string(core::kMaxThreads) + "] (0 = all cores)");
   }
   if (population < 0 || population > 100000) {
     throw core::OptionError("population", "must lie in [0, 100000] (0 = the solver's default)");

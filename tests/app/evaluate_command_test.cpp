@@ -45,7 +45,7 @@ TEST(EvaluateCommand, JsonHasTheSchemaAndErrIsTheWeightedSum) {
   }
 }
 
-// Issue 12: the diagnostics. The nearest component's distance is d(C, M) measured again voxel by
+// The diagnostics. The nearest component's distance is d(C, M) measured again voxel by
 // voxel; with every camera looking up at the ceiling nobody sees anything, the model is S minus
 // the obstacles, touching the robot: d = 0 everywhere, no camera observes the nearest component,
 // and evaluate warns.
@@ -172,7 +172,7 @@ TEST(EvaluateCommand, BadInputsExitOneNamingFileEntryAndReason) {
   const std::string scene = read_text(kData + "paper_basic.json");
   const std::string huge_area = write_file(
       dir + "/huge.json", replace_first(scene, "\"min\": [\n   0,", "\"min\": [\n   -1e200,"));
-  // Issue 16: Err overflowed (`"err": null` from evaluate, a failed internal check in optimize).
+  // Err overflowed (`"err": null` from evaluate, a failed internal check in optimize).
   const std::string huge_weight = write_file(
       dir + "/weight.json", replace_first(scene, "\"weight\": 0.3", "\"weight\": 1.7e308"));
   const std::string basic =

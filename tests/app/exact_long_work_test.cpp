@@ -1,4 +1,4 @@
-// `compare` and `evaluate --pipeline exact|both` as long work (issue 16): progress, the summary
+// `compare` and `evaluate --pipeline exact|both` as long work: progress, the summary
 // line naming each number's resolution, a signal ending compare within a second with the
 // evaluations done kept in a report marked incomplete, and one shape of `evaluate --json`.
 #include <gtest/gtest.h>
@@ -189,7 +189,7 @@ TEST(CompareLongWork, CompareOptimizerShowsProgressAndKeepsRunsCsvOnASignal) {
   EXPECT_EQ(temporary_files(dir), 0);
 }
 
-// Issue 16: one shape for every pipeline; for exact and both the exact object and the
+// One shape for every pipeline; for exact and both the exact object and the
 // differences are where a voxel run has null.
 TEST(CompareLongWork, EvaluateJsonHasOneShapeForExactAndBoth) {
   const CommandResult exact = run("evaluate " + kBasic + " --pipeline exact --json");

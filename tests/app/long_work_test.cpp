@@ -1,4 +1,4 @@
-// Long work a user can bound and watch (issue 16): the memory estimate refused before any work,
+// Long work a user can bound and watch: the memory estimate refused before any work,
 // --max-seconds, signals while an evaluator is set up, progress on stderr, out of memory, and the
 // one shape of `evaluate --json`.
 #include <gtest/gtest.h>
@@ -99,7 +99,7 @@ pid_t start(const std::string& log, Args... args) {
   return pid;
 }
 
-// Issue 16: SIGINT was ignored for a minute while a fine grid's evaluator was set up. Now every
+// SIGINT was ignored for a minute while a fine grid's evaluator was set up. Now every
 // signal ends `evaluate` within a second, with 128 + the signal and a line saying nothing was
 // written. 256x256x64 takes tens of seconds to set up.
 TEST(LongWork, SignalsEndEvaluateWithinASecondDuringTheSetUp) {
@@ -184,7 +184,7 @@ TEST(LongWork, EvaluateProgressCountsStatesWithProgress) {
   EXPECT_TRUE(has(r.output, "evaluate: voxel diagnostics, states 0/6")) << r.output;
 }
 
-// Issue 16: an allocation that fails ends with a line naming the work and the options that sized
+// An allocation that fails ends with a line naming the work and the options that sized
 // it, not a bare std::bad_alloc. The address space is limited to 250 MB (ulimit -v) so that the
 // set-up's first large allocation fails without touching the machine's memory; the estimate is
 // bypassed by a large fake MemAvailable.
@@ -202,7 +202,7 @@ TEST(LongWork, OutOfMemoryNamesTheOptionsThatSizedTheWork) {
       << r.output;
 }
 
-// Issue 16: `--json` had one shape for voxel and another for both. Now "voxel", "exact" and
+// `--json` had one shape for voxel and another for both. Now "voxel", "exact" and
 // "differences" are always there (null where nothing ran); one pipeline's result also at the top.
 TEST(LongWork, EvaluateJsonHasOneShape) {
   const CommandResult r = run("evaluate " + kBasic + " --json");

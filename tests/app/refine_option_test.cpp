@@ -1,4 +1,4 @@
-// `--refine` on the command line (issue 11 part 2): evaluate reports it and its refined model,
+// `--refine` on the command line: evaluate reports it and its refined model,
 // and every command refuses a bad value before starting, naming the option, with exit code 1.
 #include <gtest/gtest.h>
 
@@ -89,7 +89,7 @@ TEST(RefineOption, BadValuesExitOneNamingTheOption) {
 }
 
 // The run files record the levels ("context": {"refine": L}, omitted for 0), and resuming a
-// folder with other levels is refused like any other changed setting (issue 13).
+// folder with other levels is refused like any other changed setting.
 TEST(RefineOption, OptimizeRecordsTheLevelsAndResumesOnlyWithTheSame) {
   const std::string dir = temp_dir("refine_resume");
   const std::string base = "optimize " + kData + "paper_basic.json --max-evals 3 --threads 1 " +

@@ -1,5 +1,5 @@
-// Studies and generated scenes on any base scene (issue 13 part 5), and the provenance header of
-// the reports (issue 13 part 1): each family applied to a small base that is not the paper's
+// Studies and generated scenes on any base scene, and the provenance header of
+// the reports: each family applied to a small base that is not the paper's
 // gives the scene computed here by hand; a family that cannot apply is an error naming the
 // family, the base and the reason (in a study file: the file and the examination, before any
 // run); a study runs on the base, its report names the base with the SHA-256 `sha256sum`

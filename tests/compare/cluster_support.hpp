@@ -1,5 +1,5 @@
 #pragma once
-// What the shard and MPI tests of `camplace study` share (issue 13): a tiny study, and the
+// What the shard and MPI tests of `camplace study` share: a tiny study, and the
 // results of every run file of a study folder.
 #include <filesystem>
 #include <fstream>

@@ -1,4 +1,4 @@
-// `mpirun -n N camplace study|validate` (issue 13): the runs spread over the ranks give the same
+// `mpirun -n N camplace study|validate`: the runs spread over the ranks give the same
 // results as a serial study; a run killed on a worker is redone elsewhere, a job killed as a
 // whole resumes, each run made exactly once; validate under mpirun writes the same checks as a
 // serial validate. Registered only when camplace is built with MPI. Tiny runs: seconds each.

@@ -1,4 +1,4 @@
-// Adaptive refinement (VoxelOptions::refine, issue 11 part 2) against the exact pipeline, an
+// Adaptive refinement (VoxelOptions::refine) against the exact pipeline, an
 // independent implementation (CGAL Nef polyhedra): the refined conservative model contains the
 // exact model (compare::compare_voxel_exact checks it on the finest cells) and never
 // over-estimates d(C, M), and on paper_basic's corners configuration it is within one finest

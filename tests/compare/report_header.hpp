@@ -1,5 +1,5 @@
 #pragma once
-// Checks of the provenance header every report starts with (issue 13 part 1), against values
+// Checks of the provenance header every report starts with, against values
 // computed here independently of camplace: the SHA-256 by `sha256sum`, the host name by
 // gethostname(2).
 #include <gtest/gtest.h>

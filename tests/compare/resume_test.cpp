@@ -1,4 +1,4 @@
-// Resuming a study folder (issue 13): every change of the study file that changes its runs'
+// Resuming a study folder: every change of the study file that changes its runs'
 // results, or drops runs from the study, is refused naming it and leaves the folder as it was;
 // a study that grows keeps its runs; --restart discards the folder's runs, report and checks
 // (nothing else) and runs afresh. `compare-optimizer` and `validate` refuse run files of
@@ -182,7 +182,7 @@ TEST(StudyResume, RunFilesWithoutProvenanceAreComparedWithTheFoldersSceneCopy) {
 }
 
 TEST(StudyResume, RunsMadeWhenCeilingCamerasCouldLookUpAreRefused) {
-  // Before run file format 4 (issue 14) the ceiling preset let cameras look up: such runs of a
+  // Before run file format 4 the ceiling preset let cameras look up: such runs of a
   // ceiling group are not runs of the study as it is now, though the scene's text is the same.
   // (The test above resumes format-1 runs of a room-domain group.)
   const std::string dir = temp_dir("study-resume-ceiling");

@@ -1,4 +1,4 @@
-// The scene generator of the paper's examinations (SPEC §9, issue 5 item 3): every scene loads
+// The scene generator of the paper's examinations (SPEC §9): every scene loads
 // and validates, has the facet and object counts of the SPEC table (expected numbers from the
 // table's formulas, counted on the loaded scene), keeps the plausibility rule valid, and is
 // reproducible from its seed.

@@ -1,4 +1,4 @@
-// `camplace study --shard I/N` and `--report-only` (issue 13, Slurm job arrays): the shards
+// `camplace study --shard I/N` and `--report-only` (Slurm job arrays): the shards
 // together make the same runs as the whole study, also when they run at the same time into one
 // folder; a report of a partial study lists exactly the runs missing. Tiny runs: seconds.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// compare::run_study with a RunDispatcher (the MPI path, issue 13) standing in for the ranks:
+// compare::run_study with a RunDispatcher (the MPI path) standing in for the ranks:
 // the dispatcher gets exactly the launches the serial study makes, longest expected first, and
 // its outcomes are judged as the serial study judges a launch.
 #include <gtest/gtest.h>

@@ -224,8 +224,8 @@ TEST(Study, InterruptedStudyResumesWithoutRepeatingOrLosingRuns) {
 
 TEST(Study, PathsWithQuotesAndSpacesAreNamesNotShellText) {
   // The study file and the output directory (so the generated scene, the run directory and the
-  // plots' files) carry a quote and a space; the output directory is the shell injection of
-  // issue 9, which must create a directory of that name and run nothing.
+  // plots' files) carry a quote and a space; the output directory is a shell injection
+  // attempt, which must create a directory of that name and run nothing.
   const std::string dir = temp_dir("study-quote") + "/it's a dir";
   const std::string study = write_file(dir + "/it's study.json", tiny_study_json(2, 60));
   const std::string out = "x';touch injected;'";

@@ -1,4 +1,4 @@
-// `camplace validate` (issue 10): every run's exact check equals what `camplace evaluate` says
+// `camplace validate`: every run's exact check equals what `camplace evaluate` says
 // for the same run file, reruns come from the cache, bad folders and files are errors that keep
 // the other runs, and Ctrl-C mid-way resumes.
 #include <gtest/gtest.h>

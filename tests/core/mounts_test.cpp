@@ -1,4 +1,4 @@
-// Mounts and keep-out boxes (issue 14 part 4): the mount frame against hand-computed vectors,
+// Mounts and keep-out boxes: the mount frame against hand-computed vectors,
 // loading and every rejection, the keep-out repair against hand cases and a brute-force search.
 #include <gtest/gtest.h>
 

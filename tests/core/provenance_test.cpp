@@ -1,4 +1,4 @@
-// Scene hashes and the one rule that compares them (issue 13): the combined hash is the
+// Scene hashes and the one rule that compares them: the combined hash is the
 // SHA-256 the run-file documentation gives (values computed independently with Python's
 // hashlib), and scene_changes names exactly the files whose content differs.
 #include "camplace/core/provenance.hpp"

@@ -114,7 +114,7 @@ TEST(SceneLoading, CameraBlockPresetsAndPerCameraDomains) {
   EXPECT_DOUBLE_EQ(s.plausibility.min_height, 0.5);
 }
 
-// The presets over S = [−1, 3]×[0, 2]×[1, 5] (height 4), by hand (issue 14): `ceiling` looks
+// The presets over S = [−1, 3]×[0, 2]×[1, 5] (height 4), by hand: `ceiling` looks
 // only down or level, `upper_fourth` is z ∈ [4, 5] with pitch unrestricted.
 TEST(DomainPreset, CeilingLooksOnlyDownUpperFourthAndRoomAnywhere) {
   const double pi = 3.14159265358979323846;
@@ -260,7 +260,7 @@ TEST(SceneRejection, UnknownFieldIsNamed) {
   expect_rejected(s, "typo", "/plausability", "unknown field");
 }
 
-// Issue 14: named camera models, per-model counts or a list of cameras, frusta, [near, far].
+// Named camera models, per-model counts or a list of cameras, frusta, [near, far].
 TEST(SceneLoading, CameraModelsWithCountsOrAList) {
   json scene = base_scene();
   scene["cameras"] = json::parse(R"({"count": 3, "models": [

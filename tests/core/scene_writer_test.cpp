@@ -257,7 +257,7 @@ TEST(SceneWriter, SceneWithEveryFeatureRoundTripsExactly) {
   EXPECT_EQ(written["dynamic_mode"], "modelled");
 }
 
-// Camera models (issue 14): per-model counts, a list of cameras naming their models, frusta,
+// Camera models: per-model counts, a list of cameras naming their models, frusta,
 // near planes and roll domains are written back as the loader reads them.
 TEST(SceneWriter, CameraModelsAndRollDomainsRoundTrip) {
   json scene = json::parse(read_text(kBasicScene));

@@ -75,7 +75,7 @@ Agreement compare_with_oracle(const core::Scene& scene, const core::CameraConfig
                              rng);
 }
 
-// Issue 14: random scenes whose cameras mix frusta (with roll), pyramids and cones (the exact
+// Random scenes whose cameras mix frusta (with roll), pyramids and cones (the exact
 // pipeline's inscribed pyramids), with near and far planes. The exact model agrees with the
 // brute-force reference, and the conservative voxel model contains it (d_voxel ≤ d_exact, every
 // sampled exact model point in a model voxel). One exact evaluation per scene (Nef booleans are
@@ -125,7 +125,7 @@ TEST(ExactOracle, RandomFrustumScenesWithRollAgreeAndTheConservativeVoxelModelCo
   }
 }
 
-// Issue 14: a wide frustum (179° × 150°, rolled 30°) reaches beyond the far end of the area in
+// A wide frustum (179° × 150°, rolled 30°) reaches beyond the far end of the area in
 // the exact pipeline as in the reference; with a near plane the space before it is not seen.
 TEST(ExactOracle, WideFrustumReachesTheFarEndOfTheArea) {
   using testing::box_object;
@@ -233,7 +233,7 @@ TEST(ExactOracle, WidePyramidReachesTheFarEndOfTheArea) {
   EXPECT_EQ(a.mismatches, 0);
 }
 
-// Issue 16: voxel and exact disagreed near 90° (a 4-sided pyramid at 89.999999999° gave an exact
+// Voxel and exact disagreed near 90° (a 4-sided pyramid at 89.999999999° gave an exact
 // model of nearly all of S), and the exact pyramid stopped short of S above 60°. One camera high
 // in a corner of paper_basic's area, 8-sided pyramids from 30° to 89.999999999°: the exact model
 // agrees with the brute-force sensor model at random points, and the conservative voxel model
@@ -286,7 +286,7 @@ TEST(ExactOracle, WideAnglesAgreeWithTheBruteForceSensorModelAndTheVoxelPipeline
   }
 }
 
-// Issue 16: a camera exactly on an object's surface was blind in the exact pipeline (closed
+// A camera exactly on an object's surface was blind in the exact pipeline (closed
 // containment) and saw in the voxel pipeline (winding number), so the conservative voxel model
 // no longer contained the exact one. One convention now (SPEC §3.3: on the surface = inside,
 // blind): cameras on a face, an edge and a vertex of a static box, and on a face, an edge and

@@ -1,6 +1,6 @@
 // The exact results of paper_basic with the corner cameras, pinned: d_true², d_model² and the
 // model volume of all six states as exact fractions (tests/exact/paper_basic_corners_exact.json,
-// computed once before the speed work of issue 10), so that no change to how the pipeline
+// computed once before the exact pipeline was made faster), so that no change to how the pipeline
 // computes can change an answer. The pinned values are cross-checked against the brute-force
 // sensor model of tests/support (an independent implementation of SPEC §3), as in
 // oracle_test.cpp: the kept model holds only points the reference puts in M, its volume is the

@@ -1,5 +1,5 @@
 #pragma once
-// Shared by the libFuzzer targets (issue 16): the loaders read files, so each input is written
+// Shared by the libFuzzer targets: the loaders read files, so each input is written
 // to a file in a per-process scratch folder; a loader may succeed or throw core::InputError,
 // anything else (another exception, a crash, a sanitizer report, a hang) is a finding.
 #include <unistd.h>

@@ -1,4 +1,4 @@
-// The fuzzing regression corpus (tests/fuzz/regressions/, issue 16) replayed through the
+// The fuzzing regression corpus (tests/fuzz/regressions/) replayed through the
 // camplace binary: every scene and camera file that ever crashed, hung or gave a wrong answer
 // must now end with exit 0, or exit 1 and an `error:` line — nothing else, within a minute.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Runs the real `camplace` binary on data/cell_catalogue.json (issue 14): optimize with --snap
+// Runs the real `camplace` binary on data/cell_catalogue.json: optimize with --snap
 // writes a snapped result whose Err `camplace evaluate` reproduces, whose cameras lie on their
 // mounts and out of the keep-out box; bad --snap values exit 1 naming the option.
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 // Runs the real `camplace` binary: SIGINT during `camplace optimize` must leave a complete run
-// file whose configuration `camplace evaluate` accepts and whose Err it reproduces (issue 4).
+// file whose configuration `camplace evaluate` accepts and whose Err it reproduces.
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -27,7 +27,7 @@ namespace fs = std::filesystem;
 const std::string kBinary = CAMPLACE_BINARY;
 const std::string kScene = std::string(CAMPLACE_SOURCE_DIR) + "/data/paper_basic.json";
 
-/// Sends `sig` to a running `camplace optimize` and checks what it leaves (issue 16: SIGINT,
+/// Sends `sig` to a running `camplace optimize` and checks what it leaves (SIGINT,
 /// SIGTERM and SIGHUP alike, exit status 128 + the signal).
 void signal_leaves_a_complete_run_file(int sig) {
   const fs::path dir =

@@ -1,4 +1,4 @@
-// Two `camplace optimize` processes writing into one --out folder at the same time (issue 16: a
+// Two `camplace optimize` processes writing into one --out folder at the same time (a
 // Slurm study runs several into one folder on purpose): the summary each writes covers every run
 // file in the folder, so the last one lists both processes' seeds.
 #include <gtest/gtest.h>
@@ -68,7 +68,7 @@ TEST(ConcurrentOptimize, TheSummaryListsTheRunsOfBothProcesses) {
     }
     EXPECT_EQ(files,
               (std::set<std::string>{"run-1.json", "run-2.json", "summary.csv", "summary.json"}));
-    // The printed table says which time each column is (issue 16: "ms/eval" was read as wall
+    // The printed table says which time each column is ("ms/eval" was read as wall
     // time): wall/eval is the run's seconds per evaluation, as summary.csv has it.
     if (round == 0) {
       std::ifstream printed(log + "1");

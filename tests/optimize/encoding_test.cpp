@@ -46,7 +46,7 @@ TEST(Encoding, ExplicitFixedYawIsRemovedAndKept) {
   }
 }
 
-// Issue 14: roll is a variable only where the domain frees it and the model is not a cone.
+// Roll is a variable only where the domain frees it and the model is not a cone.
 TEST(Encoding, RollIsFreeOnlyForFreedNonConeCameras) {
   const std::string roll = R"({"preset": "room", "roll_deg": [-30, 60]})";
   // The small scene's cameras are cones: the roll domain changes nothing, roll stays 0.

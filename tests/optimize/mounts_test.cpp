@@ -1,4 +1,4 @@
-// Mounts and keep-out boxes in the optimizer (issue 14 part 4): the decision vector holds (s, t)
+// Mounts and keep-out boxes in the optimizer: the decision vector holds (s, t)
 // and the mount-relative angles, decoded cameras lie on their mounts, no run ends in a keep-out
 // box, start files off their mounts are refused.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// The tie-breaker of issue 14: tie_break_fitness() orders (Err, tie-breaker) lexicographically,
+// The tie-breaker: tie_break_fitness() orders (Err, tie-breaker) lexicographically,
 // checked against an independent reference (Err rounded down to 32 significant bits with
 // std::ldexp/std::floor, the tie-breaker quantised by hand), and volume_fraction() against
 // volumes computed by hand.
@@ -188,7 +188,7 @@ TEST(VolumeFraction, OnThePlateauTheWeightedModelVolumeOverSOffItZeroByHand) {
   EXPECT_EQ(volume_fraction({}, area), 0.0);
 }
 
-// data/paper_ceiling.json is issue 14's plateau: almost every random configuration has the
+// data/paper_ceiling.json is the plateau scene: almost every random configuration has the
 // largest Err, Σ ω d_true² (the model touches the robot in every state), while the tie-breaker
 // still tells them apart. Random configurations from the encoding's bounds (seeded).
 TEST(VoxelObjective, PaperCeilingConfigurationsTieOnErrButNotOnTheTieBreaker) {

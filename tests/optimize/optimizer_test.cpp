@@ -400,7 +400,7 @@ TEST(Optimizer, NonFiniteErrIsAClearErrorNotAFailedInternalCheck) {
   }
 }
 
-/// A dead plateau (issue 14): Err = `err` for every configuration, tie-breaker |x₀ − 1| / 3
+/// A dead plateau: Err = `err` for every configuration, tie-breaker |x₀ − 1| / 3
 /// (camera 0's x in [0, 3]: in [0, 2/3]).
 class PlateauObjective : public Objective {
  public:

@@ -64,7 +64,7 @@ TEST(Report, RunFileCamerasAreReadByTheEvaluateReaderAndReproduceErr) {
   fs::remove_all(dir);
 }
 
-// Issue 14: a frustum scene with roll free in the domain. Roll is in the decision vector (one
+// A frustum scene with roll free in the domain. Roll is in the decision vector (one
 // per camera), the run file carries roll_deg and the model names, and `evaluate --cameras RUNFILE`
 // (core::load_camera_config) reads the same poses back and reproduces Err exactly.
 TEST(Report, CameraPosesWithRollSurviveTheRunFileRoundTrip) {
@@ -195,7 +195,7 @@ TEST(Report, RunFilesWithoutAFormatVersionAreFormatOneAndReadBackUnchanged) {
       nlohmann::ordered_json again = run_json(back.run, back.context);
       EXPECT_EQ(again.at("format_version"), kRunFileFormat);
       again.erase("format_version");
-      // Made before the tie-breaker (issue 14): they minimised Err alone.
+      // Made before the tie-breaker: they minimised Err alone.
       EXPECT_EQ(back.run.objective, "err") << file;
       EXPECT_EQ(again.at("objective"), "err") << file;
       EXPECT_EQ(again.at("tie_breaker"), 0.0) << file;

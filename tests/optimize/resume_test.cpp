@@ -1,4 +1,4 @@
-// `camplace optimize` into a folder that already holds runs (issue 13): every setting that
+// `camplace optimize` into a folder that already holds runs: every setting that
 // determines a run's result, the scene file's content and a mesh file's content, when changed,
 // make the command fail naming the change and leave the folder as it was; settings that do not
 // change results (threads, seeds, progress output) do not; --restart discards the folder's runs

@@ -1,4 +1,4 @@
-// `optimize --snap` (issue 14 part 5): the snapped cameras lie on the grid, in their domains and
+// `optimize --snap`: the snapped cameras lie on the grid, in their domains and
 // out of the keep-out boxes, and their Err is the one an independent evaluation of the re-read
 // camera file gives.
 #include "../../optimize/src/snap.hpp"

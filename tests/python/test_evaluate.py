@@ -108,7 +108,7 @@ def test_export_mesh_writes_the_command_lines_files(tiny_files, tmp_path):
 
 
 def test_frustum_models_and_roll_as_on_the_command_line(tmp_path):
-    # Issue 14: a scene with two frustum models; cameras with roll_deg and their model's name.
+    # A scene with two frustum models; cameras with roll_deg and their model's name.
     from conftest import ROOT, write_json
     scene_file = str(ROOT / "tests" / "data" / "frustum_small.json")
     cameras = [

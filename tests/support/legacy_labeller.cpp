@@ -1,5 +1,6 @@
-// The pre-issue-11 voxel labeller (see legacy_labeller.hpp): a copy of voxel/src/labelling.cpp
-// and of the obstacle interiors of voxel/src/setup.cpp at commit 6f1df84. Do not optimise.
+// The voxel labeller before the fast one (see legacy_labeller.hpp): a copy of
+// voxel/src/labelling.cpp and of the obstacle interiors of voxel/src/setup.cpp at commit 6f1df84.
+// Do not optimise.
 #include "legacy_labeller.hpp"
 
 #include <algorithm>

@@ -1,7 +1,7 @@
 #pragma once
-// The voxel labeller as it was before issue 11 (commit 6f1df84, voxel/src/labelling.cpp and the
-// obstacle interiors of voxel/src/setup.cpp), kept verbatim apart from names so that tests can
-// compare every label of the fast labeller against it and bench/evaluate_bench can report the
+// The voxel labeller as it was before the fast labeller (commit 6f1df84, voxel/src/labelling.cpp
+// and the obstacle interiors of voxel/src/setup.cpp), kept verbatim apart from names so that tests
+// can compare every label of the fast labeller against it and bench/evaluate_bench can report the
 // speed-up over it in the same process. Not used by the application.
 #include <cstdint>
 #include <memory>
@@ -14,7 +14,7 @@
 
 namespace camplace::testing {
 
-/// The pre-issue-11 labeller for one scene, mode and resolution.
+/// The labeller before the fast one, for one scene, mode and resolution.
 class LegacyLabeller {
  public:
   /// Same arguments as voxel::VoxelEvaluator (resolution all 0 = the scene's voxels).

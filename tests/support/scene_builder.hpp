@@ -29,7 +29,7 @@ core::CameraSetting camera_at(const core::Vec3& position, double yaw_deg, double
 core::Scene random_scene(std::mt19937& rng, std::array<int, 3> voxels);
 /// Random camera configuration inside the scene's area.
 core::CameraConfig random_config(std::mt19937& rng, const core::Scene& scene);
-/// Gives the scene's cameras a mix of models (issue 14): camera i is a frustum when i % 3 is
+/// Gives the scene's cameras a mix of models: camera i is a frustum when i % 3 is
 /// 0 or 1 (full angles H ∈ [20°, 170°], V ∈ [20°, 150°]), else a pyramid (3–16 sides) or a
 /// cone; each with a near plane (0.05–0.8 m) half of the time and a far plane (2–5 m) a third
 /// of the time. Models are named "m<i>".

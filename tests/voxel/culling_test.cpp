@@ -34,7 +34,7 @@ core::Scene room() {
 
 // Compares the conservative labels of one camera with the labeller without culling and checks
 // the free voxels at 27 lattice points and 8 random points each. Returns the free count. A camera
-// on an object's surface is blind (SPEC §3.3, the exact pipeline's convention since issue 16),
+// on an object's surface is blind (SPEC §3.3, the exact pipeline's convention too),
 // where the old labeller let it see: its labels may only be non-free.
 long check_camera(const core::Scene& scene, const core::CameraSetting& camera,
                   const std::string& what, bool on_surface) {

@@ -1,4 +1,4 @@
-// The fast labeller of issue 11 against the labeller it replaced (tests/support/
+// The fast labeller against the labeller it replaced (tests/support/
 // legacy_labeller.cpp, a verbatim copy): every label and every model over random scenes and
 // configurations, both modes. Center mode must agree everywhere (ties at exact boundaries aside:
 // the brute-force reference flags them); conservative mode may only turn a voxel the old

@@ -1,7 +1,7 @@
 // The conservative lower bound of Err (VoxelEvaluator::err_lower_bound(), SPEC §4) with the
 // plausibility filter: by hand in planar cases, against a brute-force reference
 // (lower_bound_reference.hpp), and never above an evaluated Err — including the cases a
-// hostile-input campaign found (issue 16: a small extra target below min_height, a target read
+// hostile-input campaign found (a small extra target below min_height, a target read
 // from an STL file), where the bound used to claim voxels the filter removes.
 #include <gtest/gtest.h>
 
@@ -67,9 +67,9 @@ void check_scene(const core::Scene& scene, const std::vector<core::CameraConfig>
   }
 }
 
-// The first case of issue 16: the small box's voxels touch a target, but their component is
-// removed by the filter (0.3 m < min_height), so they cannot bound d(C, M). The old bound,
-// 0.07321 m², lay above Err 0.07219 m² of the corners configuration.
+// The first case the hostile-input campaign found: the small box's voxels touch a target, but their
+// component is removed by the filter (0.3 m < min_height), so they cannot bound d(C, M). The old
+// bound, 0.07321 m², lay above Err 0.07219 m² of the corners configuration.
 TEST(LowerBound, SmallTargetBelowMinHeightDoesNotRaiseTheBound) {
   const core::Scene scene = paper_with_small_box();
   const voxel::VoxelEvaluator evaluator(scene, {LabelMode::conservative, {0, 0, 0}});
@@ -87,7 +87,7 @@ TEST(LowerBound, SmallTargetBelowMinHeightDoesNotRaiseTheBound) {
   EXPECT_LT(bound, paper);
 }
 
-// The second case of issue 16: the extra target read from an STL file. Its bound equals that of
+// The second case: the extra target read from an STL file. Its bound equals that of
 // the same box given inline, and is never above Err.
 TEST(LowerBound, StlTargetBelowMinHeightDoesNotRaiseTheBound) {
   const std::string dir = temp_dir("lower-bound-stl");

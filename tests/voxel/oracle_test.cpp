@@ -139,7 +139,7 @@ TEST(Oracle, ConservativeModelContainsCenterModel) {
   }
 }
 
-// Issue 14: mixed camera models (frusta, pyramids, cones, near and far planes) with random roll.
+// Mixed camera models (frusta, pyramids, cones, near and far planes) with random roll.
 // Center mode labels every voxel centre as the reference does; conservative mode's free voxels
 // are free at sampled points (conservative stays conservative); with refinement the model still
 // holds every sampled point the reference finds in M.

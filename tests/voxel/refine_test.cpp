@@ -1,4 +1,4 @@
-// Adaptive refinement of the conservative voxel model (VoxelOptions::refine, issue 11 part 2):
+// Adaptive refinement of the conservative voxel model (VoxelOptions::refine):
 // refine 0 is the unrefined pipeline; the refined model holds every point the brute-force
 // reference (tests/support/reference.cpp) finds in the model; the refined lower bound of Err on
 // paper_basic is below the tolerance and never beaten; cell components connect across base
@@ -150,7 +150,7 @@ TEST(Refine, RefinedModelHoldsEveryPointNoCameraSeesFree) {
   EXPECT_GT(checked, 1000);  // not vacuous
 }
 
-// Issue 11: with 3 levels at 16×12×12 the proven lower bound of Err on paper_basic falls below
+// With 3 levels at 16×12×12 the proven lower bound of Err on paper_basic falls below
 // the tolerance 0.0469 m² (it is 0.0782 m² unrefined), so the conservative optimizer can reach
 // the tolerance; and no configuration's Err is below it.
 TEST(Refine, LowerBoundWithThreeLevelsIsBelowTheToleranceAndNeverBeaten) {

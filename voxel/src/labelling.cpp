@@ -6,41 +6,13 @@
 // Refinement (refine.cpp) labels octree cells with these same tests: judge() and box_in_fov()
 // take the cell's size (detail::CellSize, the voxel's scaled by a power of two).
 //
-// Issue 11 made this fast without changing an answer. The exact tests are the ones of the
-// previous labeller (tests/support/legacy_labeller.cpp keeps it): Möller–Trumbore on the ray
-// to the voxel centre, the separating-axis test of a triangle's cone against the voxel box, the
-// FOV test on the centre or on the 8 corners, computed from the same numbers. What changed is
-// which of them run:
-//  - a triangle is tested against a voxel only when their projections onto the camera's image
-//    plane overlap: bounding rectangles (the triangle's padded by 2e-9 relative) sharing a bin,
-//    then the rectangles themselves, and in center mode the centre inside the projected
-//    triangle's padded edge lines. A triangle that is not wholly in front of the camera is
-//    tested everywhere. If a segment or ray from the camera through the voxel (centre) meets
-//    the triangle, the meeting point projects into both, so no triangle that could change a
-//    label is skipped. Small voxels (conservative) look up one bin of a finer set whose
-//    rectangles are widened by more than their projection's half size;
-//  - both modes cull back faces of closed, outward objects (the proof, and what happens at
-//    touching configurations, is in camera_setup; center mode's labels then differ only where
-//    the ray through a centre touches an edge or a vertex, a tie);
-//  - conservative mode first tries whole blocks of 4³, then 2³ voxels: the states where a camera
-//    sees every voxel of a block free (block_clear, tests on the block with a wider margin: the
-//    states none of whose objects' triangles can decide a voxel of it) need no test per voxel;
-//    the states cleared by the cameras add up;
-//  - conservative mode keeps a voxel in M untested in the states where an occupying object
-//    reaches into it (no camera sees it free there: the proof of the lower bound in setup.cpp),
-//    and tests an object that several states hold (same role and mesh) once for all of them
-//    (setup.cpp);
-//  - each triangle is tested once per voxel and camera for all states (bit masks), not once
-//    per state, a voxel is done as soon as some camera sees it free in every state, and a
-//    camera is done with a voxel once every state of interest is decided;
-//  - per row of voxels, the range where the centre can be in a camera's FOV and the range
-//    where it surely is (row_interval) skip the FOV test outside and inside;
-//  - the FOV test and the cone test first try cheap decisions with a relative margin of 1e-9
-//    (centre clearly outside, bounding ball clearly inside; voxel centre or the deepest box
-//    corner clearly inside the triangle's cone) and fall back to the exact test in the
-//    margin, so they decide as the exact test does except where rounding decides (a tie);
-//  - no per-voxel arrays: voxel centres and boxes come from per-axis tables, camera → centre
-//    vectors are computed on the fly.
+// The fast labeller gives the labels of the plain per-voxel tests (Möller–Trumbore on the ray to
+// the voxel centre; the separating-axis test of a triangle's cone against the voxel box; the FOV
+// test on the centre or the 8 corners) and only skips tests that cannot change a label: image-
+// plane bins (docs/design/labelling.md L1), back-face culling (L3), block clearing (L4), row
+// intervals and early FOV decisions (L5), voxels an occupying object reaches into (L6), objects
+// shared between states (L7), bit masks over 64 states; center mode's first hit breaks ties by
+// triangle index (L8); a conservative free label is sound by L2.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -147,7 +119,7 @@ CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera
   const double widened = half_angle + 1e-6;
   cam.row_cos_sq = widened < 0.5 * core::kPi ? std::cos(widened) * std::cos(widened) : 0.0;
 
-  // SPEC §3.3 with one convention in both pipelines (issue 16): a camera in the closed object,
+  // SPEC §3.3 with one convention in both pipelines: a camera in the closed object,
   // on its surface too, is blind (its rays start on the object). The exact pipeline decides
   // this exactly; here a camera within a rounding distance of the surface counts as on it,
   // which only makes the model larger, never smaller (conservative mode stays ⊇ exact).
@@ -197,33 +169,10 @@ CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera
       for (int i = 0; i < 3; ++i) add_axis(edge.cross(Vec3::Unit(i)));
     }
   }
-  // Back-face culling (both modes). det = (a − c)·((b − c) × (e − c)) = −n·(c − a) with
-  // n = (b − a) × (e − a) the outward normal, so det > 0 means the camera is behind the
-  // triangle's plane. Claim: if the camera c lies outside the closed solid X of an outward
-  // oriented, closed mesh, every ray or segment from c that meets X meets, at its first point
-  // q of X, a triangle T ∋ q with c strictly in front of T's plane. Proof: let d = c − q;
-  // q + εd is outside X (q is the first point). Take z inside X near q, chosen so that the
-  // segment [q + εd, z] crosses the surface only through triangle interiors and transversally
-  // (all but a null set of z do). Its first crossing, at y on triangle T, goes from outside to
-  // inside, so n_T·(q + εd − y) > 0; for ε and |z − q| small only triangles containing q come
-  // near q, so q ∈ T and n_T·(q − y) = 0, hence ε n_T·d > 0. So the triangle through which the
-  // ray first meets X faces the camera, and testing only the other triangles (front-facing or
-  // in-plane) gives the same verdict per object: its cone contains the ray (occupying) and
-  // near(T) ≤ |q − c| ≤ |p − c| (occluding), as for any triangle the ray meets.
-  // Rounding and degenerate cases keep every triangle of the object: an object is culled only
-  // when the mesh is oriented outward (signed volume > 0), the camera is not inside it and is
-  // clear of its surface (nearest triangle farther than 1e-9 of its scale: not on a face, edge
-  // or vertex), and no triangle is near edge-on (|det| > 1e-9·|a||b||e| for all, so none is
-  // skipped as flat and none is misjudged front/back by rounding; a camera in a face's plane
-  // keeps the old behaviour). At exact touching (a voxel corner on a ray through a vertex or
-  // an edge) rounding could call the front face apart while a back face touches; a front face
-  // of a culled object that misses only within rounding (Cone::near_miss) makes judge() test
-  // the object's back faces as well, so the verdict is the unculled one.
-  // Center mode tests the ray through the voxel centre: a hit on a back face at t follows a hit
-  // on a front face at t' ≤ t (the ray enters X first), so "some hit within d" and the first hit
-  // are unchanged; only a ray through an edge or a vertex, where rounding may call the front face
-  // missed, can differ (a tie, as the brute-force reference flags it).
-  // tests/voxel/culling_test.cpp covers these cases in both modes.
+  // Back-face culling (both modes; docs/design/labelling.md L3): det > 0 means the camera is
+  // behind the triangle's plane. An object is culled only when it is oriented outward, the
+  // camera is outside it and clear of its surface, and no triangle is near edge-on; a near miss
+  // of a culled object's front face makes judge() test its back faces too.
   for (std::size_t o = 0; o < objects.size(); ++o) {
     const detail::ObjectInfo& info = objects[o];
     const int end = info.first_triangle + info.triangle_count;
@@ -706,30 +655,8 @@ VoxelEvaluator::Impl::Cone VoxelEvaluator::Impl::cone_test(const TriangleCone& t
 }
 
 /// Conservative mode: the states of `open` where every voxel of the block [lo, hi] is free for
-/// this camera, as judge() would label each of them: the block lies in the FOV with a margin and
-/// no triangle of the state's objects can decide any voxel inside it (judge() decides each state
-/// by its own objects' triangles only). Each test is one that in_fov() or judge() makes per
-/// voxel, made on the whole block with a larger margin, so it holds for every voxel inside:
-///  - FOV: the block's bounding ball lies inside the cone (or the pyramid's or frustum's side
-///    planes), in front of the camera and between the near and far planes by 1e-9 of the scale,
-///    and the camera is outside it; so is every voxel's box (the FOV is convex). in_fov() also
-///    wants the camera outside each voxel's bounding ball, which can stick out of the block's
-///    (a block cut short at the grid's edge, 2×2×1 voxels, reaches 5% beyond it): the camera
-///    lies farther than a voxel's radius from the box spanned by the voxels' centres, by 1e-9;
-///  - a triangle is passed over when its padded rectangle misses the block's projection (which
-///    holds each voxel's projection); when judge() never tests it (flat, culled); when it only
-///    occludes and lies at least as far from the camera as the block's farthest point (then as
-///    every voxel's: far grows with the box); and when its cone misses the block by more than
-///    2e-12 of the block's scale on a cone plane or a separating axis. The gap on each axis only
-///    grows when the box shrinks inside the block (the support function of a sub-box is at most
-///    the block's), and a voxel's scale kTouch·(|w| + Σh) is at most the block's, so cone_test()
-///    returns Cone::miss for every voxel inside (not near_miss, which would test back faces).
-/// Then judge() finds no candidate of those states for any voxel inside, and each voxel is free
-/// for the camera in them. A triangle that may decide takes its object's states out; triangles
-/// whose objects hold none of the states left need no test.
-/// tests/voxel/legacy_equivalence_test.cpp checks that the models equal the per-voxel labels of
-/// their cameras (ModelsEqualThePerVoxelLabelsOfTheirCameras, BlocksCutShort…) and the old
-/// labeller's on the paper's scene.
+/// this camera, as judge() would label each of them: each test in_fov() or judge() makes per
+/// voxel, made on the whole block with a larger margin (docs/design/labelling.md L4).
 StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& lo, const Vec3& hi,
                                             StateMask open, const StateMask* object_states) const {
   const Vec3 center = 0.5 * (lo + hi), half = 0.5 * (hi - lo);

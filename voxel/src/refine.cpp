@@ -1,42 +1,9 @@
-// Adaptive refinement of the conservative voxel model (issue 11, `refine` = L levels).
-//
-// After the base evaluation (labels, model, components and filter on the base grid), a base
-// voxel of a component the filter keeps is split into 8 cells when it lies near the critical
-// objects C_h, and every cell that no camera proves free and no obstacle holds wholly is split
-// again, down to level L (cells of 1/2^L of the voxel's edge). "Near": the voxel's box is nearer
-// to C_h than a radius that starts at the unrefined d(C_h, M) plus one voxel diagonal and grows
-// to the refined d(C_h, M) plus a diagonal until the nearest kept cell lies within it (so every
-// voxel that could hold a nearer kept cell is refined); the other kept voxels stay whole. The
-// model M is the union of the finest cells reached and the whole voxels; components connect
-// cells through shared faces (within and across base voxels, whole voxels as all their cells),
-// the filter judges them by their cells' volume and z-extent, and d(C, M) is the distance to the
-// nearest kept cell's box. Optimizers spend their first evaluations on configurations whose
-// model fills much of S; leaving the far voxels whole keeps those evaluations cheap.
-//
-// Shortcuts that do not change M (each gives the labels the tests would give): states where a
-// cell lies wholly inside an occupying object of the state (SPEC §3: never free), or outside the
-// FOV of every camera that sees the state, or where every such camera is known not to free any
-// cell below (a deciding occupying triangle's cone holds the cell, a blocking triangle lies
-// nearer than all of it) keep the whole cell without further tests.
-//
-// Why it stays conservative (refined M ⊇ exact model, so d_voxel ≤ d_exact):
-//  - a cell is labelled with the base labeller's own tests (judge(), box_in_fov()) on the cell's
-//    box: free for a camera only when every point of the box is provably free (SPEC §5);
-//  - a cell is dropped as obstacle interior only when it lies wholly inside an obstacle (the base
-//    voxel's test, obstacle_interiors, on the cell's box);
-//  - so every point of the exact model before the filter lies in a finest cell that is kept
-//    before the filter (all its ancestors contain the point too, so none of them was dropped);
-//  - whole voxels hold all their cells, so the same holds for them;
-//  - a component of the exact model that passes the filter lies in one cell component (it is
-//    connected through interiors, and its points lie in cells that share faces), which is at
-//    least as large and as tall, so it passes too; and it lies in one base component that
-//    passes. Base components the filter removes hold no cell component it would keep (a cell
-//    component lies in one base component and is not larger), which is why only kept base
-//    components are refined.
-// Cells are boxes [area.min + I·s_l, area.min + (I + 1)·s_l] per axis with s_l = step·2^−l (a
-// power-of-two scaling, exact), so children tile their parent exactly and neighbours share
-// faces exactly; the labeller sees the same box as centre ± half extents (cell_sizes), within
-// rounding as for base voxels.
+// Adaptive refinement of the conservative voxel model (`refine` = L levels): kept base voxels
+// near the critical objects are split into octree cells down to 1/2^L of the voxel's edge with
+// the base labeller's own tests; M is the union of the finest cells and the whole voxels left
+// unrefined. Why M stays between the exact and the unrefined model, why the shortcuts change
+// nothing, which voxels must be refined and why cells tile exactly: docs/design/refinement.md
+// R1–R4; the distance: docs/design/distance.md D2.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -910,24 +877,10 @@ VoxelEvaluator::Impl::ModelDistance VoxelEvaluator::Impl::leaf_distance(const Le
   return out;
 }
 
-/// The conservative lower bound of Err on the refined model (err_lower_bound(); the rule and
-/// proof of lower_bound() in setup.cpp, carried to the finest cells). Per state (h, l):
-///  - a finest cell whose box, shrunk by contact_depth(), meets an occupying object X of the
-///    state holds a point q of X at that depth; so do all its ancestors' boxes (children tile
-///    their parent exactly), hence no camera labels any of them free (the proof in setup.cpp,
-///    which holds for any box the labeller tests). If neither its base voxel (removed_by_step)
-///    nor any of its ancestors nor itself is marked as obstacle interior (removal_tables), then
-///    whenever its base voxel is refined, refinement reaches the cell and keeps it before the
-///    filter;
-///  - a 6-connected group G of such cells whose volume (cells × cell volume) and z-extent pass
-///    the filter: its base voxels are never free and not removed, 6-connected, and at least as
-///    large and tall, so they lie in a base component the filter keeps; that component is
-///    refined, G lies in one cell component at least as large and tall, which the filter keeps;
-///  - so d_model ≤ U, the distance from C_h to the nearest cell of such a group (leaf_distance
-///    on those cells: a minimum of the same node_sq values over a subset of M's cells), and the
-///    term is ω·(d_true − min(U, d_true))², or 0 without such a group.
-/// Cells are found by descending from the base voxels voxels_reached() gives, through the nodes
-/// whose shrunk box meets X (a cell left out only makes the bound smaller).
+/// The conservative lower bound of Err on the refined model (err_lower_bound()), proved in
+/// docs/design/lower-bound.md B2. Cells are found by descending from the base voxels
+/// voxels_reached() gives, through the nodes whose shrunk box meets the object (a cell left out
+/// only makes the bound smaller).
 double VoxelEvaluator::Impl::refined_lower_bound() const {
   const double depth = contact_depth();
   const int cells = octree.cells;

@@ -134,43 +134,10 @@ void VoxelEvaluator::Impl::build() {
   if (conservative) err_lower_bound = levels > 0 ? refined_lower_bound() : lower_bound();
 }
 
-/// The conservative lower bound of Err (see VoxelEvaluator::err_lower_bound() for the rule).
-/// Why it holds, per state (h, l) and for every configuration:
-///  - Let a voxel's box hold a point q of an occupying object X of the state (a target; a
-///    dynamic obstacle in masked mode) at depth ≥ contact_depth() inside the box. For each
-///    camera, q is not free (SPEC §3: the first hit on the ray through q is at q or before it,
-///    so q is occupied or undetectable; or q is outside the FOV, or the camera is blind). The
-///    labeller sees it: the triangle of X through which that ray first meets X has a cone
-///    holding the whole ray, which passes through q deep inside the box, so the cone test
-///    meets by far more than its rounding (labelling.cpp); and if q is outside the FOV, some
-///    corner of the box is outside by at least the depth. So the voxel is never labelled free
-///    and, unless it lies wholly inside an obstacle of the step (removed_by_step), it is in M
-///    before the filter. Voxels that X touches only at their boundary are not counted: there
-///    rounding decides (a ray through a vertex of X grazing a voxel's edge: seen free).
-///    That triangle is one judge() tests: it faces the camera (the back-face culling lemma in
-///    camera_setup), so it is not culled; a culled object has no flat triangle (all tilts
-///    > 1e-9), and in an unculled one a flat triangle's cone is a sliver of relative width
-///    < 1e-12, narrower than the rays through the ball of radius contact_depth() about q (1e-9
-///    of the scale), so some ray through that ball, deep inside the box, enters X through a
-///    triangle that is not flat; its rectangle overlaps the box's projection (both hold the
-///    ray's). raw_models (labelling.cpp) relies on this too: it keeps these voxels in M for the
-///    states of X without testing them (chunk_reached), and
-///    tests/voxel/legacy_equivalence_test.cpp checks that its models equal the per-voxel labels
-///    of their cameras (ModelsEqualThePerVoxelLabelsOfTheirCameras).
-///  - Such voxels that form a 6-connected group G lie in one component of M before the filter,
-///    and that component holds G: its volume ≥ |G|·voxel volume and its z-extent ≥ G's. The
-///    filter keeps components by thresholds (core::Plausibility::keeps, monotone in both), so if
-///    G alone passes them, G stays in the filtered M. filter_components applied to the set of
-///    those voxels keeps exactly the groups that pass, computed with the filter's own formulas.
-///  - Then M is not empty and d_model ≤ U = the distance from C_h to the nearest voxel of a kept
-///    group (model_distance takes the minimum over a superset of the same critical_sq values).
-///    With d' = min(U, d_true): d_model ≤ d' ≤ d_true, so (d_true − d_model)² ≥ (d_true − d')².
-///    (U can exceed d_true when the groups nearest to the target were dropped; then d_model may
-///    equal d_true and the term is 0.)
-///  - A state with no kept group proves nothing: the filter may remove every component (then
-///    d_model is S's diagonal, SPEC §4) or keep one at d_true; its term is 0.
-/// The bound sums the states' terms as Err does (core::error_functional); Err and the bound add
-/// the same terms in different orders, so compare through core::lower_bound_threshold.
+/// The conservative lower bound of Err (the rule at VoxelEvaluator::err_lower_bound()); it holds
+/// for every configuration by docs/design/lower-bound.md B1 (reached voxels: labelling.md L6).
+/// Err and the bound add the same terms in different orders: compare through
+/// core::lower_bound_threshold.
 double VoxelEvaluator::Impl::lower_bound() const {
   std::vector<std::uint8_t> group(grid.count());
   std::vector<core::ErrTerm> terms;

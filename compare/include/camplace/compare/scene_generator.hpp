@@ -26,7 +26,7 @@ struct SceneFamily {
 /// All families, in the order of the SPEC §9 table.
 const std::vector<SceneFamily>& scene_families();
 
-/// A scene the families are applied to instead of the paper's basic setup (issue 13 part 5).
+/// A scene the families are applied to instead of the paper's basic setup.
 struct BaseScene {
   core::Scene scene;         ///< as core::load_scene read it
   std::string label;         ///< the path as the user gave it (study file, --base), for texts

@@ -94,7 +94,7 @@ inline int shard_of(int k, int shard_count) { return k % shard_count + 1; }
 /// a shard's (then no report), or none (report_only), then writes DIR/report.md,
 /// DIR/runs.csv and the plots. A run counts as finished when
 /// DIR/runs/<group>/run-<seed>.json exists and was not interrupted; an interrupted one is run
-/// again. Before any run starts, every run file found must be one of this study (issue 13):
+/// again. Before any run starts, every run file found must be one of this study:
 /// made with its settings (optimize::settings_changes: scene content, mode, solver, budget,
 /// threads, seed) and of one of its groups and seeds; a study that grows (more runs per group,
 /// more groups) keeps its runs. Otherwise it throws optimize::SettingsChanged and leaves the

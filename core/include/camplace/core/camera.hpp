@@ -25,9 +25,6 @@ Vec3 view_direction(const CameraSetting& camera);
 /// Unit up vector of the image: world z made orthogonal to d, or world y when d is vertical
 /// (SPEC §1), then turned by the roll about d (right-hand rule).
 Vec3 up_vector(const CameraSetting& camera);
-/// Unit right vector of the image: d × up_vector (so d = up × right), turned by the roll like
-/// the up vector.
-Vec3 right_vector(const CameraSetting& camera);
 
 /// The camera's field of view as a convex test: the cone of half angle α, the inscribed regular
 /// k-sided pyramid (first edge toward the up vector), or the frustum over the image rectangle
@@ -40,8 +37,6 @@ class Fov {
       std::optional<double> range);
   /// True when p is inside the (closed) FOV.
   bool contains(const Vec3& p) const;
-  /// True when the whole ball (center, radius) is inside the FOV (a sufficient test).
-  bool contains_ball(const Vec3& center, double radius) const;
   /// Unit edge directions of the pyramid (k of them, first along the up vector side; for a
   /// frustum the 4 corners, up-right, down-right, down-left, up-left). A cone's are those of its
   /// inscribed k-sided pyramid.

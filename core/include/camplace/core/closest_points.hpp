@@ -15,9 +15,6 @@ struct ClosestPoints {
   double sq_distance = 0.0;
 };
 
-/// The point of triangle (a, b, c) nearest to p.
-Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
-
 /// Closest points of two triangles (vertices a0..a2 and b0..b2); a common point when they meet.
 ClosestPoints closest_points_of_triangles(const Vec3& a0, const Vec3& a1, const Vec3& a2,
                                           const Vec3& b0, const Vec3& b1, const Vec3& b2);

@@ -51,7 +51,10 @@ double signed_volume(const TriangleMesh& mesh);
 /// surface may go either way.
 bool inside_mesh(const TriangleMesh& mesh, const Vec3& p);
 
-/// Squared distance from p to triangle (a, b, c).
+/// The point of triangle (a, b, c) nearest to p (m, world frame).
+Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+
+/// Squared distance from p to triangle (a, b, c): |p − closest_point_on_triangle(p, a, b, c)|².
 double point_triangle_sq_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 /// The closest points of segments [p0, p1] and [q0, q1] (first on [p0, p1]).
 std::pair<Vec3, Vec3> closest_points_of_segments(const Vec3& p0, const Vec3& p1, const Vec3& q0,

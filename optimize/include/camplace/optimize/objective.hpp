@@ -9,7 +9,7 @@
 
 namespace camplace::optimize {
 
-/// Err of a configuration and its tie-breaker (issue 14): a secondary value that orders
+/// Err of a configuration and its tie-breaker: a secondary value that orders
 /// configurations of equal Err, smaller is better.
 struct Score {
   double err = 0.0;          ///< m² (SPEC §4)
@@ -38,7 +38,7 @@ class Objective {
 /// objective) or "err+volume" (Err, ties broken by the objective's tie-breaker through
 /// tie_break_fitness()). Default first.
 const std::vector<std::string>& objective_names();
-/// The default objective: "err". Issue 14 asked for "err+volume", but measured (README, "The
+/// The default objective: "err". "err+volume" was considered, but measured (README, "The
 /// plateau and the tie-breaker") it left the plateau sooner and then converged worse with gaco,
 /// the default solver (paper_basic: 0 of 3 seeds at the proven optimum in 100 s, against 20 of 20
 /// with "err"), so it stays a choice.
@@ -49,7 +49,7 @@ std::string objective_help();
 /// Low bits of Err's IEEE-754 double that tie_break_fitness() hands to the tie-breaker.
 constexpr int kTieBreakBits = 20;
 
-/// The one number the solvers see for (err, tie_breaker) (issue 14): err with its lowest
+/// The one number the solvers see for (err, tie_breaker): err with its lowest
 /// kTieBreakBits bits replaced by the tie-breaker quantised to 2^kTieBreakBits levels
 /// (⌊t · 2^20⌋, t clamped to [0, 1], the top level shared by t = 1). For finite err ≥ 0 the
 /// fitness order is exactly the lexicographic order of (err rounded down to 32 significant bits,

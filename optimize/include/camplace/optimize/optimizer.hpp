@@ -44,7 +44,7 @@ struct Progress {
   double seconds = 0.0;   ///< since the run started
 };
 
-/// The grid of `optimize --snap POS_M,ANGLE_DEG` (issue 14): positions to multiples of
+/// The grid of `optimize --snap POS_M,ANGLE_DEG`: positions to multiples of
 /// position_m (metres; world coordinates in a box domain, along the edges from the corner on a
 /// mount), angles to multiples of angle (radians).
 struct SnapGrid {
@@ -108,7 +108,7 @@ struct RunResult {
   double search_err = 0.0;       ///< best Err seen during the search (m²); equals err unless the
                                  ///< JSON round trip of the angles moved a voxel label
   double start_err = 0.0;        ///< best Err of the initial population (holds the start) (m²)
-  double tie_breaker = 0.0;      ///< Score::tie_breaker of `best` (issue 14), with either
+  double tie_breaker = 0.0;      ///< Score::tie_breaker of `best`, with either
                                  ///< objective; with "err+volume" the least among the best Err
   double tolerance = 0.0;        ///< m²
   double err_lower_bound = 0.0;  ///< the objective's lower bound of Err (m²); 0 = none known

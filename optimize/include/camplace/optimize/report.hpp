@@ -40,7 +40,7 @@ std::vector<std::string> camera_models(const core::Scene& scene);
 
 /// The format of the run files run_json writes ("format_version"). Files without the key are
 /// format 1, the same layout without it. Format 3 adds "provenance", format 4 "objective" and
-/// "tie_breaker" (issue 14; a file without them minimised Err alone: "err", tie-breaker 0).
+/// "tie_breaker" (a file without them minimised Err alone: "err", tie-breaker 0).
 constexpr int kRunFileFormat = 4;
 
 /// The run file's JSON: "format_version" (kRunFileFormat), "cameras" (the load_camera_config
@@ -72,7 +72,7 @@ RunFile read_run_file(const std::string& path);
 std::optional<unsigned> run_file_seed(const std::string& file_name);
 
 /// The settings that determine a run's result: what the runs of one folder share, so that a
-/// job resuming the folder adds only runs like them (issue 13). Optional members are compared
+/// job resuming the folder adds only runs like them. Optional members are compared
 /// only when set on both sides (settings_changes).
 struct RunSettings {
   std::string scene_file;  ///< for messages only: the same content at another path is the same

@@ -22,7 +22,7 @@ class VoxelObjective : public Objective {
   voxel::VoxelEvaluator evaluator_;
 };
 
-/// The tie-breaker of VoxelObjective (issue 14). On the plateau, where the filtered model
+/// The tie-breaker of VoxelObjective. On the plateau, where the filtered model
 /// touches the critical objects (d_model = 0) in every state of positive weight, so that
 /// Err = Σ ω d_true² whatever the cameras: the ω-weighted mean fraction of S the model fills,
 /// Σ ω·model_volume / (Σ ω · volume(S)) ∈ [0, 1] (model_volume in m³ per state). A smaller model

@@ -12,6 +12,7 @@
 #include "camplace/core/evaluation.hpp"
 #include "camplace/core/names.hpp"
 #include "camplace/core/scene.hpp"
+#include "camplace/core/threads.hpp"
 #include "camplace/voxel/grid.hpp"
 
 namespace camplace::voxel {
@@ -25,8 +26,8 @@ using core::Timing;
 /// κ of SPEC §3 for one camera and point (or voxel).
 enum class Label : std::uint8_t { free, occupied, undetectable };
 
-/// Largest `threads` an evaluator accepts.
-constexpr int kMaxThreads = 256;
+/// Largest `threads` an evaluator accepts (the project-wide limit).
+using core::kMaxThreads;
 
 /// Largest `refine` an evaluator accepts (levels); the memory limit below refuses most grids
 /// well before it.
@@ -102,25 +103,16 @@ class VoxelEvaluator {
   /// M after the filter for one state on leaf_grid() (1 = in M); model() when L = 0.
   std::vector<std::uint8_t> leaf_model(const core::CameraConfig& config, int state) const;
 
-  /// A lower bound of Err over all camera configurations (m²), conservative mode only. Per
-  /// state: a voxel that an occupying object (a target; a dynamic obstacle in masked mode)
-  /// reaches into — meets its box shrunk by 1e-9·(S's diagonal + S's largest |coordinate|) —
-  /// and that does not lie wholly inside an obstacle is in M before the plausibility filter
-  /// whatever the cameras (its rays meet that object; contact only at the box's boundary does
-  /// not count, rounding decides there). A 6-connected group G of such voxels lies in one
-  /// component of that M, whose volume and z-extent are at least G's; so when G alone passes
-  /// the filter (volume |G|·voxel volume, z-extent of its boxes), G stays in M and d(C, M) ≤ U,
-  /// the distance from C to the nearest voxel of such a group. The state's term is
-  /// ω·(d_true − min(U, d_true))², or 0 when no group passes (the filter may then remove all of
-  /// M or keep a component at d_true). Without a filter every group passes. Compare Err against
-  /// it through core::lower_bound_threshold (the sums' order differs). When this bound exceeds
-  /// the tolerance, no configuration can reach it. Center mode: 0 (no bound).
-  /// With refinement (options().refine = L > 0) the same rule applies to the finest cells: a
-  /// cell an occupying object reaches into (and its ancestors: never free) that no obstacle holds
-  /// wholly at any level is in the refined M before the filter; groups are 6-connected sets of
-  /// such cells, their volume and z-extent those of the cells; U is the distance to the nearest
-  /// cell of a group that passes. Only cells touching the targets remain, so the bound shrinks
-  /// with L toward the true minimum.
+  /// A lower bound of Err over all camera configurations (m²), conservative mode only; center
+  /// mode: 0 (no bound). Per state, the voxels an occupying object (a target; a dynamic obstacle
+  /// in masked mode) reaches into and no obstacle holds wholly are in M before the filter
+  /// whatever the cameras; a 6-connected group of them that passes the filter alone stays in M,
+  /// so d(C, M) ≤ U, the distance to the nearest such group, and the state's term is
+  /// ω·(d_true − min(U, d_true))² (0 when no group passes). With refinement the same rule applies
+  /// to the finest cells, so the bound shrinks with L toward the true minimum. Proofs:
+  /// docs/design/lower-bound.md B1, B2. Compare Err against it through
+  /// core::lower_bound_threshold (the sums' order differs); when it exceeds the tolerance, no
+  /// configuration can reach the tolerance.
   double err_lower_bound() const;
 
   const Grid& grid() const;
