@@ -1,21 +1,8 @@
 // The camera placement domain presets (room, ceiling, upper_fourth) over the area S.
-#include <Eigen/Geometry>
-#include <Eigen/LU>
-#include <algorithm>
-#include <cmath>
-#include <filesystem>
-#include <iomanip>
-#include <limits>
-#include <sstream>
+#include <optional>
+#include <string>
 
-#include "camplace/core/json_reader.hpp"
-#include "camplace/core/names.hpp"
 #include "camplace/core/scene.hpp"
-#include "mesh_checks.hpp"
-#include "mesh_repair.hpp"
-#include "people.hpp"
-#include "robot.hpp"
-#include "scene_format.hpp"
 
 namespace camplace::core {
 

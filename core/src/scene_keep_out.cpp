@@ -1,21 +1,12 @@
 // Keep-out repair (SPEC §2): the nearest point of a camera domain outside the keep-out boxes.
-#include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <algorithm>
-#include <cmath>
-#include <filesystem>
-#include <iomanip>
 #include <limits>
-#include <sstream>
+#include <optional>
+#include <utility>
+#include <vector>
 
-#include "camplace/core/json_reader.hpp"
-#include "camplace/core/names.hpp"
 #include "camplace/core/scene.hpp"
-#include "mesh_checks.hpp"
-#include "mesh_repair.hpp"
-#include "people.hpp"
-#include "robot.hpp"
-#include "scene_format.hpp"
 
 namespace camplace::core {
 

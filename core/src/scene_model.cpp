@@ -4,19 +4,13 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <iomanip>
-#include <limits>
 #include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
 
-#include "camplace/core/json_reader.hpp"
-#include "camplace/core/names.hpp"
+#include "camplace/core/error.hpp"
 #include "camplace/core/scene.hpp"
-#include "mesh_checks.hpp"
-#include "mesh_repair.hpp"
-#include "people.hpp"
-#include "robot.hpp"
-#include "scene_format.hpp"
 
 namespace camplace::core {
 

@@ -1,21 +1,10 @@
 // Voxel resolutions: parsing NXxNYxNZ and the limits a resolution must respect.
-#include <Eigen/Geometry>
-#include <Eigen/LU>
-#include <algorithm>
-#include <cmath>
-#include <filesystem>
-#include <iomanip>
-#include <limits>
+#include <array>
 #include <sstream>
+#include <string>
 
-#include "camplace/core/json_reader.hpp"
-#include "camplace/core/names.hpp"
+#include "camplace/core/error.hpp"
 #include "camplace/core/scene.hpp"
-#include "mesh_checks.hpp"
-#include "mesh_repair.hpp"
-#include "people.hpp"
-#include "robot.hpp"
-#include "scene_format.hpp"
 
 namespace camplace::core {
 

@@ -3,23 +3,11 @@
 #include <sys/file.h>
 #include <unistd.h>
 
-#include <algorithm>
 #include <cerrno>
-#include <cmath>
-#include <cstdio>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
-#include <iomanip>
-#include <limits>
-#include <map>
-#include <sstream>
 #include <stdexcept>
+#include <string>
 
-#include "camplace/core/camera.hpp"
-#include "camplace/core/error.hpp"
-#include "camplace/core/json_reader.hpp"
-#include "camplace/core/statistics.hpp"
 #include "camplace/optimize/report.hpp"
 
 namespace camplace::optimize {
