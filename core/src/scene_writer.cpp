@@ -1,4 +1,4 @@
-// Scene writing: the inverse of the scene loader (scene.cpp, SPEC §2).
+// Scene writing: the inverse of the scene loader (scene_parser.cpp, SPEC §2).
 #include "camplace/core/scene_writer.hpp"
 
 #include <algorithm>

@@ -142,7 +142,7 @@ void print_summary(std::ostream& out, const std::vector<RunResult>& runs) {
         << fixed(r.mean_timing.total_ms, 2) << std::setw(10) << fixed(r.wall_ms_per_evaluation, 2)
         << "  " << to_string(r.stop_reason) << '\n';
   }
-  // Issue 16: say which time each column is (threads evaluate in parallel, so they differ).
+  // Say which time each column is (threads evaluate in parallel, so they differ).
   out << "ms/eval: mean duration of one evaluation (wall clock on the thread running it); "
          "wall/eval: the run's wall-clock time per evaluation (seconds / evaluations, ms)\n";
   const double rate = 100.0 * s.reached / s.runs;
