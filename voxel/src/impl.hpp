@@ -128,7 +128,8 @@ struct CameraSetup {
   std::array<double, 2> wide_scale{1.0, 1.0}, widen{0.0, 0.0};  ///< per image axis
   std::vector<int> wide_start;  ///< wide_bins² + 1 offsets into wide_items
   std::vector<int> wide_items;
-  std::vector<int> everywhere;  ///< triangles not wholly in front of the camera: in every bin
+  std::vector<int> everywhere;       ///< triangles not wholly in front of the camera: in every bin
+  std::vector<std::uint8_t> binned;  ///< per triangle: sorted into the bins (not `everywhere`)
   /// Per triangle: its projection's bounding rectangle (x0, x1, y0, y1), padded; infinite for
   /// the triangles in `everywhere`.
   std::vector<std::array<double, 4>> rect;
@@ -201,9 +202,20 @@ struct LeafSet {
   std::vector<std::uint8_t> whole;
 };
 
-/// How many deciding triangles refinement remembers per node and camera (judge()'s witnesses):
-/// one per copy of a target in each time step, say.
+/// How many deciding triangles refinement remembers per node and camera (judge_conservative()'s
+/// witnesses): one per copy of a target in each time step, say.
 constexpr int kWitnesses = 4;
+
+/// What judge_conservative() tells refinement besides the verdict.
+struct Witnesses {
+  /// kWitnesses triangles to test first (those ≥ 0: the ones that decided the cell's parent),
+  /// updated with the triangles that decided states here, most recent first.
+  int* triangles = nullptr;
+  /// Adds the states whose deciding triangle decides them for every box inside this one as
+  /// well: its cone holds the whole box (by a margin) and it is occupying, or it lies nearer to
+  /// the camera than every point of the box (blocking).
+  StateMask sure = 0;
+};
 
 /// What refinement of one base voxel needs besides the Impl (refine.cpp).
 struct RefineContext {
@@ -218,10 +230,11 @@ struct RefineContext {
   Scratch* scratch = nullptr;
   std::size_t hint = 0;  ///< the camera that last freed a cell (tried first)
   /// Per level and camera: kWitnesses triangles that decided states of the node being refined
-  /// at that level (judge()'s witnesses, most recent first), −1 for none.
+  /// at that level (detail::Witnesses::triangles, most recent first), −1 for none.
   std::vector<int> witness;
   /// Per level and camera: states where every cell below the node at that level is non-free
-  /// for the camera (judge()'s `sure`; all bits when the node lies outside the camera's FOV).
+  /// for the camera (detail::Witnesses::sure; all bits when the node lies outside the camera's
+  /// FOV).
   std::vector<StateMask> sure;
 };
 
@@ -356,8 +369,9 @@ struct VoxelEvaluator::Impl {
   /// camera (d = |w|): outside the (bounding) cone, before the near or beyond the far plane, by
   /// a margin.
   /// The states of `interest` holding triangle t's object when t is occupying and its cone
-  /// holds the whole cell of size `size` at w from the camera (d = |w|) by judge()'s `sure`
-  /// margin (judge() would find the cell, and every cell inside it, occupied there); else 0.
+  /// holds the whole cell of size `size` at w from the camera (d = |w|) by
+  /// detail::Witnesses' `sure` margin (judge_conservative() would find the cell, and every cell
+  /// inside it, occupied there); else 0.
   detail::StateMask contained(const detail::CameraSetup& cam, int t, const core::Vec3& w, double d,
                               const detail::CellSize& size, detail::StateMask interest,
                               const detail::StateMask* object_states) const;
@@ -410,11 +424,14 @@ struct VoxelEvaluator::Impl {
                     int& in_hi) const;
   bool in_fov(const detail::CameraSetup& cam, int i, int j, int k, const core::Vec3& w,
               double d) const;
-  void judge(const detail::CameraSetup& cam, const core::Vec3& w, double d,
-             detail::StateMask interest, const detail::StateMask* object_states,
-             detail::Scratch& scratch, detail::Verdict& out, bool free_only,
-             const detail::CellSize& size, int* witness = nullptr,
-             detail::StateMask* sure = nullptr) const;
+  detail::Verdict judge_center(const detail::CameraSetup& cam, const core::Vec3& w, double d,
+                               detail::StateMask interest, const detail::StateMask* object_states,
+                               detail::Scratch& scratch, bool free_only) const;
+  detail::Verdict judge_conservative(const detail::CameraSetup& cam, const core::Vec3& w, double d,
+                                     const detail::CellSize& size, detail::StateMask interest,
+                                     const detail::StateMask* object_states,
+                                     detail::Scratch& scratch, bool free_only,
+                                     detail::Witnesses* witnesses = nullptr) const;
   /// The states of `open` where every voxel of the block [lo, hi] is surely free for the camera
   /// (raw_models); `object_states`: the chunk's states of each object.
   detail::StateMask block_clear(const detail::CameraSetup& cam, const core::Vec3& lo,

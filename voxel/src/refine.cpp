@@ -601,23 +601,22 @@ void VoxelEvaluator::Impl::refine_node(detail::RefineContext& ctx, int level, in
         int* witness = ctx.witness.data() + (child_level * n_cam + c) * detail::kWitnesses;
         const int* parent_witness = ctx.witness.data() + (level * n_cam + c) * detail::kWitnesses;
         std::copy(parent_witness, parent_witness + detail::kWitnesses, witness);
-        // States where judge() would find the cell occupied because a triangle that decided the
-        // parent holds it in its cone (and so every cell below): no test needed.
+        // States where judge_conservative() would find the cell occupied because a triangle that
+        // decided the parent holds it in its cone (and so every cell below): no test needed.
         StateMask held = 0;
         for (int n = 0; n < detail::kWitnesses && witness[n] >= 0; ++n) {
           held |= contained(cam, witness[n], w, d, size, interest & ~held, ctx.object_states);
         }
         child_sure[c] |= held;
         if (held == interest) continue;
-        detail::Verdict verdict;
-        StateMask sure = 0;
-        judge(cam, w, d, interest & ~held, ctx.object_states, *ctx.scratch, verdict, true, size,
-              witness, &sure);
+        detail::Witnesses witnesses{witness};
+        const detail::Verdict verdict = judge_conservative(
+            cam, w, d, size, interest & ~held, ctx.object_states, *ctx.scratch, true, &witnesses);
         const StateMask freed = interest & ~held & ~(verdict.occupied | verdict.blocked);
         if (freed) ctx.hint = c;
         o &= ~freed;
-        child_sure[c] |= sure;
-        open_below |= interest & ~freed & ~sure;
+        child_sure[c] |= witnesses.sure;
+        open_below |= interest & ~freed & ~witnesses.sure;
       }
       // No camera can free any cell below in these states: all of them stay in M.
       f |= o & ~open_below;
@@ -643,8 +642,9 @@ StateMask VoxelEvaluator::Impl::contained(const CameraSetup& cam, int t, const V
   if (!objects[o].occupying || !states) return 0;
   const detail::TriangleCone& tc = cam.triangles[t];
   if (tc.flat || tc.back) return 0;
-  // judge()'s `sure` test: the box's lowest point along each inward plane normal is inside by
-  // the margin (then the cone test meets it: the centre is inside too).
+  // judge_conservative()'s `sure` test (detail::Witnesses): the box's lowest point along each
+  // inward plane normal is inside by the margin (then the cone test meets it: the centre is inside
+  // too).
   const double margin = 1e-9 * (d + size.radius);
   for (int i = 0; i < 3; ++i) {
     if (!(tc.normal[i].dot(w) - tc.abs_normal[i].dot(size.half) > margin)) return 0;
