@@ -1,13 +1,16 @@
-// 6-connected components of a voxel model and the plausibility filter (SPEC §4–5), on runs:
-// maximal segments of model voxels along x. Two runs connect when they lie in face-adjacent
+// 6-connected components and the plausibility filter (SPEC §4–5), one rule (ComponentTally) on
+// the dense base model (filter_components) and on refined cells (detail::filter_cells). Voxels on
+// runs: maximal segments of model voxels along x. Two runs connect when they lie in face-adjacent
 // rows (j ± 1 or k ± 1) and share an x index; union–find over runs gives the components.
 #include "camplace/voxel/components.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <numeric>
 
+#include "cells.hpp"
 #include "union_find.hpp"
 
 namespace camplace::voxel {
@@ -30,6 +33,50 @@ inline std::uint64_t nonzero_bytes(const std::uint8_t* p) {
 
 using detail::find;
 using detail::unite;
+
+/// Per component: its cell count and z-extent (layer indices), and the plausibility filter's
+/// rule (SPEC §4–5), one for voxels and refined cells: volume = cell count × cell volume,
+/// height = (layers spanned) × cell height.
+class ComponentTally {
+ public:
+  int add_component() {
+    extent_.push_back({});
+    return static_cast<int>(extent_.size()) - 1;
+  }
+  /// Adds `count` cells in layers k0..k1 to component c.
+  void add_cells(int c, long count, long k0, long k1) {
+    Extent& e = extent_[c];
+    if (e.kmax < 0) {
+      e.kmin = k0;
+      e.kmax = k1;
+    } else {
+      e.kmin = std::min(e.kmin, k0);
+      e.kmax = std::max(e.kmax, k1);
+    }
+    e.cells += count;
+  }
+  /// keep[c] = 1 when `plausibility` keeps component c; how many it keeps and removes.
+  ComponentCount decide(const core::Plausibility& plausibility, double cell_volume,
+                        double cell_height, std::vector<std::uint8_t>& keep) const {
+    ComponentCount result;
+    keep.assign(extent_.size(), 0);
+    for (std::size_t c = 0; c < extent_.size(); ++c) {
+      const double volume = static_cast<double>(extent_[c].cells) * cell_volume;
+      const double height =
+          static_cast<double>(extent_[c].kmax - extent_[c].kmin + 1) * cell_height;
+      keep[c] = plausibility.keeps(volume, height);
+      ++(keep[c] ? result.kept : result.removed);
+    }
+    return result;
+  }
+
+ private:
+  struct Extent {
+    long cells = 0;
+    long kmin = 0, kmax = -1;
+  };
+  std::vector<Extent> extent_;
+};
 
 /// The model's runs and their union–find forest (parent[n]: run n's component is find(n)).
 struct RunForest {
@@ -122,38 +169,134 @@ ComponentCount filter_components(std::vector<std::uint8_t>& model, const Grid& g
   RunForest forest = run_forest(m, grid);
   const std::vector<Run>& runs = forest.runs;
   std::vector<int>& parent = forest.parent;
-  // Volume (voxel count) and z-extent per component.
-  struct Extent {
-    long voxels = 0;
-    int kmin = 0, kmax = -1;
-  };
-  std::vector<Extent> extent(runs.size());
+  // Volume (voxel count) and z-extent per component, in order of their first run.
+  ComponentTally tally;
+  std::vector<int> id(runs.size(), -1);
   for (std::size_t n = 0; n < runs.size(); ++n) {
-    Extent& e = extent[find(parent, static_cast<int>(n))];
-    const int k = runs[n].row / ny;
-    if (e.kmax < 0) {
-      e.kmin = e.kmax = k;
-    } else {
-      e.kmin = std::min(e.kmin, k);
-      e.kmax = std::max(e.kmax, k);
-    }
-    e.voxels += runs[n].i1 - runs[n].i0 + 1;
+    const int root = find(parent, static_cast<int>(n));
+    if (id[root] < 0) id[root] = tally.add_component();
+    const long k = runs[n].row / ny;
+    id[n] = id[root];
+    tally.add_cells(id[root], runs[n].i1 - runs[n].i0 + 1, k, k);
   }
-  ComponentCount result;
-  std::vector<std::uint8_t> keep(runs.size(), 0);
-  for (std::size_t n = 0; n < runs.size(); ++n) {
-    if (find(parent, static_cast<int>(n)) != static_cast<int>(n)) continue;
-    const double volume = static_cast<double>(extent[n].voxels) * grid.voxel_volume();
-    const double height = (extent[n].kmax - extent[n].kmin + 1) * grid.step.z();
-    keep[n] = plausibility.keeps(volume, height);
-    ++(keep[n] ? result.kept : result.removed);
-  }
+  std::vector<std::uint8_t> keep;
+  const ComponentCount result =
+      tally.decide(plausibility, grid.voxel_volume(), grid.step.z(), keep);
   for (std::size_t n = 0; n < runs.size(); ++n) {
     const Run& run = runs[n];
-    std::memset(m + static_cast<std::size_t>(run.row) * nx + run.i0,
-                keep[find(parent, static_cast<int>(n))], run.i1 - run.i0 + 1);
+    std::memset(m + static_cast<std::size_t>(run.row) * nx + run.i0, keep[id[n]],
+                run.i1 - run.i0 + 1);
   }
   return result;
 }
+
+namespace detail {
+
+ComponentCount filter_cells(CellSet& set, const Octree& octree, const Grid& grid,
+                            const core::Plausibility& plausibility) {
+  const int cells = octree.cells;
+  const int slots = static_cast<int>(set.voxels.size());
+  const int nx = grid.n[0], ny = grid.n[1], nz = grid.n[2];
+  const int side = octree.side;
+  const std::uint8_t* in = set.cells.data();
+  // Union–find over the cells; a slot whose cells are all in the set ("full": a base voxel
+  // refinement left whole) stands for all of them with its first cell.
+  thread_local std::vector<int> parent;
+  thread_local std::vector<std::uint8_t> full;
+  const std::size_t total = static_cast<std::size_t>(slots) * cells;
+  parent.resize(total);
+  full.assign(slots, 0);
+  for (int slot = 0; slot < slots; ++slot) {
+    const std::uint8_t* c = in + static_cast<std::size_t>(slot) * cells;
+    full[slot] = (slot < static_cast<int>(set.whole.size()) && set.whole[slot]) ||
+                 std::find(c, c + cells, std::uint8_t(0)) == c + cells;
+    const int base = slot * cells;
+    if (full[slot]) {
+      parent[base] = base;
+    } else {
+      for (int m = 0; m < cells; ++m) parent[base + m] = base + m;
+    }
+  }
+  // Base voxel → slot (−1: none), reset to −1 before returning.
+  thread_local std::vector<int> slot_map;
+  if (slot_map.size() != static_cast<std::size_t>(grid.count())) slot_map.assign(grid.count(), -1);
+  for (int slot = 0; slot < slots; ++slot) slot_map[set.voxels[slot]] = slot;
+  auto slot_of = [&](int v) { return slot_map[v]; };
+  auto rep = [&](int slot, int m) { return full[slot] ? slot * cells : slot * cells + m; };
+  // Face neighbours at +x, +y, +z only (each pair once): 6-connectivity of the finest cells.
+  for (int slot = 0; slot < slots; ++slot) {
+    const int v = set.voxels[slot];
+    const int i = v % nx, j = (v / nx) % ny, k = v / (nx * ny);
+    const int neighbour[3] = {i + 1 < nx ? slot_of(v + 1) : -1, j + 1 < ny ? slot_of(v + nx) : -1,
+                              k + 1 < nz ? slot_of(v + nx * ny) : -1};
+    const int base = slot * cells;
+    if (full[slot]) {
+      for (int a = 0; a < 3; ++a) {
+        const int nb = neighbour[a];
+        if (nb < 0) continue;
+        if (full[nb]) {
+          unite(parent, base, nb * cells);
+          continue;
+        }
+        for (int m : octree.low_face[a]) {
+          if (in[nb * cells + m]) unite(parent, base, nb * cells + m);
+        }
+      }
+      continue;
+    }
+    for (int m = 0; m < cells; ++m) {
+      if (!in[base + m]) continue;
+      for (int a = 0; a < 3; ++a) {
+        const int n = octree.next[a][m];
+        if (octree.crosses[a][m]) {
+          const int nb = neighbour[a];
+          if (nb >= 0 && in[nb * cells + n]) unite(parent, base + m, rep(nb, n));
+        } else if (in[base + n]) {
+          unite(parent, base + m, base + n);
+        }
+      }
+    }
+  }
+  // Components in order of their first cell (roots are the smallest index of their component);
+  // cell count and z-extent (finest layer indices) of each.
+  ComponentTally tally;
+  thread_local std::vector<int> label;
+  label.resize(total);
+  for (int slot = 0; slot < slots; ++slot) {
+    const long k0 = static_cast<long>(set.voxels[slot] / (nx * ny)) * side;
+    const int base = slot * cells;
+    for (int m = 0; m < (full[slot] ? 1 : cells); ++m) {
+      if (!in[base + m]) continue;
+      const int root = find(parent, base + m);
+      if (root == base + m) label[root] = tally.add_component();
+      label[base + m] = label[root];
+      if (full[slot]) {
+        tally.add_cells(label[root], cells, k0, k0 + side - 1);
+      } else {
+        const long K = k0 + octree.coords[m][2];
+        tally.add_cells(label[root], 1, K, K);
+      }
+    }
+  }
+  for (int slot = 0; slot < slots; ++slot) slot_map[set.voxels[slot]] = -1;
+  const double cell_volume = grid.voxel_volume() * std::ldexp(1.0, -3 * octree.levels);
+  const double cell_height = grid.step.z() * std::ldexp(1.0, -octree.levels);
+  std::vector<std::uint8_t> keep;
+  const ComponentCount result = tally.decide(plausibility, cell_volume, cell_height, keep);
+  for (int slot = 0; slot < slots; ++slot) {
+    const int base = slot * cells;
+    if (full[slot]) {
+      std::fill_n(set.cells.begin() + base, cells, keep[label[base]]);
+      if (slot < static_cast<int>(set.whole.size())) set.whole[slot] &= keep[label[base]];
+      continue;
+    }
+    for (int m = 0; m < cells; ++m) {
+      if (in[base + m]) set.cells[base + m] = keep[label[base + m]];
+    }
+  }
+  return result;
+}
+
+}  // namespace detail
 
 }  // namespace camplace::voxel

@@ -54,7 +54,7 @@ Evaluation VoxelEvaluator::evaluate(const core::CameraConfig& config) const {
   // Per calling thread, reused: the optimizer evaluates thousands of configurations per
   // thread. (A reference, so that the worker threads below see this thread's buffers.)
   thread_local std::vector<std::vector<std::uint8_t>> buffers;
-  thread_local std::vector<detail::LeafSet> leaf_buffers;
+  thread_local std::vector<detail::CellSet> leaf_buffers;
   std::vector<std::vector<std::uint8_t>>& models = buffers;
   std::vector<detail::CameraSetup> cameras;
   m.all_raw_models(config, models, &cameras);
@@ -118,13 +118,13 @@ std::vector<std::uint8_t> VoxelEvaluator::model(const core::CameraConfig& config
   m.all_raw_models(config, models, &cameras);
   for (auto& model : models) filter_components(model, m.grid, m.scene.plausibility);
   if (m.levels == 0) return std::move(models[state]);
-  std::vector<detail::LeafSet> leaves;
+  std::vector<detail::CellSet> leaves;
   std::vector<ComponentCount> cells;
   std::vector<Impl::ModelDistance> distances;
   core::Timing timing;
   m.refined_states(cameras, models, leaves, cells, distances, timing);
   std::vector<std::uint8_t> out(m.grid.count(), 0);
-  const detail::LeafSet& set = leaves[state];
+  const detail::CellSet& set = leaves[state];
   for (std::size_t slot = 0; slot < set.voxels.size(); ++slot) {
     const auto begin = set.cells.begin() + slot * m.octree.cells;
     out[set.voxels[slot]] = std::find(begin, begin + m.octree.cells, 1) != begin + m.octree.cells;
@@ -147,14 +147,14 @@ std::vector<std::uint8_t> VoxelEvaluator::leaf_model(const core::CameraConfig& c
   std::vector<detail::CameraSetup> cameras;
   m.all_raw_models(config, models, &cameras);
   for (auto& model : models) filter_components(model, m.grid, m.scene.plausibility);
-  std::vector<detail::LeafSet> leaves;
+  std::vector<detail::CellSet> leaves;
   std::vector<ComponentCount> cells;
   std::vector<Impl::ModelDistance> distances;
   core::Timing timing;
   m.refined_states(cameras, models, leaves, cells, distances, timing);
   const Grid fine = leaf_grid();
   std::vector<std::uint8_t> out(static_cast<std::size_t>(fine.count()), 0);
-  const detail::LeafSet& set = leaves[state];
+  const detail::CellSet& set = leaves[state];
   const int side = m.octree.side, nx = m.grid.n[0], ny = m.grid.n[1];
   for (std::size_t slot = 0; slot < set.voxels.size(); ++slot) {
     const int v = set.voxels[slot];

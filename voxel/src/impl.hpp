@@ -14,11 +14,13 @@
 #include <vector>
 
 #include "camplace/core/camera.hpp"
+#include "camplace/core/error.hpp"
 #include "camplace/core/geometry.hpp"
 #include "camplace/core/scene.hpp"
 #include "camplace/core/sensor_model.hpp"
 #include "camplace/voxel/components.hpp"
 #include "camplace/voxel/evaluator.hpp"
+#include "cells.hpp"
 #include "solid_distance.hpp"
 
 namespace camplace::voxel {
@@ -172,36 +174,6 @@ struct CellSize {
   double factor = 1.0;                   ///< 2^−l
 };
 
-/// The cells of the octree below one base voxel (refine.cpp). A node is (level l, Morton index
-/// m < 8^l of its local coordinates (a, b, c) ∈ [0, 2^l)³ with bit t of a, b, c at bits 3t,
-/// 3t + 1, 3t + 2 of m); its children are 8m + q, q = qa + 2qb + 4qc; the finest cells (level
-/// L) below node (l, m) are the Morton range [m·8^(L−l), (m + 1)·8^(L−l)).
-struct Octree {
-  int levels = 0;
-  int side = 1;                            ///< 2^L
-  int cells = 1;                           ///< 8^L
-  std::vector<std::array<int, 3>> coords;  ///< per finest Morton index: (a, b, c)
-  /// Per axis and finest Morton index: the Morton index of the face neighbour at +1 along the
-  /// axis, wrapped to coordinate 0 in the next base voxel when `crosses`.
-  std::array<std::vector<int>, 3> next;
-  std::array<std::vector<std::uint8_t>, 3> crosses;
-  /// Per axis: the finest cells with coordinate 0 along it (the voxel's low face).
-  std::array<std::vector<int>, 3> low_face;
-  std::vector<int> offset;  ///< node (l, m) has index offset[l] + m, l = 0..L
-  int nodes = 1;            ///< Σ 8^l, l = 0..L
-};
-
-/// Finest cells of some base voxels for one state (a refined model before or after the filter,
-/// or the cells the lower bound proves): `voxels` ascending, `cells` one byte per finest cell
-/// of each, slot s's at [s·8^L, (s + 1)·8^L), Morton order.
-struct LeafSet {
-  std::vector<int> voxels;
-  std::vector<std::uint8_t> cells;
-  /// Per slot: 1 when every cell is in the set and the slot may be taken as a whole (a kept
-  /// base voxel left unrefined); 0 says nothing.
-  std::vector<std::uint8_t> whole;
-};
-
 /// How many deciding triangles refinement remembers per node and camera (judge_conservative()'s
 /// witnesses): one per copy of a target in each time step, say.
 constexpr int kWitnesses = 4;
@@ -276,7 +248,7 @@ struct VoxelEvaluator::Impl {
   std::vector<std::vector<std::uint8_t>> removed_by_step;  ///< obstacle interiors per step
   /// Conservative mode: per object, the voxels an occupying one reaches into (voxels_reached;
   /// empty for the others), and per chunk of 64 states and voxel the states where one of them
-  /// does. No camera ever sees such a voxel free (lower_bound() has the proof): raw_models
+  /// does. No camera ever sees such a voxel free (docs/design/labelling.md L6): raw_models
   /// keeps it in M for those states without a test.
   std::vector<std::vector<int>> reached_by_object;
   std::vector<std::vector<detail::StateMask>> chunk_reached;
@@ -324,7 +296,8 @@ struct VoxelEvaluator::Impl {
   /// The index of the object in `objects`, added with its triangles, or in conservative mode
   /// of an equal one added before (same role and mesh; shared by their states).
   int add_object(const core::SceneObject& object, core::ObjectRole role);
-  /// The conservative lower bound of Err (err_lower_bound(); the proof is in setup.cpp).
+  /// The conservative lower bound of Err (err_lower_bound()) at the evaluator's level
+  /// (lower_bound.cpp).
   double lower_bound() const;
   /// How deep (m) an occupying object must reach into a voxel's box for lower_bound() to count
   /// the voxel as always in M: 1e-9 of S's diagonal plus its largest |coordinate|.
@@ -351,7 +324,7 @@ struct VoxelEvaluator::Impl {
   /// stages' times to `timing`.
   void refined_states(const std::vector<detail::CameraSetup>& cameras,
                       const std::vector<std::vector<std::uint8_t>>& models,
-                      std::vector<detail::LeafSet>& leaves, std::vector<ComponentCount>& counts,
+                      std::vector<detail::CellSet>& leaves, std::vector<ComponentCount>& counts,
                       std::vector<ModelDistance>& distances, core::Timing& timing) const;
   /// ORs into `out` (the voxel's finest cells) the states of `pending` where each cell of base
   /// voxel v is in M before the filter: no camera proves it free, no obstacle holds it wholly.
@@ -377,12 +350,6 @@ struct VoxelEvaluator::Impl {
                               const detail::StateMask* object_states) const;
   bool ball_outside_fov(const detail::CameraSetup& cam, const core::Vec3& w, double d,
                         double r) const;
-  /// Components of the finest cells (6-connectivity across base voxels) and the plausibility
-  /// filter (core::Plausibility::keeps on cell count × cell volume and the z-extent of the
-  /// cells' boxes); clears the cells of removed components.
-  ComponentCount filter_leaves(detail::LeafSet& leaves) const;
-  /// The conservative lower bound of Err on the refined cells (refine.cpp has the proof).
-  double refined_lower_bound() const;
   /// The box of octree node (l, m) below base voxel v (m, world frame).
   core::Box3 node_box(int v, int level, int morton) const;
   /// d(C_h, node box)² (core::box_solid_sq_distance, min over C_h), cached.
@@ -415,11 +382,15 @@ struct VoxelEvaluator::Impl {
 
   // Distance (distance.cpp): d(C_h, M) and the model's volume for one state.
   ModelDistance model_distance(const std::vector<std::uint8_t>& model, int time_step) const;
-  /// d(C_h, M) and volume of the finest cells of `leaves` (refine.cpp): min over the cells of
-  /// node_sq, found by branch and bound down the octrees.
-  ModelDistance leaf_distance(const detail::LeafSet& leaves, int time_step) const;
+  /// d(C_h, M) and volume of the finest cells of `set` (node_sq of the nearest cell).
+  ModelDistance model_distance(const detail::CellSet& set, int time_step) const;
 
  private:
+  /// The scan of model_distance over either view of M (distance.cpp).
+  template <class Members>
+  ModelDistance nearest(const Members& members, int time_step) const;
+  /// min(best, distance² of the nearest cell of M in `slot` of `set`), by branch and bound.
+  double nearest_cell(const detail::CellSet& set, int slot, int time_step, double best) const;
   void row_interval(const detail::CameraSetup& cam, int j, int k, int& lo, int& hi, int& in_lo,
                     int& in_hi) const;
   bool in_fov(const detail::CameraSetup& cam, int i, int j, int k, const core::Vec3& w,

@@ -65,7 +65,7 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
         if (removed_by_step[h][v]) pending &= ~step_states[h];
       }
       // Conservative mode: the states where an occupying object reaches into the voxel stay in
-      // M untested; no camera would see it free there (the proof is at lower_bound(), setup.cpp).
+      // M untested; no camera would see it free there (docs/design/labelling.md L6).
       const StateMask kept = reached ? pending & reached[v] : 0;
       pending &= ~kept;
       if (pending) {

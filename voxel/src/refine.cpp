@@ -24,55 +24,12 @@ namespace camplace::voxel {
 using core::Box3;
 using core::Vec3;
 using detail::CameraSetup;
-using detail::LeafSet;
+using detail::CellSet;
 using detail::StateMask;
 
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-int morton_of(const std::array<int, 3>& c, int levels) {
-  int m = 0;
-  for (int t = 0; t < levels; ++t) {
-    for (int a = 0; a < 3; ++a) m |= ((c[a] >> t) & 1) << (3 * t + a);
-  }
-  return m;
-}
-
-detail::Octree make_octree(int levels) {
-  detail::Octree t;
-  t.levels = levels;
-  t.side = 1 << levels;
-  t.cells = 1 << (3 * levels);
-  t.coords.resize(t.cells);
-  for (int m = 0; m < t.cells; ++m) {
-    std::array<int, 3> c{0, 0, 0};
-    for (int b = 0; b < levels; ++b) {
-      for (int a = 0; a < 3; ++a) c[a] |= ((m >> (3 * b + a)) & 1) << b;
-    }
-    t.coords[m] = c;
-  }
-  for (int a = 0; a < 3; ++a) {
-    t.next[a].resize(t.cells);
-    t.crosses[a].resize(t.cells);
-    for (int m = 0; m < t.cells; ++m) {
-      std::array<int, 3> c = t.coords[m];
-      ++c[a];
-      t.crosses[a][m] = c[a] == t.side;
-      if (c[a] == t.side) c[a] = 0;
-      t.next[a][m] = morton_of(c, levels);
-      if (t.coords[m][a] == 0) t.low_face[a].push_back(m);
-    }
-  }
-  t.offset.assign(levels + 1, 0);
-  int count = 1;
-  for (int l = 1; l <= levels; ++l) {
-    t.offset[l] = t.offset[l - 1] + count;
-    count *= 8;
-  }
-  t.nodes = t.offset[levels] + count;
-  return t;
-}
 
 using detail::find;
 using detail::unite;
@@ -143,7 +100,6 @@ std::atomic<double>* NodeDistanceCache::block(int v) {
 }  // namespace detail
 
 void VoxelEvaluator::Impl::build_refinement() {
-  octree = make_octree(levels);
   for (int l = 1; l <= levels; ++l) {
     const double f = std::ldexp(1.0, -l);
     cell_sizes.push_back({half_step * f, voxel_radius * f, f});
@@ -402,7 +358,7 @@ void VoxelEvaluator::Impl::refine_voxel(detail::RefineContext& ctx, const StateM
 
 void VoxelEvaluator::Impl::refined_states(const std::vector<CameraSetup>& cameras,
                                           const std::vector<std::vector<std::uint8_t>>& models,
-                                          std::vector<LeafSet>& leaves,
+                                          std::vector<CellSet>& leaves,
                                           std::vector<ComponentCount>& counts,
                                           std::vector<ModelDistance>& distances,
                                           core::Timing& timing) const {
@@ -439,7 +395,7 @@ void VoxelEvaluator::Impl::refined_states(const std::vector<CameraSetup>& camera
     for (int s = 0; s < count; ++s) {
       const std::vector<std::uint8_t>& model = models[first + s];
       const ModelDistance base = model_distance(model, states[first + s].time_step);
-      LeafSet& set = leaves[first + s];
+      CellSet& set = leaves[first + s];
       set.voxels.clear();
       set.cells.clear();
       set.whole.clear();
@@ -498,7 +454,7 @@ void VoxelEvaluator::Impl::refined_states(const std::vector<CameraSetup>& camera
       detail::parallel_for(n_active, options.threads, [&](int a) {
         const int s = active[a];
         const StateMask bit = StateMask(1) << s;
-        LeafSet& set = leaves[first + s];
+        CellSet& set = leaves[first + s];
         set.voxels.clear();
         set.cells.clear();
         set.whole.clear();
@@ -516,13 +472,13 @@ void VoxelEvaluator::Impl::refined_states(const std::vector<CameraSetup>& camera
           const StateMask* masks = cell_masks.data() + static_cast<std::size_t>(slot_of[v]) * cells;
           for (int c = 0; c < cells; ++c) set.cells[at + c] = (masks[c] & bit) != 0;
         }
-        counts[first + s] = filter_leaves(set);
+        counts[first + s] = detail::filter_cells(set, octree, grid, scene.plausibility);
       });
       timing.clustering_ms += ms_since(t0);
       t0 = Clock::now();
       detail::parallel_for(n_active, options.threads, [&](int a) {
         const int s = active[a];
-        distances[first + s] = leaf_distance(leaves[first + s], states[first + s].time_step);
+        distances[first + s] = model_distance(leaves[first + s], states[first + s].time_step);
       });
       timing.distance_ms += ms_since(t0);
       std::vector<int> next;
@@ -664,316 +620,6 @@ bool VoxelEvaluator::Impl::ball_outside_fov(const CameraSetup& cam, const Vec3& 
   const double sin_b = r / d, cos_b = std::sqrt(1.0 - sin_b * sin_b);
   const double cos_limit = cam.cos_half * cos_b - cam.sin_half * sin_b;
   return axial < d * cos_limit - 1e-6 * d - tol;
-}
-
-ComponentCount VoxelEvaluator::Impl::filter_leaves(LeafSet& set) const {
-  const int cells = octree.cells;
-  const int slots = static_cast<int>(set.voxels.size());
-  const int nx = grid.n[0], ny = grid.n[1], nz = grid.n[2];
-  const int side = octree.side;
-  const std::uint8_t* in = set.cells.data();
-  // Union–find over the cells; a slot whose cells are all in the set ("full": a base voxel
-  // refinement left whole) stands for all of them with its first cell.
-  thread_local std::vector<int> parent;
-  thread_local std::vector<std::uint8_t> full;
-  const std::size_t total = static_cast<std::size_t>(slots) * cells;
-  parent.resize(total);
-  full.assign(slots, 0);
-  for (int slot = 0; slot < slots; ++slot) {
-    const std::uint8_t* c = in + static_cast<std::size_t>(slot) * cells;
-    full[slot] = (slot < static_cast<int>(set.whole.size()) && set.whole[slot]) ||
-                 std::find(c, c + cells, std::uint8_t(0)) == c + cells;
-    const int base = slot * cells;
-    if (full[slot]) {
-      parent[base] = base;
-    } else {
-      for (int m = 0; m < cells; ++m) parent[base + m] = base + m;
-    }
-  }
-  // Base voxel → slot (−1: none), reset to −1 before returning.
-  thread_local std::vector<int> slot_map;
-  if (slot_map.size() != static_cast<std::size_t>(grid.count())) slot_map.assign(grid.count(), -1);
-  for (int slot = 0; slot < slots; ++slot) slot_map[set.voxels[slot]] = slot;
-  auto slot_of = [&](int v) { return slot_map[v]; };
-  auto rep = [&](int slot, int m) { return full[slot] ? slot * cells : slot * cells + m; };
-  // Face neighbours at +x, +y, +z only (each pair once): 6-connectivity of the finest cells.
-  for (int slot = 0; slot < slots; ++slot) {
-    const int v = set.voxels[slot];
-    const int i = v % nx, j = (v / nx) % ny, k = v / (nx * ny);
-    const int neighbour[3] = {i + 1 < nx ? slot_of(v + 1) : -1, j + 1 < ny ? slot_of(v + nx) : -1,
-                              k + 1 < nz ? slot_of(v + nx * ny) : -1};
-    const int base = slot * cells;
-    if (full[slot]) {
-      for (int a = 0; a < 3; ++a) {
-        const int nb = neighbour[a];
-        if (nb < 0) continue;
-        if (full[nb]) {
-          unite(parent, base, nb * cells);
-          continue;
-        }
-        for (int m : octree.low_face[a]) {
-          if (in[nb * cells + m]) unite(parent, base, nb * cells + m);
-        }
-      }
-      continue;
-    }
-    for (int m = 0; m < cells; ++m) {
-      if (!in[base + m]) continue;
-      for (int a = 0; a < 3; ++a) {
-        const int n = octree.next[a][m];
-        if (octree.crosses[a][m]) {
-          const int nb = neighbour[a];
-          if (nb >= 0 && in[nb * cells + n]) unite(parent, base + m, rep(nb, n));
-        } else if (in[base + n]) {
-          unite(parent, base + m, base + n);
-        }
-      }
-    }
-  }
-  // Components in order of their first cell (roots are the smallest index of their component);
-  // cell count and z-extent (finest layer indices) of each.
-  struct Extent {
-    long cells = 0;
-    long kmin = 0, kmax = -1;
-  };
-  std::vector<Extent> extent;
-  thread_local std::vector<int> label;
-  label.resize(total);
-  auto add = [&](Extent& e, long count, long k0, long k1) {
-    if (e.kmax < 0) {
-      e.kmin = k0;
-      e.kmax = k1;
-    } else {
-      e.kmin = std::min(e.kmin, k0);
-      e.kmax = std::max(e.kmax, k1);
-    }
-    e.cells += count;
-  };
-  for (int slot = 0; slot < slots; ++slot) {
-    const long k0 = static_cast<long>(set.voxels[slot] / (nx * ny)) * side;
-    const int base = slot * cells;
-    for (int m = 0; m < (full[slot] ? 1 : cells); ++m) {
-      if (!in[base + m]) continue;
-      const int root = find(parent, base + m);
-      if (root == base + m) {
-        label[root] = static_cast<int>(extent.size());
-        extent.push_back({});
-      }
-      label[base + m] = label[root];
-      Extent& e = extent[label[root]];
-      if (full[slot]) {
-        add(e, cells, k0, k0 + side - 1);
-      } else {
-        const long K = k0 + octree.coords[m][2];
-        add(e, 1, K, K);
-      }
-    }
-  }
-  for (int slot = 0; slot < slots; ++slot) slot_map[set.voxels[slot]] = -1;
-  const double cell_volume = voxel_volume * std::ldexp(1.0, -3 * levels);
-  const double cell_height = grid.step.z() * cell_sizes[levels].factor;
-  ComponentCount result;
-  std::vector<std::uint8_t> keep(extent.size(), 0);
-  for (std::size_t c = 0; c < extent.size(); ++c) {
-    const double volume = static_cast<double>(extent[c].cells) * cell_volume;
-    const double height = static_cast<double>(extent[c].kmax - extent[c].kmin + 1) * cell_height;
-    keep[c] = scene.plausibility.keeps(volume, height);
-    ++(keep[c] ? result.kept : result.removed);
-  }
-  for (int slot = 0; slot < slots; ++slot) {
-    const int base = slot * cells;
-    if (full[slot]) {
-      std::fill_n(set.cells.begin() + base, cells, keep[label[base]]);
-      if (slot < static_cast<int>(set.whole.size())) set.whole[slot] &= keep[label[base]];
-      continue;
-    }
-    for (int m = 0; m < cells; ++m) {
-      if (in[base + m]) set.cells[base + m] = keep[label[base + m]];
-    }
-  }
-  return result;
-}
-
-VoxelEvaluator::Impl::ModelDistance VoxelEvaluator::Impl::leaf_distance(const LeafSet& set,
-                                                                        int time_step) const {
-  const int cells = octree.cells;
-  const int slots = static_cast<int>(set.voxels.size());
-  // Base voxels holding cells, nearest (by their box, a lower bound for their cells) first.
-  std::vector<std::pair<double, int>> order;
-  long count = 0;
-  // Slots by the lower bounds first (as model_distance): the exact voxel distances only for
-  // slots whose bound is not beyond the smallest voxel distance found so far.
-  const auto& lb = critical_lb_by_step[time_step];
-  double cutoff = kInf;
-  for (int slot = 0; slot < slots; ++slot) {
-    const bool whole = slot < static_cast<int>(set.whole.size()) && set.whole[slot];
-    const auto begin = set.cells.begin() + static_cast<std::ptrdiff_t>(slot) * cells;
-    const long here = whole ? cells : std::count(begin, begin + cells, std::uint8_t(1));
-    if (!here) continue;
-    count += here;
-    const int v = set.voxels[slot];
-    if (detail::beyond(lb[v], cutoff)) continue;
-    const double sq = critical_sq(time_step, v);
-    // A whole slot holds a cell as near as the voxel (up to rounding, within beyond's margin).
-    if (whole) cutoff = std::min(cutoff, sq);
-    order.push_back({sq, slot});
-  }
-  ModelDistance out;
-  out.volume = static_cast<double>(count) * voxel_volume * std::ldexp(1.0, -3 * levels);
-  if (count == 0) {
-    out.d_model = core::empty_model_distance(scene.area);
-    return out;
-  }
-  std::sort(order.begin(), order.end());
-  // Branch and bound down each octree: a node's box holds its cells' boxes, so its distance is
-  // a lower bound of theirs (detail::beyond allows for rounding); nodes with no cell are skipped.
-  thread_local std::vector<std::uint8_t> filled;
-  filled.resize(octree.nodes);
-  double best = kInf;
-  struct Candidate {
-    double sq;
-    int morton;
-  };
-  for (const auto& [voxel_sq, slot] : order) {
-    if (detail::beyond(voxel_sq, best)) break;
-    const int v = set.voxels[slot];
-    const std::uint8_t* leaf = set.cells.data() + static_cast<std::size_t>(slot) * cells;
-    std::copy(leaf, leaf + cells, filled.begin() + octree.offset[levels]);
-    for (int l = levels - 1; l >= 0; --l) {  // (all ones for a whole slot: cheap enough)
-      const int n = 1 << (3 * l);
-      const std::uint8_t* below = filled.data() + octree.offset[l + 1];
-      for (int m = 0; m < n; ++m) {
-        std::uint8_t any = 0;
-        for (int q = 0; q < 8; ++q) any |= below[8 * m + q];
-        filled[octree.offset[l] + m] = any;
-      }
-    }
-    // Depth-first, children nearest first.
-    auto descend = [&](auto& self, int level, int morton) -> void {
-      Candidate children[8];
-      int n = 0;
-      for (int q = 0; q < 8; ++q) {
-        const int child = 8 * morton + q;
-        if (!filled[octree.offset[level + 1] + child]) continue;
-        const double sq = node_sq(time_step, v, level + 1, child);
-        if (detail::beyond(sq, best)) continue;
-        // Insertion into the sorted list (at most 8).
-        int at = n++;
-        for (; at > 0 && children[at - 1].sq > sq; --at) children[at] = children[at - 1];
-        children[at] = {sq, child};
-      }
-      for (int c = 0; c < n; ++c) {
-        if (detail::beyond(children[c].sq, best)) break;
-        if (level + 1 == levels) {
-          best = std::min(best, children[c].sq);
-        } else {
-          self(self, level + 1, children[c].morton);
-        }
-      }
-    };
-    descend(descend, 0, 0);
-  }
-  out.d_model = std::sqrt(best);
-  return out;
-}
-
-/// The conservative lower bound of Err on the refined model (err_lower_bound()), proved in
-/// docs/design/lower-bound.md B2. Cells are found by descending from the base voxels
-/// voxels_reached() gives, through the nodes whose shrunk box meets the object (a cell left out
-/// only makes the bound smaller).
-double VoxelEvaluator::Impl::refined_lower_bound() const {
-  const double depth = contact_depth();
-  const int cells = octree.cells;
-  std::vector<core::ErrTerm> terms;
-  // Per occupying object: its reached finest cells, per reached base voxel (ascending).
-  struct Reached {
-    std::vector<int> voxels;
-    std::vector<std::uint8_t> cells;  ///< voxels.size() × cells
-  };
-  std::vector<Reached> reached(objects.size());
-  std::vector<std::uint8_t> known(objects.size(), 0);
-  const bool measurable = 2.0 * depth < (grid.step * cell_sizes[levels].factor).minCoeff();
-  auto compute = [&](int o) {
-    Reached r;
-    if (!measurable) return r;  // cells too small to tell
-    const std::vector<detail::IndexedSolid> solid{detail::index_solid(*objects[o].mesh)};
-    for (int v : voxels_reached(*objects[o].mesh)) {
-      std::vector<std::uint8_t> flags(cells, 0);
-      bool any = false;
-      std::vector<std::pair<int, int>> stack{{0, 0}};
-      while (!stack.empty()) {
-        const auto [level, morton] = stack.back();
-        stack.pop_back();
-        for (int q = 0; q < 8; ++q) {
-          const int child = 8 * morton + q;
-          const Box3 box = node_box(v, level + 1, child);
-          const Box3 inner{box.min + Vec3::Constant(depth), box.max - Vec3::Constant(depth)};
-          if (detail::box_solids_sq_distance(solid, inner, 0.0) != 0.0) continue;
-          if (level + 1 == levels) {
-            flags[child] = 1;
-            any = true;
-          } else {
-            stack.push_back({level + 1, child});
-          }
-        }
-      }
-      if (!any) continue;
-      r.voxels.push_back(v);
-      r.cells.insert(r.cells.end(), flags.begin(), flags.end());
-    }
-    return r;
-  };
-  for (const detail::StateInfo& state : states) {
-    const int h = state.time_step;
-    // The union of the state's occupying objects' cells, less obstacle interiors.
-    std::vector<int> voxels;
-    for (int o : state.objects) {
-      if (!objects[o].occupying) continue;
-      if (!known[o]) {
-        reached[o] = compute(o);
-        known[o] = 1;
-      }
-      voxels.insert(voxels.end(), reached[o].voxels.begin(), reached[o].voxels.end());
-    }
-    std::sort(voxels.begin(), voxels.end());
-    voxels.erase(std::unique(voxels.begin(), voxels.end()), voxels.end());
-    voxels.erase(std::remove_if(voxels.begin(), voxels.end(),
-                                [&](int v) { return removed_by_step[h][v] != 0; }),
-                 voxels.end());
-    LeafSet set;
-    set.voxels = voxels;
-    set.cells.assign(voxels.size() * cells, 0);
-    for (int o : state.objects) {
-      if (!objects[o].occupying) continue;
-      const Reached& r = reached[o];
-      for (std::size_t n = 0; n < r.voxels.size(); ++n) {
-        const auto it = std::lower_bound(voxels.begin(), voxels.end(), r.voxels[n]);
-        if (it == voxels.end() || *it != r.voxels[n]) continue;  // removed
-        const std::size_t slot = it - voxels.begin();
-        for (int c = 0; c < cells; ++c) set.cells[slot * cells + c] |= r.cells[n * cells + c];
-      }
-    }
-    for (std::size_t slot = 0; slot < voxels.size(); ++slot) {
-      const int table = removal_index[h][voxels[slot]];
-      if (table < 0) continue;
-      const std::uint8_t* removed = removal_tables[table].data();
-      for (int l = 1; l <= levels; ++l) {
-        const int span = 1 << (3 * (levels - l));
-        for (int m = 0; m < (1 << (3 * l)); ++m) {
-          if (!removed[octree.offset[l] + m]) continue;
-          std::fill_n(set.cells.begin() + slot * cells + static_cast<std::size_t>(m) * span, span,
-                      std::uint8_t(0));
-        }
-      }
-    }
-    filter_leaves(set);
-    const bool kept = std::find(set.cells.begin(), set.cells.end(), 1) != set.cells.end();
-    // No kept group: d' = d_true, the term is 0.
-    const double bound =
-        kept ? std::min(state.d_true, leaf_distance(set, h).d_model) : state.d_true;
-    terms.push_back({state.weight, state.d_true, bound});
-  }
-  return core::error_functional(terms);
 }
 
 }  // namespace camplace::voxel

@@ -56,6 +56,7 @@ int VoxelEvaluator::Impl::add_object(const core::SceneObject& object, core::Obje
 void VoxelEvaluator::Impl::build() {
   using core::ObjectKind;
   cell_sizes.assign(1, {half_step, voxel_radius, 1.0});
+  octree = detail::make_octree(levels);
   // Voxel bounds per axis exactly as Grid::voxel_box computes them.
   for (int a = 0; a < 3; ++a) {
     for (int i = 0; i < grid.n[a]; ++i) {
@@ -131,76 +132,7 @@ void VoxelEvaluator::Impl::build() {
     }
   }
   if (levels > 0) build_refinement();
-  if (conservative) err_lower_bound = levels > 0 ? refined_lower_bound() : lower_bound();
-}
-
-/// The conservative lower bound of Err (the rule at VoxelEvaluator::err_lower_bound()); it holds
-/// for every configuration by docs/design/lower-bound.md B1 (reached voxels: labelling.md L6).
-/// Err and the bound add the same terms in different orders: compare through
-/// core::lower_bound_threshold.
-double VoxelEvaluator::Impl::lower_bound() const {
-  std::vector<std::uint8_t> group(grid.count());
-  std::vector<core::ErrTerm> terms;
-  for (const detail::StateInfo& state : states) {
-    const auto& removed = removed_by_step[state.time_step];
-    std::fill(group.begin(), group.end(), std::uint8_t(0));
-    for (int o : state.objects) {
-      for (int v : reached_by_object[o]) {  // (empty for occluding objects)
-        if (!removed[v]) group[v] = 1;
-      }
-    }
-    filter_components(group, grid, scene.plausibility);
-    const auto& lb = critical_lb_by_step[state.time_step];
-    double best = std::numeric_limits<double>::infinity();
-    for (int v = 0; v < grid.count(); ++v) {
-      if (!group[v] || lb[v] >= best) continue;  // lb[v] ≥ best: so is the value
-      best = std::min(best, critical_sq(state.time_step, v));
-    }
-    // No kept group (best = ∞): d' = d_true, the term is 0.
-    const double bound = std::min(state.d_true, std::sqrt(best));
-    terms.push_back({state.weight, state.d_true, bound});
-  }
-  return core::error_functional(terms);
-}
-
-double VoxelEvaluator::Impl::contact_depth() const {
-  // Far above the labeller's touching tolerance (1e-12 of the camera's distance plus the
-  // voxel's half extents: below 2e-12 of S's diagonal for cameras in S, where the domains put
-  // them; `evaluate` accepts cameras outside S, still below this depth within ~1000 diagonals of
-  // S) and far above the rounding of coordinates as large as S's corners. Objects outside S do
-  // not enter: only points inside a voxel of S are proven.
-  const double far =
-      std::max(grid.area.min.cwiseAbs().maxCoeff(), grid.area.max.cwiseAbs().maxCoeff());
-  return 1e-9 * (grid.area.diagonal() + far);
-}
-
-/// The voxels whose box, shrunk by contact_depth() on every side, meets the closed solid `mesh`
-/// (core::box_solid_sq_distance == 0; the culled distance is exact at 0), ascending. Only
-/// voxels within one voxel of the solid's bounding box are tested.
-std::vector<int> VoxelEvaluator::Impl::voxels_reached(const core::TriangleMesh& mesh) const {
-  const double depth = contact_depth();
-  std::vector<int> out;
-  if (!(2.0 * depth < grid.step.minCoeff())) return out;  // voxels too small to tell
-  const std::vector<detail::IndexedSolid> solid{detail::index_solid(mesh)};
-  const Box3& bounds = solid.front().bounds;
-  std::array<int, 3> lo{}, hi{};
-  for (int a = 0; a < 3; ++a) {
-    const double first = std::floor((bounds.min[a] - grid.area.min[a]) / grid.step[a]) - 1.0;
-    const double last = std::floor((bounds.max[a] - grid.area.min[a]) / grid.step[a]) + 1.0;
-    lo[a] = static_cast<int>(std::clamp(first, 0.0, grid.n[a] - 1.0));
-    hi[a] = static_cast<int>(std::clamp(last, 0.0, grid.n[a] - 1.0));
-  }
-  for (int k = lo[2]; k <= hi[2]; ++k) {
-    for (int j = lo[1]; j <= hi[1]; ++j) {
-      for (int i = lo[0]; i <= hi[0]; ++i) {
-        const int v = i + grid.n[0] * (j + grid.n[1] * k);
-        const Box3 box = grid.voxel_box(v);
-        const Box3 inner{box.min + Vec3::Constant(depth), box.max - Vec3::Constant(depth)};
-        if (detail::box_solids_sq_distance(solid, inner, 0.0) == 0.0) out.push_back(v);
-      }
-    }
-  }
-  return out;
+  if (conservative) err_lower_bound = lower_bound();
 }
 
 /// Voxels removed as obstacle interior (SPEC §4–5): centre inside (center mode) or the whole
