@@ -305,6 +305,10 @@ struct VoxelEvaluator::Impl {
   /// Voxels whose box, shrunk by contact_depth(), meets the closed solid `mesh`, ascending.
   std::vector<int> voxels_reached(const core::TriangleMesh& mesh) const;
   std::vector<std::uint8_t> obstacle_interiors(const core::TimeStep& step) const;
+  /// The step's obstacles (core::is_obstacle): static, then dynamic.
+  std::vector<const core::SceneObject*> obstacles_of(const core::TimeStep& step) const;
+  /// Per axis, the base voxel indices [lo, hi] within one voxel of `bounds`, clamped to the grid.
+  std::array<std::array<int, 2>, 3> voxel_range(const core::Box3& bounds) const;
   /// The shells of shells_by_step for one step's lower bounds.
   LowerBoundShells lower_bound_shells(const std::vector<double>& lb) const;
   /// The lower bounds of critical_lb_by_step for one step.
@@ -314,8 +318,12 @@ struct VoxelEvaluator::Impl {
   double critical_sq(int time_step, int v) const;
 
   // Refinement (refine.cpp).
-  /// Set-up: octree tables, cell sizes, obstacle-interior tables, distance caches.
+  /// Set-up: octree tables, cell sizes, obstacle-interior tables, distance caches
+  /// (refine_setup.cpp).
   void build_refinement();
+  template <class Inside, class Meets>
+  bool node_table(int v, const Inside& wholly_inside, const Meets& meets_surface,
+                  std::vector<std::uint8_t>& table) const;
   /// The refined model of every state from the filtered base models `models` (refine.cpp):
   /// kept base voxels near C_h are refined (within a radius that starts at the unrefined
   /// d(C_h, M) plus a voxel diagonal and grows until the nearest kept cell lies within it), the

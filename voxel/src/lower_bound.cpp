@@ -142,16 +142,10 @@ std::vector<int> VoxelEvaluator::Impl::voxels_reached(const core::TriangleMesh& 
   if (!(2.0 * depth < grid.step.minCoeff())) return out;  // voxels too small to tell
   const std::vector<detail::IndexedSolid> solid{detail::index_solid(mesh)};
   const Box3& bounds = solid.front().bounds;
-  std::array<int, 3> lo{}, hi{};
-  for (int a = 0; a < 3; ++a) {
-    const double first = std::floor((bounds.min[a] - grid.area.min[a]) / grid.step[a]) - 1.0;
-    const double last = std::floor((bounds.max[a] - grid.area.min[a]) / grid.step[a]) + 1.0;
-    lo[a] = static_cast<int>(std::clamp(first, 0.0, grid.n[a] - 1.0));
-    hi[a] = static_cast<int>(std::clamp(last, 0.0, grid.n[a] - 1.0));
-  }
-  for (int k = lo[2]; k <= hi[2]; ++k) {
-    for (int j = lo[1]; j <= hi[1]; ++j) {
-      for (int i = lo[0]; i <= hi[0]; ++i) {
+  const auto range = voxel_range(bounds);
+  for (int k = range[2][0]; k <= range[2][1]; ++k) {
+    for (int j = range[1][0]; j <= range[1][1]; ++j) {
+      for (int i = range[0][0]; i <= range[0][1]; ++i) {
         const int v = i + grid.n[0] * (j + grid.n[1] * k);
         const Box3 box = grid.voxel_box(v);
         const Box3 inner{box.min + Vec3::Constant(depth), box.max - Vec3::Constant(depth)};

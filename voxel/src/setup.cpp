@@ -141,35 +141,38 @@ void VoxelEvaluator::Impl::build() {
 std::vector<std::uint8_t> VoxelEvaluator::Impl::obstacle_interiors(
     const core::TimeStep& step) const {
   std::vector<std::uint8_t> removed(grid.count(), 0);
-  std::vector<const core::SceneObject*> obstacles;
-  for (const auto& o : scene.static_obstacles) obstacles.push_back(&o);
-  for (const auto& o : step.dynamic_obstacles) obstacles.push_back(&o);
+  const std::vector<const core::SceneObject*> obstacles = obstacles_of(step);
   for (int v = 0; v < grid.count(); ++v) {
     const Box3 box = grid.voxel_box(v);
-    // The voxel is inside the closed solid when its centre is and no triangle reaches into its
-    // interior: test against the box shrunk by 1e-9 m so that faces lying on the voxel's
-    // boundary (grid-aligned obstacles) do not count.
-    const Box3 interior{box.min + Vec3::Constant(1e-9), box.max - Vec3::Constant(1e-9)};
+    // Shrunk by 1e-9 m so that faces lying on the voxel's boundary (grid-aligned obstacles) do
+    // not count; center mode needs the centre only.
     for (const core::SceneObject* o : obstacles) {
-      if (!o->bounds.contains(box.center())) continue;
-      if (!core::inside_mesh(o->mesh, box.center())) continue;
-      bool whole = true;
-      if (conservative) {
-        for (const auto& t : o->mesh.triangles) {
-          if (core::triangle_box_overlap(o->mesh.vertices[t[0]], o->mesh.vertices[t[1]],
-                                         o->mesh.vertices[t[2]], interior)) {
-            whole = false;
-            break;
-          }
-        }
-      }
-      if (whole) {
+      if (detail::box_inside_solid(o->mesh, o->bounds, box, 1e-9, conservative)) {
         removed[v] = 1;
         break;
       }
     }
   }
   return removed;
+}
+
+std::vector<const core::SceneObject*> VoxelEvaluator::Impl::obstacles_of(
+    const core::TimeStep& step) const {
+  std::vector<const core::SceneObject*> obstacles;
+  for (const auto& o : scene.static_obstacles) obstacles.push_back(&o);
+  for (const auto& o : step.dynamic_obstacles) obstacles.push_back(&o);
+  return obstacles;
+}
+
+std::array<std::array<int, 2>, 3> VoxelEvaluator::Impl::voxel_range(const Box3& bounds) const {
+  std::array<std::array<int, 2>, 3> range{};
+  for (int a = 0; a < 3; ++a) {
+    const double first = std::floor((bounds.min[a] - grid.area.min[a]) / grid.step[a]) - 1.0;
+    const double last = std::floor((bounds.max[a] - grid.area.min[a]) / grid.step[a]) + 1.0;
+    range[a][0] = static_cast<int>(std::clamp(first, 0.0, grid.n[a] - 1.0));
+    range[a][1] = static_cast<int>(std::clamp(last, 0.0, grid.n[a] - 1.0));
+  }
+  return range;
 }
 
 /// Lower bounds of d(C_h, voxel)² (SPEC §5) for one step: from the distance of the voxel's

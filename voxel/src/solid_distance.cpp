@@ -247,4 +247,32 @@ double point_solids_sq_distance(const std::vector<IndexedSolid>& solids, const V
   return result;
 }
 
+bool box_meets_surface(const core::TriangleMesh& mesh, const Box3& bounds, const Box3& box) {
+  if ((bounds.min.array() > box.max.array()).any() ||
+      (bounds.max.array() < box.min.array()).any()) {
+    return false;
+  }
+  for (const auto& t : mesh.triangles) {
+    if (core::triangle_box_overlap(mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]],
+                                   box)) {
+      return true;
+    }
+  }
+  return false;
+}
+
+bool box_inside_solid(const core::TriangleMesh& mesh, const Box3& bounds, const Box3& box,
+                      double depth, bool faces) {
+  if (!bounds.contains(box.center()) || !core::inside_mesh(mesh, box.center())) return false;
+  if (!faces) return true;
+  const Box3 interior{box.min + Vec3::Constant(depth), box.max - Vec3::Constant(depth)};
+  for (const auto& t : mesh.triangles) {
+    if (core::triangle_box_overlap(mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]],
+                                   interior)) {
+      return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace camplace::voxel::detail

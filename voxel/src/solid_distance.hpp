@@ -42,4 +42,14 @@ double box_solids_sq_distance(const std::vector<IndexedSolid>& solids, const cor
 double point_solids_sq_distance(const std::vector<IndexedSolid>& solids, const core::Vec3& p,
                                 double cutoff);
 
+/// Whether a triangle of `mesh` meets `box` (core::triangle_box_overlap); `bounds`: the mesh's
+/// bounding box, tested first.
+bool box_meets_surface(const core::TriangleMesh& mesh, const core::Box3& bounds,
+                       const core::Box3& box);
+/// Whether `box` lies wholly inside the closed solid `mesh` (bounding box `bounds`): its centre
+/// is inside (core::inside_mesh) and, with `faces`, no triangle meets the box shrunk by `depth`
+/// on every side (faces lying on the box's boundary do not count).
+bool box_inside_solid(const core::TriangleMesh& mesh, const core::Box3& bounds,
+                      const core::Box3& box, double depth, bool faces = true);
+
 }  // namespace camplace::voxel::detail

@@ -1,6 +1,6 @@
 #pragma once
 // Union–find over integer ids (path halving; the smaller id becomes the root), shared by the
-// component filter on voxel runs (components.cpp) and the refined cells (refine.cpp).
+// component filter on voxel runs and on refined cells (components.cpp).
 #include <algorithm>
 #include <vector>
 
