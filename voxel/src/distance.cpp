@@ -135,13 +135,15 @@ double VoxelEvaluator::Impl::nearest_cell(const CellSet& set, int slot, int time
     double sq;
     int morton;
   };
-  auto descend = [&](auto& self, int level, int morton) -> void {
+  auto descend = [&](auto& self, int level, int morton, [[maybe_unused]] double node) -> void {
     Candidate children[8];
     int n = 0;
     for (int q = 0; q < 8; ++q) {
       const int child = 8 * morton + q;
       if (!filled[octree.offset[level + 1] + child]) continue;
       const double sq = node_sq(time_step, v, level + 1, child);
+      // A node's distance bounds its children's, which branch and bound relies on (D2).
+      CAMPLACE_ASSERT(!detail::beyond(node, sq));
       if (detail::beyond(sq, best)) continue;
       // Insertion into the sorted list (at most 8).
       int at = n++;
@@ -153,11 +155,11 @@ double VoxelEvaluator::Impl::nearest_cell(const CellSet& set, int slot, int time
       if (level + 1 == levels) {
         best = std::min(best, children[c].sq);
       } else {
-        self(self, level + 1, children[c].morton);
+        self(self, level + 1, children[c].morton, children[c].sq);
       }
     }
   };
-  descend(descend, 0, 0);
+  descend(descend, 0, 0, critical_sq(time_step, v));
   return best;
 }
 

@@ -59,18 +59,28 @@ Evaluation VoxelEvaluator::evaluate(const core::CameraConfig& config) const {
   std::vector<detail::CameraSetup> cameras;
   m.all_raw_models(config, models, &cameras);
   result.timing.labelling_ms = ms_since(t0);
+#if CAMPLACE_EXPENSIVE_CHECKS
+  m.check_labels(config, models);
+  const std::vector<std::vector<std::uint8_t>> raw = models;
+#endif
   std::vector<ComponentCount> filtered(state_count);
   t0 = Clock::now();
   detail::parallel_for(state_count, m.options.threads, [&](int s) {
     filtered[s] = filter_components(models[s], m.grid, m.scene.plausibility);
   });
   result.timing.clustering_ms = ms_since(t0);
+#if CAMPLACE_EXPENSIVE_CHECKS
+  m.check_filtered(raw, models);
+#endif
   std::vector<Impl::ModelDistance> distances(state_count);
   if (m.levels > 0) {
     // Refinement of the kept base components (a cell component lies in one base component and
     // is not larger, so base components the filter removes hold none that it would keep).
     std::vector<ComponentCount> cells;
     m.refined_states(cameras, models, leaf_buffers, cells, distances, result.timing);
+#if CAMPLACE_EXPENSIVE_CHECKS
+    m.check_refined(models, leaf_buffers, distances);
+#endif
     t0 = Clock::now();
     for (int s = 0; s < state_count; ++s) {
       filtered[s].kept = cells[s].kept;
@@ -81,6 +91,11 @@ Evaluation VoxelEvaluator::evaluate(const core::CameraConfig& config) const {
     detail::parallel_for(state_count, m.options.threads, [&](int s) {
       distances[s] = m.model_distance(models[s], m.states[s].time_step);
     });
+#if CAMPLACE_EXPENSIVE_CHECKS
+    for (int s = 0; s < state_count; ++s) {
+      m.check_distance(models[s], m.states[s].time_step, distances[s]);
+    }
+#endif
   }
   for (int s = 0; s < state_count; ++s) {
     const detail::StateInfo& state = m.states[s];

@@ -393,6 +393,23 @@ struct VoxelEvaluator::Impl {
   /// d(C_h, M) and volume of the finest cells of `set` (node_sq of the nearest cell).
   ModelDistance model_distance(const detail::CellSet& set, int time_step) const;
 
+  // Expensive checks (expensive_checks.cpp; only with CAMPLACE_EXPENSIVE_CHECKS): abort with a
+  /// message when a stage disagrees with an independent or plain computation.
+  /// A sample of voxels of the raw models against tests/support/reference.
+  void check_labels(const core::CameraConfig& config,
+                    const std::vector<std::vector<std::uint8_t>>& models) const;
+  /// Filtered models ⊆ raw models.
+  void check_filtered(const std::vector<std::vector<std::uint8_t>>& raw,
+                      const std::vector<std::vector<std::uint8_t>>& filtered) const;
+  /// model_distance equals the plain minimum over every voxel of the model.
+  void check_distance(const std::vector<std::uint8_t>& model, int time_step,
+                      const ModelDistance& found) const;
+  /// Refined models ⊆ the (filtered) unrefined ones, no nearer, and their distance equals the
+  /// plain minimum over every finest cell.
+  void check_refined(const std::vector<std::vector<std::uint8_t>>& models,
+                     const std::vector<detail::CellSet>& leaves,
+                     const std::vector<ModelDistance>& distances) const;
+
  private:
   /// The scan of model_distance over either view of M (distance.cpp).
   template <class Members>

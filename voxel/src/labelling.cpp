@@ -98,6 +98,7 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
         }
       }
       pending |= kept;
+      CAMPLACE_ASSERT((pending & ~all) == 0);  // states of this chunk only
       for (StateMask m = pending; m; m &= m - 1) out[__builtin_ctzll(m)][v] = 1;
     };
     // Conservative mode: the states where some camera sees a whole block free (block_clear,

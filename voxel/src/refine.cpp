@@ -110,6 +110,8 @@ void VoxelEvaluator::Impl::refined_states(const std::vector<CameraSetup>& camera
   for (int chunk = 0; chunk * detail::kChunk < state_count; ++chunk) {
     const int first = chunk * detail::kChunk;
     const int count = std::min(detail::kChunk, state_count - first);
+    [[maybe_unused]] const StateMask chunk_all =
+        count == detail::kChunk ? ~StateMask(0) : (StateMask(1) << count) - 1;
     const std::vector<StateMask> seeing = seeing_states(cameras, chunk);
     const StateMask* step_states = chunk_step_states[chunk].data();
     refined.assign(grid.count(), 0);
@@ -156,6 +158,7 @@ void VoxelEvaluator::Impl::refined_states(const std::vector<CameraSetup>& camera
           slot_of[v] = slot_count++;
           cell_masks.resize(static_cast<std::size_t>(slot_count) * cells, 0);
         }
+        CAMPLACE_ASSERT((add & ~chunk_all) == 0);  // states of this chunk only
         refined[v] |= add;
         work.push_back({v, add});
       }
@@ -197,6 +200,7 @@ void VoxelEvaluator::Impl::refined_states(const std::vector<CameraSetup>& camera
         for (std::size_t slot = 0; slot < set.voxels.size(); ++slot) {
           const int v = set.voxels[slot];
           if (!(refined[v] & bit)) continue;
+          CAMPLACE_ASSERT(model[v] != 0);  // refined cells lie in the state's base voxels
           set.whole[slot] = 0;
           const std::size_t at = slot * cells;
           const StateMask* masks = cell_masks.data() + static_cast<std::size_t>(slot_of[v]) * cells;

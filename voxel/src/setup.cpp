@@ -240,6 +240,8 @@ double VoxelEvaluator::Impl::critical_sq(int time_step, int v) const {
   const double value = solids.empty() ? std::numeric_limits<double>::infinity()
                                       : detail::box_solids_sq_distance(
                                             solids, box, detail::vertex_upper_bound(solids, box));
+  // The lower bound that lets model_distance skip voxels bounds the value (distance.md D1).
+  CAMPLACE_ASSERT(!detail::beyond(critical_lb_by_step[time_step][v], value));
   slot.store(value, std::memory_order_relaxed);
   return value;
 }
