@@ -226,11 +226,10 @@ class NodeDistanceCache {
   std::unique_ptr<std::atomic<std::atomic<double>*>[]> blocks_;
 };
 
-}  // namespace detail
-
-struct VoxelEvaluator::Impl {
-  core::Scene scene;
-  VoxelOptions options;
+/// The tables set-up builds once from the scene (setup.cpp) and every stage reads: the grid's
+/// voxel boxes, the objects with their roles and triangles, the states with their state masks
+/// per chunk of 64, obstacle interiors and the voxels occupying objects reach into.
+struct SceneTables {
   Grid grid;
   bool conservative = true;
   core::Vec3 half_step = core::Vec3::Zero();
@@ -252,6 +251,11 @@ struct VoxelEvaluator::Impl {
   /// keeps it in M for those states without a test.
   std::vector<std::vector<int>> reached_by_object;
   std::vector<std::vector<detail::StateMask>> chunk_reached;
+};
+
+/// Distances from the critical objects C_h to the voxels, per time step (setup.cpp; read by
+/// distance.cpp and lower_bound.cpp).
+struct CriticalTables {
   /// Per step and voxel: a lower bound of d(C_h, voxel)² (the centre's distance less the
   /// voxel's radius; in center mode the value itself), and in conservative mode the value,
   /// computed on first use by critical_sq (NaN until then; evaluate() is const and runs on
@@ -268,9 +272,11 @@ struct VoxelEvaluator::Impl {
   std::vector<LowerBoundShells> shells_by_step;
   std::vector<std::unique_ptr<std::atomic<double>[]>> critical_by_step;
   std::vector<std::vector<detail::IndexedSolid>> critical_solids_by_step;
-  double err_lower_bound = 0.0;  ///< conservative mode only
+};
 
-  // Refinement (refine.cpp; conservative mode, options.refine = L > 0 levels).
+/// Refinement's tables (refine_setup.cpp; conservative mode, options.refine = L > 0 levels;
+/// at L = 0 the octree of one cell per voxel, which the lower bound and the cell filter use).
+struct RefinementTables {
   int levels = 0;
   std::vector<detail::CellSize> cell_sizes;  ///< per level 0..L
   detail::Octree octree;
@@ -284,6 +290,19 @@ struct VoxelEvaluator::Impl {
   std::vector<std::vector<std::pair<int, int>>> inside_by_voxel;
   std::vector<std::vector<std::uint8_t>> inside_tables;
   std::vector<std::unique_ptr<detail::NodeDistanceCache>> node_sq_by_step;
+};
+
+}  // namespace detail
+
+/// The evaluator's state is the three stages' tables (set-up, critical distances, refinement);
+/// the per-camera tables are detail::CameraSetup, built per evaluation; per-evaluation buffers
+/// are the callers' (evaluator.cpp). The methods are grouped by the file that defines them.
+struct VoxelEvaluator::Impl : detail::SceneTables,
+                              detail::CriticalTables,
+                              detail::RefinementTables {
+  core::Scene scene;
+  VoxelOptions options;
+  double err_lower_bound = 0.0;  ///< conservative mode only
 
   /// d(C_h, M) and the model's volume for one state.
   struct ModelDistance {
