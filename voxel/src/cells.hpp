@@ -12,7 +12,7 @@
 
 namespace camplace::voxel::detail {
 
-/// The cells of the octree below one base voxel (refine.cpp). A node is (level l, Morton index
+/// The cells of the octree below one base voxel. A node is (level l, Morton index
 /// m < 8^l of its local coordinates (a, b, c) ∈ [0, 2^l)³ with bit t of a, b, c at bits 3t,
 /// 3t + 1, 3t + 2 of m); its children are 8m + q, q = qa + 2qb + 4qc; the finest cells (level
 /// L) below node (l, m) are the Morton range [m·8^(L−l), (m + 1)·8^(L−l)).

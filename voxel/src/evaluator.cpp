@@ -1,5 +1,6 @@
-// The voxel pipeline (SPEC §3–5): the public evaluator. Its stages live in setup.cpp,
-// labelling.cpp, components.cpp and distance.cpp around the private Impl (impl.hpp).
+// The voxel pipeline (SPEC §3–5): the public evaluator — labelling, the plausibility filter,
+// refinement and d(C_h, M) per state, in that order — around the private Impl (impl.hpp, which
+// says where each stage lives).
 #include "camplace/voxel/evaluator.hpp"
 
 #include <algorithm>
@@ -125,21 +126,28 @@ std::vector<Label> VoxelEvaluator::labels(const core::CameraSetting& camera, int
   return m.labels(m.camera_setup(camera, m.scene.cameras.models.at(camera_index)), state);
 }
 
+detail::FilteredModels VoxelEvaluator::Impl::filtered_models(
+    const core::CameraConfig& config) const {
+  const Impl& m = *this;
+  detail::FilteredModels out;
+  std::vector<detail::CameraSetup> cameras;
+  m.all_raw_models(config, out.base, &cameras);
+  for (auto& model : out.base) filter_components(model, m.grid, m.scene.plausibility);
+  if (m.levels == 0) return out;
+  std::vector<ComponentCount> counts;
+  std::vector<ModelDistance> distances;
+  core::Timing timing;
+  m.refined_states(cameras, out.base, out.cells, counts, distances, timing);
+  return out;
+}
+
 std::vector<std::uint8_t> VoxelEvaluator::model(const core::CameraConfig& config, int state) const {
   const Impl& m = *impl_;
-  m.states.at(state);
-  std::vector<std::vector<std::uint8_t>> models;
-  std::vector<detail::CameraSetup> cameras;
-  m.all_raw_models(config, models, &cameras);
-  for (auto& model : models) filter_components(model, m.grid, m.scene.plausibility);
-  if (m.levels == 0) return std::move(models[state]);
-  std::vector<detail::CellSet> leaves;
-  std::vector<ComponentCount> cells;
-  std::vector<Impl::ModelDistance> distances;
-  core::Timing timing;
-  m.refined_states(cameras, models, leaves, cells, distances, timing);
+  m.states.at(state);  // throws std::out_of_range on a bad index
+  detail::FilteredModels models = m.filtered_models(config);
+  if (m.levels == 0) return std::move(models.base[state]);
   std::vector<std::uint8_t> out(m.grid.count(), 0);
-  const detail::CellSet& set = leaves[state];
+  const detail::CellSet& set = models.cells[state];
   for (std::size_t slot = 0; slot < set.voxels.size(); ++slot) {
     const auto begin = set.cells.begin() + slot * m.octree.cells;
     out[set.voxels[slot]] = std::find(begin, begin + m.octree.cells, 1) != begin + m.octree.cells;
@@ -158,18 +166,10 @@ std::vector<std::uint8_t> VoxelEvaluator::leaf_model(const core::CameraConfig& c
   const Impl& m = *impl_;
   if (m.levels == 0) return model(config, state);
   m.states.at(state);
-  std::vector<std::vector<std::uint8_t>> models;
-  std::vector<detail::CameraSetup> cameras;
-  m.all_raw_models(config, models, &cameras);
-  for (auto& model : models) filter_components(model, m.grid, m.scene.plausibility);
-  std::vector<detail::CellSet> leaves;
-  std::vector<ComponentCount> cells;
-  std::vector<Impl::ModelDistance> distances;
-  core::Timing timing;
-  m.refined_states(cameras, models, leaves, cells, distances, timing);
+  const detail::FilteredModels models = m.filtered_models(config);
   const Grid fine = leaf_grid();
   std::vector<std::uint8_t> out(static_cast<std::size_t>(fine.count()), 0);
-  const detail::CellSet& set = leaves[state];
+  const detail::CellSet& set = models.cells[state];
   const int side = m.octree.side, nx = m.grid.n[0], ny = m.grid.n[1];
   for (std::size_t slot = 0; slot < set.voxels.size(); ++slot) {
     const int v = set.voxels[slot];

@@ -1,8 +1,11 @@
 #pragma once
-// The voxel evaluator's private state (manifold's impl.h pattern): one Impl, its stages in
-// separate files — set-up (setup.cpp), labelling (labelling.cpp), components (components.cpp),
-// distances (distance.cpp) — and the public class in evaluator.cpp. Hot path: plain arrays and
-// Eigen, no CGAL.
+// The voxel evaluator's private state: the tables of each stage (SceneTables, CriticalTables,
+// RefinementTables), the per-camera tables (CameraSetup) and the working memory of one call
+// (Scratch, RefineContext), with the stages' functions in one file each — set-up (setup.cpp,
+// refine_setup.cpp), labelling (camera_setup.cpp, fov.cpp, judge.cpp, labelling.cpp, refine.cpp
+// for cells), components (components.cpp, cells.hpp), distances (distance.cpp), the lower bound
+// (lower_bound.cpp) — and the public class in evaluator.cpp. Hot path: plain arrays and Eigen,
+// no CGAL.
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -226,6 +229,13 @@ class NodeDistanceCache {
   std::unique_ptr<std::atomic<std::atomic<double>*>[]> blocks_;
 };
 
+/// The filtered models of every state for one configuration (VoxelEvaluator::model and
+/// leaf_model): the base models and, with refinement, the refined cell sets.
+struct FilteredModels {
+  std::vector<std::vector<std::uint8_t>> base;
+  std::vector<CellSet> cells;  ///< empty without refinement
+};
+
 /// The tables set-up builds once from the scene (setup.cpp) and every stage reads: the grid's
 /// voxel boxes, the objects with their roles and triangles, the states with their state masks
 /// per chunk of 64, obstacle interiors and the voxels occupying objects reach into.
@@ -411,6 +421,9 @@ struct VoxelEvaluator::Impl : detail::SceneTables,
   ModelDistance model_distance(const std::vector<std::uint8_t>& model, int time_step) const;
   /// d(C_h, M) and volume of the finest cells of `set` (node_sq of the nearest cell).
   ModelDistance model_distance(const detail::CellSet& set, int time_step) const;
+
+  /// All raw models filtered, and refined with refinement (evaluator.cpp).
+  detail::FilteredModels filtered_models(const core::CameraConfig& config) const;
 
   // Expensive checks (expensive_checks.cpp; only with CAMPLACE_EXPENSIVE_CHECKS): abort with a
   /// message when a stage disagrees with an independent or plain computation.
