@@ -353,6 +353,23 @@ struct VoxelEvaluator::Impl : detail::SceneTables,
   template <class Inside, class Meets>
   bool node_table(int v, const Inside& wholly_inside, const Meets& meets_surface,
                   std::vector<std::uint8_t>& table) const;
+  /// Depth-first over the octree nodes below base voxel v: calls visit(level, morton, box) on
+  /// the children of each node visited (from the voxel, level 0, down), and descends into a
+  /// child when visit returns true and it is above the finest level.
+  template <class Visit>
+  void for_each_node_below(int v, const Visit& visit) const {
+    std::vector<std::pair<int, int>> stack{{0, 0}};
+    while (!stack.empty()) {
+      const auto [level, morton] = stack.back();
+      stack.pop_back();
+      for (int q = 0; q < 8; ++q) {
+        const int child = 8 * morton + q;
+        if (visit(level + 1, child, node_box(v, level + 1, child)) && level + 1 < levels) {
+          stack.push_back({level + 1, child});
+        }
+      }
+    }
+  }
   /// The refined model of every state from the filtered base models `models` (refine.cpp):
   /// kept base voxels near C_h are refined (within a radius that starts at the unrefined
   /// d(C_h, M) plus a voxel diagonal and grows until the nearest kept cell lies within it), the

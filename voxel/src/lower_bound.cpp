@@ -46,23 +46,14 @@ double VoxelEvaluator::Impl::lower_bound() const {
     for (int v : reached_by_object[o]) {
       std::vector<std::uint8_t> flags(cells, 0);
       bool any = false;
-      std::vector<std::pair<int, int>> stack{{0, 0}};
-      while (!stack.empty()) {
-        const auto [level, morton] = stack.back();
-        stack.pop_back();
-        for (int q = 0; q < 8; ++q) {
-          const int child = 8 * morton + q;
-          const Box3 box = node_box(v, level + 1, child);
-          const Box3 inner{box.min + Vec3::Constant(depth), box.max - Vec3::Constant(depth)};
-          if (detail::box_solids_sq_distance(solid, inner, 0.0) != 0.0) continue;
-          if (level + 1 == levels) {
-            flags[child] = 1;
-            any = true;
-          } else {
-            stack.push_back({level + 1, child});
-          }
-        }
-      }
+      for_each_node_below(v, [&](int level, int morton, const Box3& box) {
+        const Box3 inner{box.min + Vec3::Constant(depth), box.max - Vec3::Constant(depth)};
+        if (detail::box_solids_sq_distance(solid, inner, 0.0) != 0.0) return false;
+        if (level < levels) return true;
+        flags[morton] = 1;
+        any = true;
+        return false;
+      });
       if (!any) continue;
       r.voxels.push_back(v);
       r.cells.insert(r.cells.end(), flags.begin(), flags.end());

@@ -170,21 +170,14 @@ bool VoxelEvaluator::Impl::node_table(int v, const Inside& wholly_inside,
                                       std::vector<std::uint8_t>& table) const {
   table.assign(octree.nodes, 0);
   bool any = false;
-  std::vector<std::pair<int, int>> stack{{0, 0}};
-  while (!stack.empty()) {
-    const auto [level, morton] = stack.back();
-    stack.pop_back();
-    for (int q = 0; q < 8; ++q) {
-      const int child = 8 * morton + q;
-      const Box3 box = node_box(v, level + 1, child);
-      if (wholly_inside(box)) {
-        table[octree.offset[level + 1] + child] = 1;
-        any = true;
-      } else if (level + 1 < levels && meets_surface(box)) {
-        stack.push_back({level + 1, child});
-      }
+  for_each_node_below(v, [&](int level, int morton, const Box3& box) {
+    if (wholly_inside(box)) {
+      table[octree.offset[level] + morton] = 1;
+      any = true;
+      return false;
     }
-  }
+    return level < levels && meets_surface(box);
+  });
   return any;
 }
 
