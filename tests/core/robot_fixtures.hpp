@@ -64,7 +64,7 @@ inline std::vector<Vec3> box_corners(const Vec3& size) {
 
 // Every expected point is a vertex of the mesh (within kTol), and the counts agree.
 inline void expect_vertices(const core::TriangleMesh& mesh, const std::vector<Vec3>& expected,
-                     const std::string& what) {
+                            const std::string& what) {
   ASSERT_EQ(mesh.vertices.size(), expected.size()) << what;
   for (const Vec3& e : expected) {
     double best = 1e300;
@@ -121,7 +121,7 @@ inline Expansion expand(const std::string& dir, const json& robot) {
 // Expects expand_robot to throw one InputError naming `file` (relative to dir; "" for the
 // scene), `entry` and a reason containing each of `reasons`.
 inline void expect_error(const std::string& dir, const json& robot, const std::string& file,
-                  const std::string& entry, const std::vector<std::string>& reasons) {
+                         const std::string& entry, const std::vector<std::string>& reasons) {
   try {
     expand(dir, robot);
     ADD_FAILURE() << "accepted (expected: " << entry << ")";
