@@ -1,91 +1,47 @@
-// Robots from URDF on a joint trajectory: URDF parsing (urdfdom), the trajectory (CSV or
-// inline JSON), its sampling, and forward kinematics (Eigen). docs/robots.md is the user's
-// description of everything here.
+// Robots from URDF on a joint trajectory: each link's geometry read once, then posed at every
+// sample by forward kinematics (Eigen), and swept volumes. The URDF, the trajectory and the meshes
+// are read by robot_urdf.cpp, robot_trajectory.cpp and robot_meshes.cpp. docs/robots.md is the
+// user's description of everything here.
 #include "robot.hpp"
 
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Surface_mesh.h>
-#include <CGAL/convex_hull_3.h>
-#include <console_bridge/console.h>
-#include <urdf_parser/urdf_parser.h>
+#include <urdf_model/model.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstdlib>
-#include <fstream>
-#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
-#include <set>
-#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "camplace/core/error.hpp"
 #include "mesh_checks.hpp"
+#include "robot_parts.hpp"
 #include "scene_format.hpp"
 
 namespace camplace::core::detail {
 
 namespace {
 
-/// Slack (rad or m) of the joint limit check: values computed elsewhere may round past a limit.
-constexpr double kLimitSlack = 1e-9;
-/// At most this many samples per robot (an "every_s" far below the trajectory's length would
-/// otherwise make millions of time steps).
-constexpr int kMaxSamples = 100000;
-// Trajectory times (s) beyond this are refused: differences and interpolation stay finite.
-constexpr double kMaxTime = 1e9;
+using robot_parts::convex_hull_with_cube;
+using robot_parts::in_quotes;
+using robot_parts::interpolate;
+using robot_parts::JointMotion;
+using robot_parts::read_csv_trajectory;
+using robot_parts::read_json_trajectory;
+using robot_parts::read_urdf;
+using robot_parts::resolve_mesh_path;
+using robot_parts::RobotModel;
+using robot_parts::sample_times;
+using robot_parts::Trajectory;
+
 // Posed link vertices over all samples: beyond this the expansion would take gigabytes.
 constexpr double kMaxPosedVertices = 3e7;
-
-std::string in_quotes(const std::string& s) { return "\"" + s + "\""; }
-
-std::string joined(const std::vector<std::string>& names) {
-  std::string out;
-  for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
-  return out.empty() ? "(none)" : out;
-}
-
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r\n");
-  if (b == std::string::npos) return "";
-  const auto e = s.find_last_not_of(" \t\r\n");
-  return s.substr(b, e - b + 1);
-}
-
-/// Collects what urdfdom reports through console_bridge while it parses (it prints to stderr
-/// otherwise) and restores the previous handler and level afterwards.
-class ConsoleCapture : public console_bridge::OutputHandler {
- public:
-  ConsoleCapture()
-      : previous_(console_bridge::getOutputHandler()), level_(console_bridge::getLogLevel()) {
-    console_bridge::useOutputHandler(this);
-    console_bridge::setLogLevel(console_bridge::CONSOLE_BRIDGE_LOG_WARN);
-  }
-  ~ConsoleCapture() override {
-    console_bridge::useOutputHandler(previous_);
-    console_bridge::setLogLevel(level_);
-  }
-  ConsoleCapture(const ConsoleCapture&) = delete;
-  ConsoleCapture& operator=(const ConsoleCapture&) = delete;
-
-  void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
-    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) errors_.push_back(trim(text));
-  }
-  /// The errors, joined by "; ".
-  std::string errors() const {
-    std::string out;
-    for (const auto& e : errors_) out += (out.empty() ? "" : "; ") + e;
-    return out;
-  }
-
- private:
-  console_bridge::OutputHandler* previous_;
-  console_bridge::LogLevel level_;
-  std::vector<std::string> errors_;
-};
+/// Sub-steps (at most, per piece between knots) and the margin (m) they aim for.
+constexpr int kSweptSteps = 64;
+constexpr double kSweptMargin = 0.005;
 
 Eigen::Isometry3d to_isometry(const urdf::Pose& pose) {
   // urdfdom stores the origin's rpy as the quaternion of Rz(yaw)·Ry(pitch)·Rx(roll).
@@ -105,362 +61,6 @@ Eigen::Matrix3d rotation_deg(const Vec3& deg) {
       .toRotationMatrix();
 }
 
-/// A joint of the robot and how its value is found: from a trajectory column (`column` ≥ 0),
-/// from another joint (mimic: multiplier · value(column) + offset), or none (fixed).
-struct JointMotion {
-  const urdf::Joint* joint = nullptr;
-  int column = -1;  ///< index into the trajectory's joint values; -1 for a fixed joint
-  double multiplier = 1.0;
-  double offset = 0.0;
-  Vec3 axis = Vec3::UnitX();  ///< unit axis in the joint frame
-};
-
-/// The robot's URDF, its joints, and which of them the trajectory gives.
-struct RobotModel {
-  urdf::ModelInterfaceSharedPtr urdf;
-  std::vector<std::string> movable;  ///< movable non-mimic joints: the trajectory's columns
-  std::map<std::string, JointMotion> joints;
-  std::string entry;  ///< JSON pointer of the "urdf" entry
-};
-
-bool is_movable(const urdf::Joint& j) {
-  return j.type == urdf::Joint::REVOLUTE || j.type == urdf::Joint::CONTINUOUS ||
-         j.type == urdf::Joint::PRISMATIC;
-}
-
-bool has_limits(const urdf::Joint& j) {
-  return j.type == urdf::Joint::REVOLUTE || j.type == urdf::Joint::PRISMATIC;
-}
-
-RobotModel read_urdf(const JsonNode& urdf_node, const std::string& path,
-                     const std::string& scene_file) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) urdf_node.fail("URDF file " + path + " does not exist");
-  if (!std::filesystem::is_regular_file(path, ec))
-    urdf_node.fail("URDF file " + path + " is not a regular file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) urdf_node.fail("URDF file " + path + " cannot be opened");
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  RobotModel model;
-  model.entry = urdf_node.pointer();
-  // urdfdom ignores elements it does not know: a xacro file would parse into a robot without
-  // the links its macros make.
-  if (buffer.str().find("<xacro:") != std::string::npos) {
-    urdf_node.fail("URDF file " + path +
-                   " contains xacro macros (<xacro:...>): expand it first, e.g. xacro "
-                   "robot.urdf.xacro > robot.urdf (ROS 2: ros2 run xacro xacro "
-                   "robot.urdf.xacro > robot.urdf)");
-  }
-  {
-    ConsoleCapture capture;
-    try {
-      model.urdf = urdf::parseURDF(buffer.str());
-    } catch (const std::exception& e) {
-      urdf_node.fail("URDF file " + path + " cannot be parsed: " + e.what());
-    }
-    if (!model.urdf) {
-      const std::string why = capture.errors();
-      urdf_node.fail("URDF file " + path + " cannot be parsed" +
-                     (why.empty() ? std::string(" (urdfdom gave no reason)") : ": " + why));
-    }
-  }
-  const auto joint_fail = [&](const std::string& name, const std::string& reason) {
-    throw InputError(scene_file, model.entry + " (joint " + in_quotes(name) + ")", reason);
-  };
-  for (const auto& [name, joint] : model.urdf->joints_) {
-    JointMotion m;
-    m.joint = joint.get();
-    if (joint->type == urdf::Joint::FLOATING || joint->type == urdf::Joint::PLANAR) {
-      joint_fail(name, std::string("joint type \"") +
-                           (joint->type == urdf::Joint::FLOATING ? "floating" : "planar") +
-                           "\" is not supported (only revolute, continuous, prismatic and "
-                           "fixed joints): a robot's base is placed with \"base\"");
-    }
-    if (joint->type == urdf::Joint::UNKNOWN) joint_fail(name, "joint type is unknown");
-    if (is_movable(*joint)) {
-      const Vec3 axis(joint->axis.x, joint->axis.y, joint->axis.z);
-      if (!(axis.norm() > 1e-12) || !axis.allFinite()) joint_fail(name, "joint axis is zero");
-      m.axis = axis.normalized();
-      if (has_limits(*joint) && !joint->limits) joint_fail(name, "joint has no <limit>");
-      if (has_limits(*joint) && !(joint->limits->lower <= joint->limits->upper)) {
-        joint_fail(name, "joint limits are empty: lower " + format_number(joint->limits->lower) +
-                             " > upper " + format_number(joint->limits->upper));
-      }
-      if (!joint->mimic) model.movable.push_back(name);
-    }
-    model.joints[name] = m;
-  }
-  // Columns in the order of `movable` (joint names sorted); then mimic joints resolved through
-  // chains of mimics to the column they follow.
-  for (std::size_t c = 0; c < model.movable.size(); ++c)
-    model.joints[model.movable[c]].column = static_cast<int>(c);
-  for (auto& [name, m] : model.joints) {
-    if (!is_movable(*m.joint) || !m.joint->mimic) continue;
-    double multiplier = 1.0, offset = 0.0;
-    std::string current = name;
-    std::set<std::string> seen{name};
-    while (true) {
-      const urdf::JointMimic& mimic = *model.joints.at(current).joint->mimic;
-      const auto target = model.joints.find(mimic.joint_name);
-      if (target == model.joints.end() || !is_movable(*target->second.joint)) {
-        joint_fail(name, "joint mimics " + in_quotes(mimic.joint_name) +
-                             ", which is not a movable joint of the robot");
-      }
-      // value(current) = mimic.multiplier · value(target) + mimic.offset
-      offset += multiplier * mimic.offset;
-      multiplier *= mimic.multiplier;
-      if (!target->second.joint->mimic) {
-        m.column = target->second.column;
-        break;
-      }
-      current = target->first;
-      if (!seen.insert(current).second) joint_fail(name, "mimic joints form a cycle");
-    }
-    m.multiplier = multiplier;
-    m.offset = offset;
-  }
-  return model;
-}
-
-/// A trajectory: times and, per row, the value of each movable non-mimic joint (rad or m).
-struct Trajectory {
-  std::vector<double> times;
-  std::vector<std::vector<double>> values;  ///< [row][column of RobotModel::movable]
-};
-
-/// Checks one joint value of a trajectory row against the joint's limits.
-void check_limits(const RobotModel& model, int column, double value, const std::string& file,
-                  const std::string& entry, const std::string& row) {
-  const urdf::Joint& j = *model.joints.at(model.movable[column]).joint;
-  if (!has_limits(j)) return;
-  const double lo = j.limits->lower, hi = j.limits->upper;
-  if (value < lo - kLimitSlack || value > hi + kLimitSlack) {
-    const char* unit = j.type == urdf::Joint::PRISMATIC ? " m" : " rad";
-    throw InputError(file, entry,
-                     "joint " + in_quotes(j.name) + " value " + format_number(value) + unit +
-                         " at " + row + " is outside its limits [" + format_number(lo) + ", " +
-                         format_number(hi) + "]" + unit);
-  }
-}
-
-std::string movable_list(const RobotModel& model) {
-  return "the robot's movable joints are: " + joined(model.movable);
-}
-
-/// Why a name is not a trajectory column ("" when it is one).
-std::string not_a_column(const RobotModel& model, const std::string& name) {
-  const auto it = model.joints.find(name);
-  if (it == model.joints.end())
-    return "unknown joint " + in_quotes(name) + " (" + movable_list(model) + ")";
-  if (!is_movable(*it->second.joint))
-    return "joint " + in_quotes(name) + " is fixed and takes no value (" + movable_list(model) +
-           ")";
-  if (it->second.joint->mimic) {
-    return "joint " + in_quotes(name) + " mimics " +
-           in_quotes(it->second.joint->mimic->joint_name) +
-           ": its value follows from that joint's, leave it out";
-  }
-  return "";
-}
-
-std::optional<double> parse_number(const std::string& text) {
-  if (text.empty()) return std::nullopt;
-  char* end = nullptr;
-  errno = 0;
-  const double v = std::strtod(text.c_str(), &end);
-  if (end != text.c_str() + text.size() || errno == ERANGE || !std::isfinite(v))
-    return std::nullopt;
-  return v;
-}
-
-std::vector<std::string> split_csv(const std::string& line) {
-  std::vector<std::string> cells;
-  std::stringstream in(line);
-  std::string cell;
-  while (std::getline(in, cell, ',')) cells.push_back(trim(cell));
-  if (!line.empty() && line.back() == ',') cells.push_back("");
-  return cells;
-}
-
-Trajectory read_csv_trajectory(const JsonNode& node, const std::string& path,
-                               const RobotModel& model) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) node.fail("trajectory file " + path + " does not exist");
-  if (!std::filesystem::is_regular_file(path, ec))
-    node.fail("trajectory file " + path + " is not a regular file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) node.fail("trajectory file " + path + " cannot be opened");
-  Trajectory traj;
-  std::vector<int> columns;  // header column k (k ≥ 1) → movable column
-  std::vector<std::string> header;
-  std::string line;
-  int line_no = 0;
-  bool have_header = false;
-  while (std::getline(in, line)) {
-    ++line_no;
-    const std::string text = trim(line);
-    if (text.empty() || text[0] == '#') continue;
-    const std::string at_line = "line " + std::to_string(line_no);
-    const std::vector<std::string> cells = split_csv(text);
-    if (!have_header) {
-      have_header = true;
-      header = cells;
-      if (cells[0] != "t") {
-        throw InputError(path, at_line,
-                         "the header's first column must be \"t\" (the time in s), found " +
-                             in_quotes(cells[0]));
-      }
-      std::vector<bool> given(model.movable.size(), false);
-      for (std::size_t k = 1; k < cells.size(); ++k) {
-        const std::string& name = cells[k];
-        const std::string column_entry = at_line + ", column " + std::to_string(k + 1);
-        if (name.empty()) throw InputError(path, column_entry, "empty column name");
-        const std::string why = not_a_column(model, name);
-        if (!why.empty()) throw InputError(path, column_entry, why);
-        const int c = model.joints.at(name).column;
-        if (given[c])
-          throw InputError(path, column_entry, "joint " + in_quotes(name) + " is given twice");
-        given[c] = true;
-        columns.push_back(c);
-      }
-      std::vector<std::string> missing;
-      for (std::size_t c = 0; c < given.size(); ++c)
-        if (!given[c]) missing.push_back(model.movable[c]);
-      if (!missing.empty()) {
-        throw InputError(path, at_line,
-                         "the header has no column for the movable joints " + joined(missing) +
-                             " (every movable joint that mimics no other must be given)");
-      }
-      continue;
-    }
-    if (cells.size() != header.size()) {
-      throw InputError(path, at_line,
-                       "the row has " + std::to_string(cells.size()) + " values, the header " +
-                           std::to_string(header.size()) + " columns");
-    }
-    std::vector<double> row(model.movable.size(), 0.0);
-    double t = 0.0;
-    for (std::size_t k = 0; k < cells.size(); ++k) {
-      const std::string cell_entry = at_line + ", column " + in_quotes(header[k]);
-      const auto v = parse_number(cells[k]);
-      if (!v) throw InputError(path, cell_entry, in_quotes(cells[k]) + " is not a finite number");
-      if (k == 0) {
-        t = *v;
-      } else {
-        check_limits(model, columns[k - 1], *v, path, cell_entry, at_line);
-        row[columns[k - 1]] = *v;
-      }
-    }
-    if (!(std::abs(t) <= kMaxTime)) {
-      throw InputError(
-          path, at_line + ", column \"t\"",
-          "time " + format_number(t) + " s is beyond ±" + format_number(kMaxTime) + " s");
-    }
-    if (!traj.times.empty() && !(t > traj.times.back())) {
-      throw InputError(path, at_line + ", column \"t\"",
-                       "time " + format_number(t) + " s is not after the previous row's " +
-                           format_number(traj.times.back()) + " s: times must increase strictly");
-    }
-    traj.times.push_back(t);
-    traj.values.push_back(std::move(row));
-  }
-  if (traj.times.empty()) {
-    throw InputError(path, "",
-                     have_header ? "the trajectory has a header but no rows (at least one needed)"
-                                 : "the trajectory is empty: it needs a header \"t,<joint>,...\" "
-                                   "and at least one row");
-  }
-  return traj;
-}
-
-Trajectory read_json_trajectory(const JsonNode& list, const RobotModel& model) {
-  Trajectory traj;
-  if (list.array_size() == 0) list.fail("the trajectory needs at least one row");
-  for (std::size_t r = 0; r < list.array_size(); ++r) {
-    const JsonNode row_node = list.at(r);
-    row_node.only_keys({"t", "joints"});
-    const JsonNode t_node = row_node.at("t");
-    const double t = t_node.number();
-    if (!(std::abs(t) <= kMaxTime))
-      t_node.fail("time " + format_number(t) + " s is beyond ±" + format_number(kMaxTime) + " s");
-    if (!traj.times.empty() && !(t > traj.times.back())) {
-      t_node.fail("time " + format_number(t) + " s is not after the previous row's " +
-                  format_number(traj.times.back()) + " s: times must increase strictly");
-    }
-    const JsonNode joints = row_node.at("joints");
-    if (!joints.is_object()) joints.fail("expected an object {\"joint\": value, ...}");
-    std::vector<double> row(model.movable.size(), 0.0);
-    std::vector<bool> given(model.movable.size(), false);
-    for (const auto& item : joints.value().items()) {
-      const JsonNode v = joints.at(item.key());
-      const std::string why = not_a_column(model, item.key());
-      if (!why.empty()) v.fail(why);
-      const int c = model.joints.at(item.key()).column;
-      const double value = v.number();
-      check_limits(model, c, value, v.file(), v.pointer(), "row " + std::to_string(r));
-      row[c] = value;
-      given[c] = true;
-    }
-    std::vector<std::string> missing;
-    for (std::size_t c = 0; c < given.size(); ++c)
-      if (!given[c]) missing.push_back(model.movable[c]);
-    if (!missing.empty()) {
-      joints.fail("row " + std::to_string(r) + " gives no value for the movable joints " +
-                  joined(missing) + " (every movable joint that mimics no other must be given)");
-    }
-    traj.times.push_back(t);
-    traj.values.push_back(std::move(row));
-  }
-  return traj;
-}
-
-/// The sample times: one per row, `steps` evenly spaced, or `every_s` apart (and the last).
-std::vector<double> sample_times(const Trajectory& traj, const JsonNode* sample) {
-  if (!sample) return traj.times;
-  sample->only_keys({"steps", "every_s"});
-  if (sample->has("steps") == sample->has("every_s"))
-    sample->fail("give exactly one of \"steps\" or \"every_s\"");
-  const double t0 = traj.times.front(), t1 = traj.times.back();
-  std::vector<double> times;
-  if (sample->has("steps")) {
-    const int n = sample->at("steps").integer_in(1, kMaxSamples);
-    for (int k = 0; k < n; ++k)
-      times.push_back(k == n - 1 && n > 1 ? t1 : t0 + (t1 - t0) * (double(k) / std::max(1, n - 1)));
-    return times;
-  }
-  const JsonNode dt_node = sample->at("every_s");
-  const double dt = dt_node.number();
-  if (!(dt > 0)) dt_node.fail("every_s must be positive");
-  const double count = std::floor((t1 - t0) / dt);
-  if (count + 2 > kMaxSamples) {
-    dt_node.fail("every_s " + format_number(dt) + " s over " + format_number(t1 - t0) +
-                 " s gives more than " + std::to_string(kMaxSamples) + " samples");
-  }
-  for (int k = 0;; ++k) {
-    const double t = t0 + k * dt;
-    // A sample within a millionth of dt of the end is the end itself.
-    if (t >= t1 - 1e-6 * dt) break;
-    times.push_back(t);
-  }
-  times.push_back(t1);
-  return times;
-}
-
-/// Joint values (trajectory columns) at time t, linear between the rows around it.
-std::vector<double> interpolate(const Trajectory& traj, double t) {
-  const auto& ts = traj.times;
-  if (t <= ts.front()) return traj.values.front();
-  if (t >= ts.back()) return traj.values.back();
-  const std::size_t i =
-      std::upper_bound(ts.begin(), ts.end(), t) - ts.begin();  // ts[i-1] ≤ t < ts[i]
-  const double s = (t - ts[i - 1]) / (ts[i] - ts[i - 1]);
-  std::vector<double> q(traj.values[i].size());
-  for (std::size_t c = 0; c < q.size(); ++c)
-    q[c] = (1 - s) * traj.values[i - 1][c] + s * traj.values[i][c];
-  return q;
-}
-
 /// The pose of joint motion for value v: rotation about the axis (rad) or translation along it
 /// (m).
 Eigen::Isometry3d joint_motion(const JointMotion& m, double v) {
@@ -474,147 +74,12 @@ Eigen::Isometry3d joint_motion(const JointMotion& m, double v) {
 }
 
 /// One link geometry element, read and finished once in its link frame.
-/// Sub-steps (at most, per piece between knots) and the margin (m) they aim for.
-constexpr int kSweptSteps = 64;
-constexpr double kSweptMargin = 0.005;
-
-/// The convex hull of the points, each moved by every corner of the cube [−h, h]³ (h ≥ 0, m):
-/// the hull of the points Minkowski-added the cube. Closed and outward.
-TriangleMesh convex_hull_with_cube(const std::vector<Vec3>& points, double h) {
-  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-  using Mesh = CGAL::Surface_mesh<K::Point_3>;
-  std::vector<K::Point_3> cloud;
-  cloud.reserve(points.size() * (h > 0 ? 8 : 1));
-  for (const Vec3& p : points) {
-    if (h > 0) {
-      for (int c = 0; c < 8; ++c)
-        cloud.emplace_back(p.x() + (c & 1 ? h : -h), p.y() + (c & 2 ? h : -h),
-                           p.z() + (c & 4 ? h : -h));
-    } else {
-      cloud.emplace_back(p.x(), p.y(), p.z());
-    }
-  }
-  Mesh hull;
-  CGAL::convex_hull_3(cloud.begin(), cloud.end(), hull);
-  TriangleMesh out;
-  std::map<Mesh::Vertex_index, int> index;
-  for (const auto v : hull.vertices()) {
-    index[v] = static_cast<int>(out.vertices.size());
-    const auto& q = hull.point(v);
-    out.vertices.emplace_back(q.x(), q.y(), q.z());
-  }
-  for (const auto f : hull.faces()) {
-    std::array<int, 3> tri{};
-    int n = 0;
-    for (const auto v : CGAL::vertices_around_face(hull.halfedge(f), hull)) {
-      if (n < 3) tri[n] = index.at(v);
-      ++n;
-    }
-    CAMPLACE_ASSERT(n == 3);
-    out.triangles.push_back(tri);
-  }
-  return out;
-}
-
 struct LinkPart {
   std::string link;
   SceneObject object;  ///< mesh in the link frame
 };
 
-std::string resolve_mesh_path(const std::string& uri, const JsonNode& node,
-                              const std::filesystem::path& scene_dir,
-                              const std::filesystem::path& urdf_dir, const std::string& scene_file,
-                              const std::string& entry) {
-  const std::string package = "package://", file = "file://";
-  if (uri.rfind(package, 0) == 0) {
-    const std::string rest = uri.substr(package.size());
-    const auto slash = rest.find('/');
-    const std::string pkg = rest.substr(0, slash);
-    const std::string inside = slash == std::string::npos ? "" : rest.substr(slash + 1);
-    if (!node.has("package_paths") || !node.at("package_paths").has(pkg)) {
-      throw InputError(scene_file, entry,
-                       "mesh " + in_quotes(uri) + " is in package " + in_quotes(pkg) +
-                           ", which \"package_paths\" does not list: add \"package_paths\": {" +
-                           in_quotes(pkg) +
-                           ": \"DIR\"} with DIR the package's folder (relative to "
-                           "the scene file)");
-    }
-    const std::filesystem::path dir = node.at("package_paths").at(pkg).string();
-    return ((dir.is_absolute() ? dir : scene_dir / dir) / inside).string();
-  }
-  std::filesystem::path p = uri;
-  if (uri.rfind(file, 0) == 0) {
-    p = uri.substr(file.size());
-  } else if (uri.find("://") != std::string::npos) {
-    throw InputError(scene_file, entry,
-                     "mesh " + in_quotes(uri) +
-                         ": unsupported URI scheme (expected a path, file:// or package://)");
-  }
-  return (p.is_absolute() ? p : urdf_dir / p).string();
-}
-
 }  // namespace
-
-TriangleMesh cylinder_mesh(double radius, double length) {
-  const int k = kCylinderSides;
-  // The polygon's edges touch the circle: vertices at r / cos(π/k).
-  const double rv = radius / std::cos(kPi / k);
-  TriangleMesh m;
-  for (const double z : {-0.5 * length, 0.5 * length}) {
-    for (int j = 0; j < k; ++j) {
-      const double phi = 2 * kPi * j / k;
-      m.vertices.emplace_back(rv * std::cos(phi), rv * std::sin(phi), z);
-    }
-  }
-  const int bottom = 2 * k, top = 2 * k + 1;
-  m.vertices.emplace_back(0, 0, -0.5 * length);
-  m.vertices.emplace_back(0, 0, 0.5 * length);
-  for (int j = 0; j < k; ++j) {
-    const int a = j, b = (j + 1) % k;
-    m.triangles.push_back({a, b, k + b});  // side, outward (counter-clockwise seen from outside)
-    m.triangles.push_back({a, k + b, k + a});
-    m.triangles.push_back({bottom, b, a});  // bottom cap, facing −z
-    m.triangles.push_back({top, k + a, k + b});
-  }
-  return m;
-}
-
-TriangleMesh sphere_mesh(double radius) {
-  const int bands = kSphereBands, sectors = kSphereSectors;
-  // Vertices on the unit sphere: rings at polar angles iπ/bands, i = 1..bands−1, and the poles.
-  // The mesh is their convex hull (each band's quads are planar trapezoids), so scaling it until
-  // its nearest face plane is at distance `radius` makes it contain the sphere.
-  TriangleMesh m;
-  for (int i = 1; i < bands; ++i) {
-    const double theta = kPi * i / bands;
-    for (int j = 0; j < sectors; ++j) {
-      const double phi = 2 * kPi * j / sectors;
-      m.vertices.emplace_back(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
-                              std::cos(theta));
-    }
-  }
-  const int north = static_cast<int>(m.vertices.size()), south = north + 1;
-  m.vertices.emplace_back(0, 0, 1);
-  m.vertices.emplace_back(0, 0, -1);
-  const auto ring = [&](int i, int j) { return (i - 1) * sectors + (j % sectors); };
-  for (int j = 0; j < sectors; ++j) {
-    m.triangles.push_back({north, ring(1, j), ring(1, j + 1)});
-    m.triangles.push_back({south, ring(bands - 1, j + 1), ring(bands - 1, j)});
-    for (int i = 1; i + 1 < bands; ++i) {
-      m.triangles.push_back({ring(i, j), ring(i + 1, j), ring(i + 1, j + 1)});
-      m.triangles.push_back({ring(i, j), ring(i + 1, j + 1), ring(i, j + 1)});
-    }
-  }
-  double nearest = std::numeric_limits<double>::infinity();
-  for (const auto& t : m.triangles) {
-    const Vec3 &a = m.vertices[t[0]], &b = m.vertices[t[1]], &c = m.vertices[t[2]];
-    nearest = std::min(nearest, std::abs((b - a).cross(c - a).normalized().dot(a)));
-  }
-  // Round the scale up a little so that rounding cannot bring a face inside the sphere.
-  const double scale = radius / nearest * (1 + 1e-12);
-  for (Vec3& v : m.vertices) v *= scale;
-  return m;
-}
 
 RobotSteps expand_robot(const JsonNode& node, const std::filesystem::path& scene_dir,
                         const std::string& scene_file, const LinkMeshFinisher& finish) {
