@@ -24,7 +24,6 @@
 #include <vector>
 
 #include "camplace/compare/evaluation_json.hpp"
-#include "camplace/compare/scene_generator.hpp"
 #include "camplace/core/camera.hpp"
 #include "camplace/core/error.hpp"
 #include "camplace/core/files.hpp"
@@ -36,6 +35,7 @@
 #include "camplace/optimize/optimizer.hpp"
 #include "camplace/optimize/report.hpp"
 #include "camplace/optimize/voxel_objective.hpp"
+#include "camplace/scenes/generator.hpp"
 #include "camplace/voxel/evaluator.hpp"
 #include "camplace/voxel/grid.hpp"
 #include "json_python.hpp"
@@ -511,10 +511,10 @@ py::dict generate(const std::string& family, std::optional<int> param, unsigned 
   {
     py::gil_scoped_release release;
     if (out) {
-      compare::write_generated_scene(family, param, seed, out->string());
+      scenes::write_generated_scene(family, param, seed, out->string());
       text = core::read_json_file(out->string()).dump();
     } else {
-      text = compare::generate_scene_json(family, param, seed);
+      text = scenes::generate_scene_json(family, param, seed);
     }
   }
   return to_python(nlohmann::json::parse(text));
@@ -522,7 +522,7 @@ py::dict generate(const std::string& family, std::optional<int> param, unsigned 
 
 py::list scene_families() {
   py::list out;
-  for (const compare::SceneFamily& f : compare::scene_families()) {
+  for (const scenes::SceneFamily& f : scenes::scene_families()) {
     py::dict d("name"_a = f.name, "has_param"_a = f.has_param, "random"_a = f.random,
                "what"_a = f.what);
     d["param_range"] =
