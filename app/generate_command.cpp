@@ -4,7 +4,7 @@
 #include <optional>
 #include <string>
 
-#include "camplace/compare/scene_generator.hpp"
+#include "camplace/scenes/generator.hpp"
 #include "commands.hpp"
 
 namespace camplace::app {
@@ -19,7 +19,7 @@ struct GenerateArgs {
 
 std::string families_help() {
   std::string text = "scene families (i = --param):";
-  for (const compare::SceneFamily& f : compare::scene_families()) {
+  for (const scenes::SceneFamily& f : scenes::scene_families()) {
     text += "\n  " + f.name;
     if (f.has_param) {
       text += " (i = " + std::to_string(f.min_param) + ".." + std::to_string(f.max_param) + ")";
@@ -49,9 +49,9 @@ void register_generate_command(CLI::App& app) {
   cmd->callback([args, param] {
     const std::optional<int> i =
         param->count() > 0 ? std::optional<int>(args->param) : std::nullopt;
-    std::optional<compare::BaseScene> base;
-    if (!args->base.empty()) base = compare::load_base_scene(args->base, args->base);
-    const std::string description = compare::write_generated_scene(
+    std::optional<scenes::BaseScene> base;
+    if (!args->base.empty()) base = scenes::load_base_scene(args->base, args->base);
+    const std::string description = scenes::write_generated_scene(
         args->family, i, args->seed, args->out, base ? &*base : nullptr);
     std::cout << "wrote " << args->out << ": " << description << "\n";
   });

@@ -5,12 +5,12 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "camplace/compare/scene_generator.hpp"
 #include "camplace/core/error.hpp"
 #include "camplace/core/json_reader.hpp"
 #include "camplace/core/provenance.hpp"
 #include "camplace/core/scene.hpp"
 #include "camplace/optimize/optimizer.hpp"
+#include "camplace/scenes/generator.hpp"
 #include "camplace/voxel/evaluator.hpp"
 
 namespace camplace::compare::detail {
@@ -33,7 +33,8 @@ StudySpec parse_study(const std::string& path) {
             ? label
             : (std::filesystem::path(path).parent_path() / rel).lexically_normal().string();
     try {
-      s.base = std::make_shared<const BaseScene>(load_base_scene(s.base_file, label));
+      s.base =
+          std::make_shared<const scenes::BaseScene>(scenes::load_base_scene(s.base_file, label));
     } catch (const core::InputError& err) {
       root.at("base").fail("the base scene does not load: " + std::string(err.what()));
     }
@@ -85,7 +86,7 @@ StudySpec parse_study(const std::string& path) {
       std::string text;
       try {
         // Validates family and param, and that the family applies to the base.
-        text = generate_scene_json(ex.family, param, s.scene_seed, s.base.get());
+        text = scenes::generate_scene_json(ex.family, param, s.scene_seed, s.base.get());
       } catch (const core::InputError& err) {
         e.fail(err.reason());
       }

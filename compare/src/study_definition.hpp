@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "camplace/compare/scene_generator.hpp"
 #include "camplace/core/names.hpp"
+#include "camplace/scenes/generator.hpp"
 
 namespace camplace::compare::detail {
 
@@ -29,7 +29,7 @@ struct StudySpec {
   std::vector<Examination> examinations;
   /// The scene the families are applied to: null for the paper's basic setup (no "base").
   /// Its label is the study file's "base" as written (relative to the study file's folder).
-  std::shared_ptr<const BaseScene> base;
+  std::shared_ptr<const scenes::BaseScene> base;
   std::string base_file;  ///< the base's path as opened ("" without a base)
   std::string file;       ///< the study file as given
   std::string started;    ///< when the study file was read (core::now_iso8601): the study's start

@@ -11,13 +11,13 @@
 #include <stdexcept>
 
 #include "camplace/compare/run_validation.hpp"
-#include "camplace/compare/scene_generator.hpp"
 #include "camplace/compare/study.hpp"
 #include "camplace/core/err.hpp"
 #include "camplace/core/files.hpp"
 #include "camplace/core/provenance.hpp"
 #include "camplace/core/scene.hpp"
 #include "camplace/optimize/report.hpp"
+#include "camplace/scenes/generator.hpp"
 #include "format.hpp"
 #include "study_definition.hpp"
 #include "study_report.hpp"
@@ -121,7 +121,8 @@ std::vector<Group> study_groups(const detail::StudySpec& spec, const std::string
       g.param = param;
       g.name = detail::group_name(ex, param);
       g.scene_path = dir + "/scenes/" + g.name + ".json";
-      g.scene_text = generate_scene_json(ex.family, param, spec.scene_seed, spec.base.get());
+      g.scene_text =
+          scenes::generate_scene_json(ex.family, param, spec.scene_seed, spec.base.get());
       g.run_dir = dir + "/runs/" + g.name;
       groups.push_back(std::move(g));
     }

@@ -1,6 +1,7 @@
 #pragma once
-/// Scenes of the paper's examinations (SPEC §9 table), derived from the basic setup of
-/// data/paper_basic.json, or from any other scene (a base): one parameter changed per family.
+/// Scenes of the paper's examinations (SPEC §9 table): a family applied to a base scene, one
+/// parameter changed per family. The default base is the paper's basic setup,
+/// data/paper_basic.json (built in: the file's text is embedded at build time).
 #include <optional>
 #include <string>
 #include <vector>
@@ -8,7 +9,7 @@
 #include "camplace/core/provenance.hpp"
 #include "camplace/core/scene.hpp"
 
-namespace camplace::compare {
+namespace camplace::scenes {
 
 /// One scene family of SPEC §9 and the range of its parameter i.
 struct SceneFamily {
@@ -43,10 +44,11 @@ BaseScene load_base_scene(const std::string& path, const std::string& label);
 /// parameter `param` (must be empty exactly for the families without one); random placements
 /// are drawn from std::mt19937(seed). Same arguments ⇒ identical text.
 ///
-/// Without `base` the family is applied to the paper's basic setup (built in; identical to
-/// data/paper_basic.json). With one, to that scene (see SceneFamily::on_base); the result is
-/// checked by core::load_scene, and its description records the base's label and combined
-/// SHA-256, so a changed base (or mesh file) changes every scene generated from it.
+/// Without `base` the family is applied to the paper's basic setup (data/paper_basic.json, as
+/// embedded at build time), with the SPEC §9 formulas. With one, to that scene (see
+/// SceneFamily::on_base); the result is checked by core::load_scene, and its description records
+/// the base's label and combined SHA-256, so a changed base (or mesh file) changes every scene
+/// generated from it.
 ///
 /// Throws core::OptionError("family" or "param", reason) on a bad family or param, and
 /// core::OptionError("base", reason) when the family cannot be applied to the base (the reason
@@ -61,4 +63,4 @@ std::string write_generated_scene(const std::string& family, std::optional<int> 
                                   unsigned seed, const std::string& path,
                                   const BaseScene* base = nullptr);
 
-}  // namespace camplace::compare
+}  // namespace camplace::scenes

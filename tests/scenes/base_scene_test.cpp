@@ -15,11 +15,11 @@
 #include <sstream>
 #include <string>
 
-#include "camplace/compare/scene_generator.hpp"
 #include "camplace/core/error.hpp"
 #include "camplace/core/geometry.hpp"
 #include "camplace/core/provenance.hpp"
 #include "camplace/core/scene.hpp"
+#include "camplace/scenes/generator.hpp"
 #include "command.hpp"
 #include "scene_builder.hpp"
 
@@ -27,9 +27,9 @@ namespace camplace::testing {
 namespace {
 
 namespace fs = std::filesystem;
-using compare::BaseScene;
-using compare::generate_scene_json;
 using core::Vec3;
+using scenes::BaseScene;
+using scenes::generate_scene_json;
 
 std::string read(const std::string& path) {
   std::ifstream in(path);
@@ -69,7 +69,7 @@ const Fixture& fixture() {
     Fixture x;
     x.dir = temp_dir("base-scene");
     x.base_path = write_file(x.dir + "/cell.json", kBase);
-    x.base = compare::load_base_scene(x.base_path, "cell.json");
+    x.base = scenes::load_base_scene(x.base_path, "cell.json");
     return x;
   }();
   return f;
@@ -213,7 +213,7 @@ TEST(BaseScene, FamiliesThatCannotApplyNameTheFamilyTheBaseAndTheReason) {
   boxed.replace(boxed.find(table), table.size(),
                 R"("box": {"min": [2.1, 1.3, 0], "max": [2.9, 1.9, 0.8]})");
   const BaseScene box_base =
-      compare::load_base_scene(write_file(fixture().dir + "/boxed.json", boxed), "boxed.json");
+      scenes::load_base_scene(write_file(fixture().dir + "/boxed.json", boxed), "boxed.json");
   e = error_of("static_facets", 1, box_base);
   EXPECT_NE(e.find("static obstacle \"table\" has 12 facets; only tetrahedra are made finer"),
             std::string::npos)
@@ -230,7 +230,7 @@ TEST(BaseScene, TheDescriptionRecordsTheBasesHashSoAChangedBaseChangesTheScene) 
   EXPECT_NE(description.find(fixture().base.hashes.combined), std::string::npos) << description;
   // One byte more in the base (a space): another hash, another scene text.
   const std::string changed = write_file(fixture().dir + "/cell2.json", std::string(kBase) + " ");
-  const BaseScene other = compare::load_base_scene(changed, "cell.json");
+  const BaseScene other = scenes::load_base_scene(changed, "cell.json");
   EXPECT_NE(generate_scene_json("cameras", 3, 1, &other), text);
   // Without a base: the paper's basic setup as before (the base text is not mentioned).
   EXPECT_EQ(generate_scene_json("cameras", 3, 1).find("--base"), std::string::npos);
@@ -249,11 +249,11 @@ TEST(BaseScene, AMeshFileOfTheBaseThatChangesOnlyInBytesStillChangesTheScene) {
   with_file.replace(with_file.find(table), table.size(), R"("file": "table.off")");
   const std::string scene = write_file(dir + "/cell.json", with_file);
   write_file(dir + "/table.off", off);
-  const BaseScene before = compare::load_base_scene(scene, "cell.json");
+  const BaseScene before = scenes::load_base_scene(scene, "cell.json");
   ASSERT_EQ(before.hashes.meshes.size(), 1u);
   const std::string text = generate_scene_json("resolution", 1, 1, &before);
   write_file(dir + "/table.off", off + "\n");
-  const BaseScene after = compare::load_base_scene(scene, "cell.json");
+  const BaseScene after = scenes::load_base_scene(scene, "cell.json");
   EXPECT_EQ(after.scene.static_obstacles[0].mesh.vertices,
             before.scene.static_obstacles[0].mesh.vertices);
   EXPECT_NE(after.hashes.meshes[0].second, before.hashes.meshes[0].second);

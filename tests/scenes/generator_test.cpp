@@ -2,7 +2,7 @@
 // and validates, has the facet and object counts of the SPEC table (expected numbers from the
 // table's formulas, counted on the loaded scene), keeps the plausibility rule valid, and is
 // reproducible from its seed.
-#include "camplace/compare/scene_generator.hpp"
+#include "camplace/scenes/generator.hpp"
 
 #include <gtest/gtest.h>
 
@@ -24,9 +24,9 @@
 namespace camplace::testing {
 namespace {
 
-using compare::generate_scene_json;
-using compare::scene_families;
-using compare::SceneFamily;
+using scenes::generate_scene_json;
+using scenes::scene_families;
+using scenes::SceneFamily;
 
 const std::string kBasicScene = std::string(CAMPLACE_SOURCE_DIR) + "/data/paper_basic.json";
 
@@ -396,7 +396,7 @@ TEST(SceneGenerator, BadFamilyOrParamIsRejected) {
 TEST(SceneGenerator, WriteGeneratedSceneWritesTheTextAtomically) {
   const std::string dir = temp_dir("scene-generator-write");
   const std::string path = dir + "/sub/scene.json";
-  compare::write_generated_scene("dynamic_objects", 2, 5, path);
+  scenes::write_generated_scene("dynamic_objects", 2, 5, path);
   std::ifstream in(path);
   std::stringstream text;
   text << in.rdbuf();
@@ -406,7 +406,7 @@ TEST(SceneGenerator, WriteGeneratedSceneWritesTheTextAtomically) {
     ++files;
   EXPECT_EQ(files, 1);  // no temporary file left behind
   write_file(dir + "/plain", "x");
-  EXPECT_THROW(compare::write_generated_scene("cameras", 3, 1, dir + "/plain/scene.json"),
+  EXPECT_THROW(scenes::write_generated_scene("cameras", 3, 1, dir + "/plain/scene.json"),
                core::InputError);
 }
 
