@@ -12,12 +12,12 @@
 #include "camplace/core/error.hpp"
 #include "camplace/core/files.hpp"
 #include "camplace/core/scene.hpp"
+#include "camplace/jobs/interrupt.hpp"
+#include "camplace/jobs/progress.hpp"
 #include "camplace/voxel/evaluator.hpp"
 #include "cli_checks.hpp"
 #include "commands.hpp"
-#include "interrupt.hpp"
 #include "memory_estimate.hpp"
-#include "progress.hpp"
 #include "scene_input.hpp"
 
 namespace camplace::app {
@@ -43,9 +43,9 @@ void check_compare_memory(const core::Scene& scene, std::vector<std::array<int, 
   const int level = levels.empty() ? 0 : *std::max_element(levels.begin(), levels.end());
   std::string sizes;
   for (const auto& n : resolutions) sizes += (sizes.empty() ? "" : ",") + resolution_name(n);
-  set_work_description(command + " " + option + " " + sizes + " with " +
-                       std::to_string(scene.cameras.domains.size()) + " cameras" +
-                       (level > 0 ? ", --refine up to " + std::to_string(level) : ""));
+  jobs::set_work_description(command + " " + option + " " + sizes + " with " +
+                             std::to_string(scene.cameras.domains.size()) + " cameras" +
+                             (level > 0 ? ", --refine up to " + std::to_string(level) : ""));
   for (const auto& n : resolutions) check_memory(voxel_work(scene, n, level, 1, false), option);
 }
 
@@ -93,7 +93,8 @@ std::vector<std::array<int, 3>> parse_resolution_list(const std::string& text) {
 }
 
 void run_compare(const CompareArgs& args, const std::string& command) {
-  const InterruptSignals signals;  // a signal before the work starts: StopAtOnce ends it there
+  const jobs::InterruptSignals
+      signals;  // a signal before the work starts: jobs::StopAtOnce ends it there
   const core::Scene scene = load_scene_and_report(args.scene);
   const core::CameraConfig config = core::load_camera_config(args.cameras, scene);
   compare::CompareOptions options;
@@ -103,7 +104,7 @@ void run_compare(const CompareArgs& args, const std::string& command) {
   check_compare_memory(scene, options.resolutions, options.refine_levels,
                        args.resolutions_given ? "--resolutions" : "the scene's voxels", "compare");
   core::create_output_directory(args.out, "--out");
-  ProgressLine progress("compare", args.progress);
+  jobs::ProgressLine progress("compare", args.progress);
   if (progress.enabled()) {
     options.on_progress = [&progress](int done, int total) {
       progress.update(done == 0 ? "exact pipeline, evaluations" : "voxel pipelines, evaluations",
@@ -114,19 +115,19 @@ void run_compare(const CompareArgs& args, const std::string& command) {
   {
     // Neither pipeline can stop inside an evaluation: a signal ends the process within a second,
     // keeping the report of the evaluations done (rewritten after each, marked incomplete).
-    StopAtOnce::Options stop;
+    jobs::StopAtOnce::Options stop;
     stop.kept = "nothing was written (the exact pipeline had not finished)";
     stop.temp_dirs.push_back(args.out);
-    const StopAtOnce at_once(stop);
+    const jobs::StopAtOnce at_once(stop);
     result = compare::compare_voxel_exact(
         scene, config, options, [&](const compare::CompareResult& partial) {
           if (partial.evaluations_done == partial.evaluations_total) return;  // written below
-          const std::lock_guard<std::mutex> lock(StopAtOnce::writing());
+          const std::lock_guard<std::mutex> lock(jobs::StopAtOnce::writing());
           compare::write_compare_report(scene, partial, options, args.out);
-          StopAtOnce::set_kept(args.out + "/report.md and its files hold " +
-                               std::to_string(partial.evaluations_done) + " of " +
-                               std::to_string(partial.evaluations_total) +
-                               " evaluations (marked incomplete); rerun the command for all");
+          jobs::StopAtOnce::set_kept(args.out + "/report.md and its files hold " +
+                                     std::to_string(partial.evaluations_done) + " of " +
+                                     std::to_string(partial.evaluations_total) +
+                                     " evaluations (marked incomplete); rerun the command for all");
         });
   }
   progress.finish();
@@ -140,8 +141,8 @@ void run_compare(const CompareArgs& args, const std::string& command) {
     std::cout << ": " << e.err;
   }
   std::cout << "\nreport: " << args.out << "/report.md\n";
-  if (InterruptSignals::flag().load()) {
-    throw Interrupted("compare: a signal came while the report was written; it is complete");
+  if (jobs::InterruptSignals::flag().load()) {
+    throw jobs::Interrupted("compare: a signal came while the report was written; it is complete");
   }
 }
 
@@ -203,7 +204,7 @@ void register_compare_optimizer_command(CLI::App& app) {
       "Ctrl-C (or SIGTERM, SIGHUP) stops within a second, keeping runs.csv once every run's\n"
       "exact Err is known; the exit status is then 128 + the signal.");
   cmd->callback([args, resolutions] {
-    const InterruptSignals signals;
+    const jobs::InterruptSignals signals;
     const core::Scene scene = load_scene_and_report(args->scene);
     compare::OptimizerValidationOptions options;
     options.runs_dir = args->runs;
@@ -219,26 +220,26 @@ void register_compare_optimizer_command(CLI::App& app) {
                       std::to_string(args->seed) +
                       (args->resolutions.empty() ? "" : " --resolutions " + args->resolutions) +
                       " --out " + args->out;
-    ProgressLine progress("compare-optimizer", args->progress);
+    jobs::ProgressLine progress("compare-optimizer", args->progress);
     if (progress.enabled()) {
       options.on_progress = [&progress](int done, int total) {
         progress.update("evaluations", done, total);
       };
     }
-    options.writing = &StopAtOnce::writing();
-    options.on_written = [](const std::string& kept) { StopAtOnce::set_kept(kept); };
+    options.writing = &jobs::StopAtOnce::writing();
+    options.on_written = [](const std::string& kept) { jobs::StopAtOnce::set_kept(kept); };
     {
       // No evaluation can stop half-way: a signal ends the process within a second, keeping
-      // what was written (StopAtOnce).
-      StopAtOnce::Options stop;
+      // what was written (jobs::StopAtOnce).
+      jobs::StopAtOnce::Options stop;
       stop.temp_dirs.push_back(args->out);
-      const StopAtOnce at_once(stop);
+      const jobs::StopAtOnce at_once(stop);
       compare::validate_optimizer(scene, options, args->out);
     }
     progress.finish();
     std::cout << "report: " << args->out << "/report.md\n";
-    if (InterruptSignals::flag().load()) {
-      throw Interrupted(
+    if (jobs::InterruptSignals::flag().load()) {
+      throw jobs::Interrupted(
           "compare-optimizer: a signal came while the report was written; it is complete");
     }
   });

@@ -14,12 +14,12 @@
 #include "camplace/core/files.hpp"
 #include "camplace/core/scene.hpp"
 #include "camplace/core/threads.hpp"
+#include "camplace/jobs/interrupt.hpp"
+#include "camplace/jobs/progress.hpp"
 #include "camplace/voxel/evaluator.hpp"
 #include "cli_checks.hpp"
 #include "commands.hpp"
-#include "interrupt.hpp"
 #include "memory_estimate.hpp"
-#include "progress.hpp"
 #include "scene_input.hpp"
 
 namespace camplace::app {
@@ -119,8 +119,8 @@ std::string max_seconds_text(double seconds) {
 
 void run_evaluate(const EvaluateArgs& args) {
   // The first SIGINT, SIGTERM or SIGHUP ends the evaluation at once (nothing to keep yet), also
-  // while the scene loads and an evaluator is set up (interrupt.hpp, StopAtOnce below).
-  const InterruptSignals signals;
+  // while the scene loads and an evaluator is set up (interrupt.hpp, jobs::StopAtOnce below).
+  const jobs::InterruptSignals signals;
   const core::Scene scene = load_scene_and_report(args.scene);
   const core::CameraConfig config = core::load_camera_config(args.cameras, scene);
   // Keep-out boxes bind the optimizer only (docs/scene-format.md): evaluate warns and goes on.
@@ -164,13 +164,13 @@ void run_evaluate(const EvaluateArgs& args) {
       args.threads > 0 ? args.threads
                        : static_cast<int>(std::max(std::thread::hardware_concurrency(), 1u)),
       true);
-  set_work_description("evaluate " + resolution_option + " " + std::to_string(work.n[0]) + "x" +
-                       std::to_string(work.n[1]) + "x" + std::to_string(work.n[2]) + " with " +
-                       std::to_string(config.size()) + " cameras" +
-                       (args.refine > 0 ? ", --refine " + std::to_string(args.refine) : "") +
-                       ", --pipeline " + args.pipeline);
+  jobs::set_work_description("evaluate " + resolution_option + " " + std::to_string(work.n[0]) +
+                             "x" + std::to_string(work.n[1]) + "x" + std::to_string(work.n[2]) +
+                             " with " + std::to_string(config.size()) + " cameras" +
+                             (args.refine > 0 ? ", --refine " + std::to_string(args.refine) : "") +
+                             ", --pipeline " + args.pipeline);
   if (want_voxel) check_memory(work, resolution_option);
-  ProgressLine progress("evaluate", args.progress);
+  jobs::ProgressLine progress("evaluate", args.progress);
   if (progress.enabled()) {
     options.on_progress = [&progress](const std::string& stage, int done, int total) {
       if (total > 0) {
@@ -184,19 +184,19 @@ void run_evaluate(const EvaluateArgs& args) {
   {
     // Nothing is written until the evaluation ends: a signal or --max-seconds ends the process
     // at once, removing the temporary files of --export-mesh's unfinished writes.
-    StopAtOnce::Options stop;
+    jobs::StopAtOnce::Options stop;
     stop.kept = args.export_given ? "the mesh files in " + args.export_dir + " may be incomplete"
                                   : "nothing was written";
     if (args.export_given) stop.temp_dirs.push_back(args.export_dir);
     stop.deadline_seconds = args.max_seconds;
     stop.deadline_message =
         "evaluate stopped: --max-seconds " + max_seconds_text(args.max_seconds) + " exceeded";
-    const StopAtOnce at_once(stop);
+    const jobs::StopAtOnce at_once(stop);
     evaluation = compare::evaluate_json(scene, config, options);
   }
   progress.finish();
-  if (InterruptSignals::flag().load()) {
-    throw Interrupted("evaluate stopped before printing its result; nothing was written");
+  if (jobs::InterruptSignals::flag().load()) {
+    throw jobs::Interrupted("evaluate stopped before printing its result; nothing was written");
   }
   const nlohmann::json& out = evaluation.result;
   if (options.voxel_models) write_voxels(evaluation, args.voxels_out);
@@ -223,8 +223,9 @@ void run_evaluate(const EvaluateArgs& args) {
   } else {
     print_table(out);
   }
-  if (InterruptSignals::flag().load()) {
-    throw Interrupted("evaluate: a signal came while the results were written; they are complete");
+  if (jobs::InterruptSignals::flag().load()) {
+    throw jobs::Interrupted(
+        "evaluate: a signal came while the results were written; they are complete");
   }
 }
 

@@ -11,10 +11,10 @@
 #include "camplace/core/files.hpp"
 #include "camplace/core/scene.hpp"
 #include "camplace/core/threads.hpp"
+#include "camplace/jobs/interrupt.hpp"
 #include "camplace/view/export.hpp"
 #include "cli_checks.hpp"
 #include "commands.hpp"
-#include "interrupt.hpp"
 #include "memory_estimate.hpp"
 #include "scene_input.hpp"
 
@@ -50,7 +50,7 @@ core::StateIndex parse_state(const std::string& text) {
 }
 
 void run_export(const ExportArgs& args) {
-  const InterruptSignals signals;
+  const jobs::InterruptSignals signals;
   const core::Scene scene = load_scene_and_report(args.scene);
   const core::CameraConfig config = core::load_camera_config(args.cameras, scene);
   view::ExportOptions options;
@@ -72,19 +72,19 @@ void run_export(const ExportArgs& args) {
       args.resolution.empty() ? "the scene's voxels" : "--resolution";
   const VoxelWork work =
       voxel_work(scene, options.voxel.resolution, args.refine, options.voxel.threads, false);
-  set_work_description("export " + resolution_option + " " + std::to_string(work.n[0]) + "x" +
-                       std::to_string(work.n[1]) + "x" + std::to_string(work.n[2]) + " with " +
-                       std::to_string(config.size()) + " cameras" +
-                       (args.refine > 0 ? ", --refine " + std::to_string(args.refine) : ""));
+  jobs::set_work_description("export " + resolution_option + " " + std::to_string(work.n[0]) + "x" +
+                             std::to_string(work.n[1]) + "x" + std::to_string(work.n[2]) +
+                             " with " + std::to_string(config.size()) + " cameras" +
+                             (args.refine > 0 ? ", --refine " + std::to_string(args.refine) : ""));
   if (options.pipeline == core::Pipeline::voxel) check_memory(work, resolution_option);
   core::create_output_directory(args.out, "--out");
   view::ExportResult result;
   {
     // A signal ends the export within a second, removing unfinished temporary files.
-    StopAtOnce::Options stop;
+    jobs::StopAtOnce::Options stop;
     stop.kept = "the files written so far are in " + args.out + " (the export is incomplete)";
     stop.temp_dirs.push_back(args.out);
-    const StopAtOnce at_once(stop);
+    const jobs::StopAtOnce at_once(stop);
     result = view::export_scene(scene, config, options, args.out);
   }
   std::printf("%4s %5s %7s %9s %10s  %s\n", "step", "event", "weight", "d_true[m]", "d_model[m]",

@@ -7,14 +7,14 @@
 #include <string>
 
 #include "camplace/core/error.hpp"
+#include "camplace/jobs/interrupt.hpp"
 #include "commands.hpp"
-#include "interrupt.hpp"
 
 namespace {
 
 /// "error: out of memory: <the work> asked for more memory than the machine could give; ..."
 void print_out_of_memory(const std::string& command) {
-  const std::string& work = camplace::app::work_description();
+  const std::string& work = camplace::jobs::work_description();
   std::cerr << "error: out of memory: " << (work.empty() ? "camplace " + command : work)
             << " asked for more memory than the machine could give; use a coarser "
                "--resolution, fewer cameras or fewer --refine levels\n";
@@ -50,20 +50,12 @@ int main(int argc, char** argv) {
   camplace::app::register_evaluate_command(app);
   camplace::app::register_export_command(app);
   camplace::app::register_expand_command(app);
-#ifdef CAMPLACE_HAVE_OPTIMIZE
   camplace::app::register_optimize_command(app);
-#endif
-#ifdef CAMPLACE_HAVE_VALIDATION
   camplace::app::register_compare_command(app);
   camplace::app::register_compare_optimizer_command(app);
-#endif
-#ifdef CAMPLACE_HAVE_STUDY
   camplace::app::register_study_command(app);
   camplace::app::register_validate_command(app);
-#endif
-#ifdef CAMPLACE_HAVE_COMPARE
   camplace::app::register_generate_command(app);
-#endif
   if (argc > 1 && argv[1][0] != '-') {
     std::string names;
     bool known = false;
@@ -90,12 +82,12 @@ int main(int argc, char** argv) {
     std::cerr << "error: command line: " << flag << ": " << e.reason() << "\n";
     return 1;
   } catch (const std::bad_alloc&) {
-    // Commands name the work and the options that sized it (set_work_description).
+    // Commands name the work and the options that sized it (jobs::set_work_description).
     print_out_of_memory(g_command);
     return 1;
-  } catch (const camplace::app::Interrupted& e) {
+  } catch (const camplace::jobs::Interrupted& e) {
     std::cerr << "interrupted: " << e.what() << "\n";
-    return camplace::app::interrupted_exit_status();
+    return camplace::jobs::interrupted_exit_status();
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
     return 1;

@@ -22,13 +22,13 @@
 #include "camplace/core/provenance.hpp"
 #include "camplace/core/scene.hpp"
 #include "camplace/core/threads.hpp"
+#include "camplace/jobs/interrupt.hpp"
 #include "camplace/optimize/encoding.hpp"
 #include "camplace/optimize/optimizer.hpp"
 #include "camplace/optimize/report.hpp"
 #include "camplace/optimize/voxel_objective.hpp"
 #include "cli_checks.hpp"
 #include "commands.hpp"
-#include "interrupt.hpp"
 #include "memory_estimate.hpp"
 #include "scene_input.hpp"
 #ifdef CAMPLACE_HAVE_STUDY
@@ -132,9 +132,9 @@ int discard_output(const std::string& dir) {
 void run_optimize(const OptimizeArgs& args) {
   // The first SIGINT, SIGTERM or SIGHUP stops the run and writes its result (interrupt.hpp).
   // Until the evaluator is set up nothing is written, and a signal ends the process at once
-  // (StopAtOnce below).
-  const InterruptSignals signals;
-  std::atomic<bool>& stop = InterruptSignals::flag();
+  // (jobs::StopAtOnce below).
+  const jobs::InterruptSignals signals;
+  std::atomic<bool>& stop = jobs::InterruptSignals::flag();
 
   const core::Scene scene = load_scene_and_report(args.scene);
   voxel::VoxelOptions voxel_options;
@@ -176,12 +176,12 @@ void run_optimize(const OptimizeArgs& args) {
   const VoxelWork work =
       voxel_work(scene, voxel_options.resolution, args.refine,
                  args.threads > 0 ? args.threads : static_cast<int>(cores), false);
-  set_work_description("optimize " + resolution_option + " " + std::to_string(work.n[0]) + "x" +
-                       std::to_string(work.n[1]) + "x" + std::to_string(work.n[2]) + " with " +
-                       std::to_string(work.cameras) + " cameras" +
-                       (args.refine > 0 ? ", --refine " + std::to_string(args.refine) : ""));
+  jobs::set_work_description("optimize " + resolution_option + " " + std::to_string(work.n[0]) +
+                             "x" + std::to_string(work.n[1]) + "x" + std::to_string(work.n[2]) +
+                             " with " + std::to_string(work.cameras) + " cameras" +
+                             (args.refine > 0 ? ", --refine " + std::to_string(args.refine) : ""));
   check_memory(work, resolution_option);
-  auto set_up_at_once = std::make_unique<StopAtOnce>(StopAtOnce::Options{});
+  auto set_up_at_once = std::make_unique<jobs::StopAtOnce>(jobs::StopAtOnce::Options{});
   const optimize::VoxelObjective objective(scene, voxel_options);
   set_up_at_once.reset();
   optimize::RunContext context;
@@ -293,7 +293,7 @@ void run_optimize(const OptimizeArgs& args) {
       std::cout << "  warning: " << w.get<std::string>() << "\n";
   }
   std::cout << "\nrun files, summary.json and summary.csv in " << args.out << "\n";
-  if (interrupted) throw Interrupted("the best result so far is in " + args.out);
+  if (interrupted) throw jobs::Interrupted("the best result so far is in " + args.out);
 }
 
 }  // namespace

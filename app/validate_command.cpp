@@ -15,13 +15,11 @@
 
 #include "camplace/compare/run_validation.hpp"
 #include "camplace/core/threads.hpp"
+#include "camplace/jobs/interrupt.hpp"
+#include "camplace/jobs/mpi_work.hpp"
+#include "camplace/jobs/progress.hpp"
 #include "cli_checks.hpp"
 #include "commands.hpp"
-#include "interrupt.hpp"
-#include "progress.hpp"
-#ifdef CAMPLACE_HAVE_MPI
-#include "mpi_work.hpp"
-#endif
 
 namespace camplace::app {
 
@@ -32,9 +30,8 @@ struct ValidateArgs {
   bool progress = false;
 };
 
-#ifdef CAMPLACE_HAVE_MPI
 /// One run's check under way on this rank, in a thread of its own (the rank keeps polling).
-class CheckTask : public mpi::Task {
+class CheckTask : public jobs::mpi::Task {
  public:
   CheckTask(compare::RunChecker& checker, std::string file)
       : thread_([this, &checker, file] {
@@ -59,21 +56,21 @@ class CheckTask : public mpi::Task {
   std::thread thread_;
 };
 
-mpi::Handlers check_handlers(const std::shared_ptr<compare::RunChecker>& checker) {
-  mpi::Handlers handlers;
+jobs::mpi::Handlers check_handlers(const std::shared_ptr<compare::RunChecker>& checker) {
+  jobs::mpi::Handlers handlers;
   handlers.start = [checker](const std::string& file) {
     return std::make_unique<CheckTask>(*checker, file);
   };
-  handlers.interrupt = &InterruptSignals::flag();
+  handlers.interrupt = &jobs::InterruptSignals::flag();
   return handlers;
 }
 
 /// Rank 0 of `mpirun camplace validate DIR`: every run file's check spread over the ranks
 /// (itself included), each into the folder's cache, from which validate_runs then takes them.
 /// Returns false when a signal stopped it.
-bool check_on_ranks(const mpi::Session& session, const compare::ValidateOptions& options) {
+bool check_on_ranks(const jobs::mpi::Session& session, const compare::ValidateOptions& options) {
   const std::vector<std::string> files = compare::find_validation_runs(options.dir);
-  mpi::Handlers handlers = check_handlers(std::make_shared<compare::RunChecker>(options.dir));
+  jobs::mpi::Handlers handlers = check_handlers(std::make_shared<compare::RunChecker>(options.dir));
   const auto start = std::chrono::steady_clock::now();
   int done = 0;
   handlers.judge = [&](std::size_t, int, const std::string&) {
@@ -83,19 +80,19 @@ bool check_on_ranks(const mpi::Session& session, const compare::ValidateOptions&
           {done, static_cast<int>(files.size()), 0,
            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()});
     }
-    return InterruptSignals::flag().load() ? mpi::Verdict::stop : mpi::Verdict::done;
+    return jobs::InterruptSignals::flag().load() ? jobs::mpi::Verdict::stop
+                                                 : jobs::mpi::Verdict::done;
   };
-  mpi::distribute(session, files, handlers);
-  return !InterruptSignals::flag().load();
+  jobs::mpi::distribute(session, files, handlers);
+  return !jobs::InterruptSignals::flag().load();
 }
-#endif
 
 void run_validate(ValidateArgs& args) {
   // The first SIGINT, SIGTERM or SIGHUP finishes the runs under way and writes the files
   // (interrupt.hpp).
-  const InterruptSignals signals;
+  const jobs::InterruptSignals signals;
   compare::ValidateOptions& options = args.options;
-  options.interrupt = &InterruptSignals::flag();
+  options.interrupt = &jobs::InterruptSignals::flag();
   const bool tty = ::isatty(STDERR_FILENO) == 1;
   if (tty || args.progress) {
     options.on_progress = [tty](const compare::ValidationProgress& p) {
@@ -103,19 +100,18 @@ void run_validate(ValidateArgs& args) {
       const int evaluated = p.done - p.from_cache;
       const double eta = evaluated > 0 ? p.seconds / evaluated * (p.total - p.done) : 0.0;
       std::fprintf(stderr, "%svalidate: %d/%d runs, %s elapsed, ETA %s%s", tty ? "\r\033[K" : "",
-                   p.done, p.total, duration_text(p.seconds).c_str(), duration_text(eta).c_str(),
-                   tty ? "" : "\n");
+                   p.done, p.total, jobs::duration_text(p.seconds).c_str(),
+                   jobs::duration_text(eta).c_str(), tty ? "" : "\n");
       std::fflush(stderr);
     };
   }
   options.command = "camplace validate " + options.dir;
-#ifdef CAMPLACE_HAVE_MPI
   // Under mpirun with more than one rank: the checks are spread over the ranks and land in the
   // cache; rank 0 then writes the files from it as a serial validate does.
-  std::unique_ptr<mpi::Session> session;
-  if (mpi::launched_by_mpirun()) session = std::make_unique<mpi::Session>();
+  std::unique_ptr<jobs::mpi::Session> session;
+  if (jobs::mpi::launched_by_mpirun()) session = std::make_unique<jobs::mpi::Session>();
   if (session && session->rank() > 0) {
-    mpi::serve(*session, check_handlers(std::make_shared<compare::RunChecker>(options.dir)));
+    jobs::mpi::serve(*session, check_handlers(std::make_shared<compare::RunChecker>(options.dir)));
     return;
   }
   if (session && session->size() > 1 && !check_on_ranks(*session, options)) {
@@ -123,11 +119,8 @@ void run_validate(ValidateArgs& args) {
     options.interrupt = nullptr;
     options.cache_only = true;
   }
-#endif
   compare::ValidationOutcome outcome = compare::validate_runs(options);
-#ifdef CAMPLACE_HAVE_MPI
   if (options.cache_only) outcome.interrupted = true;
-#endif
   if (tty) std::fprintf(stderr, "\n");
   int false_successes = 0, over = 0, checked = 0;
   for (const auto& r : outcome.rows) {
@@ -145,7 +138,7 @@ void run_validate(ValidateArgs& args) {
             << "results: " << options.dir << "/validation.csv, " << options.dir
             << "/validation.md\n";
   if (outcome.interrupted) {
-    throw Interrupted("validate interrupted; rerun the same command to resume");
+    throw jobs::Interrupted("validate interrupted; rerun the same command to resume");
   }
   if (outcome.failed > 0) {
     throw std::runtime_error(std::to_string(outcome.failed) +

@@ -248,6 +248,27 @@ nlohmann::json differences(const nlohmann::json& vox, const nlohmann::json& ex) 
           {"voxel_diagonal", vox["voxel_diagonal"]},
           {"states", states}};
 }
+
+/// The exact pipeline's result for `config` ("exact" of the JSON).
+nlohmann::json exact_result(const core::Scene& scene, const core::CameraConfig& config,
+                            const EvaluationOptions& options) {
+  exact::ExactOptions exact_options;
+  exact_options.export_dir = options.export_dir;
+  exact_options.threads = options.threads;
+  return exact_json(exact::evaluate_exact(scene, config, exact_options), options.exact_fractions);
+}
+#else
+// A build without exact/ (CAMPLACE_WITH_EXACT=OFF): asking for it is an option error.
+[[noreturn]] void built_without_exact() {
+  throw core::OptionError("pipeline",
+                          "camplace was built without the exact pipeline (reconfigure with "
+                          "-DCAMPLACE_WITH_EXACT=ON; it needs CGAL with GMP and MPFR)");
+}
+nlohmann::json exact_result(const core::Scene&, const core::CameraConfig&,
+                            const EvaluationOptions&) {
+  built_without_exact();
+}
+nlohmann::json differences(const nlohmann::json&, const nlohmann::json&) { built_without_exact(); }
 #endif
 
 }  // namespace
@@ -257,7 +278,7 @@ EvaluationJson evaluate_json(const core::Scene& scene, const core::CameraConfig&
   const bool want_voxel = options.pipeline != core::Pipeline::exact;
   const bool want_exact = options.pipeline != core::Pipeline::voxel;
 #ifndef CAMPLACE_HAVE_EXACT
-  if (want_exact) throw core::OptionError("pipeline", "this build has no exact pipeline");
+  if (want_exact) built_without_exact();
 #endif
   EvaluationJson out;
   nlohmann::json vox, ex;
@@ -298,16 +319,11 @@ EvaluationJson evaluate_json(const core::Scene& scene, const core::CameraConfig&
       }
     }
   }
-#ifdef CAMPLACE_HAVE_EXACT
   if (want_exact) {
-    exact::ExactOptions exact_options;
-    exact_options.export_dir = options.export_dir;
-    exact_options.threads = options.threads;
     progress("exact evaluation", 0, state_count);
-    ex = exact_json(exact::evaluate_exact(scene, config, exact_options), options.exact_fractions);
+    ex = exact_result(scene, config, options);
+    progress("exact evaluation", state_count, state_count);
   }
-  if (want_exact) progress("exact evaluation", state_count, state_count);
-#endif
   // One shape for every pipeline (docs/files.md): "voxel", "exact" and "differences" always,
   // null where nothing ran; one pipeline's members also at the top level.
   if (want_voxel && want_exact) {
@@ -317,12 +333,8 @@ EvaluationJson evaluate_json(const core::Scene& scene, const core::CameraConfig&
   }
   out.result["voxel"] = want_voxel ? vox : nlohmann::json(nullptr);
   out.result["exact"] = want_exact ? ex : nlohmann::json(nullptr);
-#ifdef CAMPLACE_HAVE_EXACT
   out.result["differences"] =
       want_voxel && want_exact ? differences(vox, ex) : nlohmann::json(nullptr);
-#else
-  out.result["differences"] = nullptr;
-#endif
   out.result["scene"] = scene.file;
   out.result["cameras_file"] = options.cameras_file;
   require_finite(out.result);

@@ -1,10 +1,10 @@
-#include "progress.hpp"
+#include "camplace/jobs/progress.hpp"
 
 #include <unistd.h>
 
 #include <cstdio>
 
-namespace camplace::app {
+namespace camplace::jobs {
 
 std::string duration_text(double seconds) {
   char text[32];
@@ -99,4 +99,4 @@ void ProgressLine::finish() {
   if (ticker_.joinable()) ticker_.join();
 }
 
-}  // namespace camplace::app
+}  // namespace camplace::jobs

@@ -1,4 +1,4 @@
-#include "interrupt.hpp"
+#include "camplace/jobs/interrupt.hpp"
 
 #include <signal.h>
 #include <unistd.h>
@@ -10,7 +10,7 @@
 #include <filesystem>
 #include <thread>
 
-namespace camplace::app {
+namespace camplace::jobs {
 namespace {
 
 std::atomic<bool> g_flag{false};
@@ -161,4 +161,4 @@ std::mutex& StopAtOnce::writing() {
 void set_work_description(const std::string& text) { description() = text; }
 const std::string& work_description() { return description(); }
 
-}  // namespace camplace::app
+}  // namespace camplace::jobs

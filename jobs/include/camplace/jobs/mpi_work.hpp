@@ -12,15 +12,19 @@
 #include <string>
 #include <vector>
 
-namespace camplace::app::mpi {
+namespace camplace::jobs::mpi {
 
 /// True when this process was started by mpirun or srun (Open MPI's or PMI's environment),
 /// i.e. when MPI is to be initialised. A camplace started otherwise never touches MPI.
 bool launched_by_mpirun();
 
+/// True when camplace was built with MPI (CAMPLACE_WITH_MPI and an MPI library found).
+bool built_with_mpi();
+
 /// MPI for the lifetime of a command: MPI_Init_thread and MPI_Finalize. On rank 0 the
 /// destructor first releases any rank still waiting for work (rank 0 may end with an error
-/// before it handed anything out).
+/// before it handed anything out). In a build without MPI a job of one rank is rank 0 of 1, and
+/// a job of more ranks throws std::runtime_error ("camplace was built without MPI ...").
 class Session {
  public:
   Session();
@@ -62,6 +66,7 @@ struct Handlers {
 
 /// Rank 0: carries out the items (payloads, handed out in this order) on every rank of the
 /// session and returns each item's last result by index; an item never started has none.
+/// Without MPI (built_with_mpi() false) distribute and serve throw std::runtime_error.
 std::vector<std::optional<std::string>> distribute(const Session& session,
                                                    const std::vector<std::string>& payloads,
                                                    const Handlers& handlers);
@@ -69,4 +74,4 @@ std::vector<std::optional<std::string>> distribute(const Session& session,
 /// Ranks > 0: asks rank 0 for work and carries it out until rank 0 says stop.
 void serve(const Session& session, const Handlers& handlers);
 
-}  // namespace camplace::app::mpi
+}  // namespace camplace::jobs::mpi

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-namespace camplace::app {
+namespace camplace::jobs {
 
 /// Installs the handlers for its lifetime and restores the previous ones afterwards.
 class InterruptSignals {
@@ -81,4 +81,4 @@ class StopAtOnce {
 void set_work_description(const std::string& description);
 const std::string& work_description();
 
-}  // namespace camplace::app
+}  // namespace camplace::jobs

@@ -10,7 +10,7 @@
 #include <string>
 #include <thread>
 
-namespace camplace::app {
+namespace camplace::jobs {
 
 /// "42s", "3m05s", "2h10m".
 std::string duration_text(double seconds);
@@ -53,4 +53,4 @@ class ProgressLine {
   std::thread ticker_;
 };
 
-}  // namespace camplace::app
+}  // namespace camplace::jobs

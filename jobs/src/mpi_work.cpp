@@ -1,6 +1,6 @@
 // Work spread over MPI ranks: rank 0 hands out items one at a time as ranks ask;
 // every rank polls, so none spins a core while it waits.
-#include "mpi_work.hpp"
+#include "camplace/jobs/mpi_work.hpp"
 
 #include <mpi.h>
 
@@ -11,7 +11,7 @@
 #include <stdexcept>
 #include <thread>
 
-namespace camplace::app::mpi {
+namespace camplace::jobs::mpi {
 
 namespace {
 
@@ -51,6 +51,8 @@ void release_workers(int size) {
 }
 
 }  // namespace
+
+bool built_with_mpi() { return true; }
 
 bool launched_by_mpirun() {
   for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE"}) {
@@ -191,4 +193,4 @@ void serve(const Session&, const Handlers& handlers) {
   }
 }
 
-}  // namespace camplace::app::mpi
+}  // namespace camplace::jobs::mpi
