@@ -41,10 +41,11 @@ struct PendingRun {
   double cost = 0.0;
 };
 
-/// Carries out the pending runs elsewhere (on MPI ranks: app/study_command.cpp, jobs/src/mpi_runs.cpp)
-/// and returns how each ended, in the order given (a run never started, after an interrupt or an
-/// error: interrupted, no failure). run_study gives them longest expected first, with their
-/// folders made and no stale run file, and judges each by its run file as after `launch`.
+/// Carries out the pending runs elsewhere (on MPI ranks: app/study_command.cpp,
+/// jobs/src/mpi_runs.cpp) and returns how each ended, in the order given (a run never started,
+/// after an interrupt or an error: interrupted, no failure). run_study gives them longest expected
+/// first, with their folders made and no stale run file, and judges each by its run file as after
+/// `launch`.
 using RunDispatcher = std::function<std::vector<LaunchOutcome>(const std::vector<PendingRun>&)>;
 
 struct StudyOptions {
