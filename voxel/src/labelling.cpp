@@ -57,7 +57,8 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
     std::uint8_t* out[detail::kChunk];
     for (int s = 0; s < count; ++s) out[s] = models[first + s].data();
     std::size_t hint = 0, block_hint = 0;
-    auto label = [&](int i, int j, int k, StateMask clear) {
+    // Inlined into visit's loops (GCC and Clang; an outlined call per voxel costs ~6%).
+    auto label = [&](int i, int j, int k, StateMask clear) __attribute__((always_inline)) {
       auto* row = &rows[((k - k_begin) * ny + j) * n_cam];
       const int v = i + nx * (j + ny * k);
       StateMask pending = all & ~clear;  // not removed, not yet seen free
