@@ -162,7 +162,7 @@ TEST(Refine, LowerBoundWithThreeLevelsIsBelowTheToleranceAndNeverBeaten) {
   EXPECT_GT(bound, 0.0);
   EXPECT_LT(bound, tolerance);
   const voxel::VoxelEvaluator unrefined(scene, refined(0));
-  EXPECT_GT(unrefined.err_lower_bound(), tolerance);  // the 0.0782 m²
+  EXPECT_GT(unrefined.err_lower_bound(), tolerance);  // 0.0782 m² at 16×12×12
   for (const core::CameraConfig& config : paper_configs(scene, 11)) {
     const double err = evaluator.err(config);
     EXPECT_GE(core::lower_bound_threshold(err), bound) << "Err " << err;
