@@ -71,9 +71,10 @@ nlohmann::json voxel_diagnostics(
   long targets_total = 0;
   nlohmann::json states = nlohmann::json::array();
   int zero_distance = 0, empty = 0;
+  const std::vector<std::vector<std::uint8_t>> models = evaluator.models(config);
   for (std::size_t s = 0; s < all.size(); ++s) {
     progress("voxel diagnostics", static_cast<int>(s), static_cast<int>(all.size()));
-    const std::vector<std::uint8_t> model = evaluator.model(config, static_cast<int>(s));
+    const std::vector<std::uint8_t>& model = models[s];
     const std::vector<int> component = voxel::component_labels(model, grid);
     std::vector<std::vector<voxel::Label>> labels;
     for (std::size_t c = 0; c < config.size(); ++c) {
@@ -313,9 +314,9 @@ EvaluationJson evaluate_json(const core::Scene& scene, const core::CameraConfig&
     if (options.voxel_models) {
       out.grid = evaluator.grid();
       const auto all = core::states(evaluator.scene());
+      std::vector<std::vector<std::uint8_t>> models = evaluator.models(config);
       for (std::size_t i = 0; i < all.size(); ++i) {
-        out.voxel_models.push_back(
-            {all[i].time_step, all[i].event, evaluator.model(config, static_cast<int>(i))});
+        out.voxel_models.push_back({all[i].time_step, all[i].event, std::move(models[i])});
       }
     }
   }

@@ -146,6 +146,7 @@ CompareResult compare_voxel_exact(const core::Scene& original, const core::Camer
       voxel_options.refine = level;
       const voxel::VoxelEvaluator evaluator(scene, voxel_options);
       const voxel::Evaluation ev = evaluator.evaluate(config);
+      const std::vector<std::vector<std::uint8_t>> leaf_models = evaluator.leaf_models(config);
       const std::string pipeline =
           "voxel-" + core::name_of(mode) + (level > 0 ? "-refine" + std::to_string(level) : "");
       result.errs.push_back({pipeline, n, level, ev.err, ev.timing.total_ms});
@@ -167,8 +168,8 @@ CompareResult compare_voxel_exact(const core::Scene& original, const core::Camer
         row.volume_exact = es.model_volume;
         row.volume_voxel = vs.model_volume;
         // With refinement: against the finest cells (leaf_grid() is grid() without).
-        row.exact_outside = exact_outside_voxel_model(
-            ex.models[s], evaluator.leaf_grid(), evaluator.leaf_model(config, static_cast<int>(s)));
+        row.exact_outside =
+            exact_outside_voxel_model(ex.models[s], evaluator.leaf_grid(), leaf_models[s]);
         row.distance_over_estimated = row.d_voxel > row.d_exact + kDistanceSlack;
         row.filter_lost_component = vs.components_removed > 0 && vs.components < es.components;
         const bool violation = row.exact_outside > 0 || row.distance_over_estimated;

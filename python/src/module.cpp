@@ -262,7 +262,11 @@ py::array_t<bool> voxel_model(const PyScene& scene, const py::object& cameras,
     py::gil_scoped_release release;
     const voxel::VoxelEvaluator evaluator = make_evaluator(voxel_scene, mode, n_given, threads);
     n = evaluator.grid().n;
-    for (int index : indices) models.push_back(evaluator.model(config, index));
+    if (state) {
+      models.push_back(evaluator.model(config, indices.front()));
+    } else {
+      models = evaluator.models(config);  // one labelling for every state
+    }
   }
   std::vector<py::ssize_t> shape{n[2], n[1], n[0]};
   if (!state) shape.insert(shape.begin(), static_cast<py::ssize_t>(models.size()));

@@ -1,10 +1,13 @@
 // Per camera, once per evaluation (SPEC §3): everything the labeller needs that does not depend
-// on the voxel, in five steps — the camera's frame and FOV numbers, the objects that hold the
-// camera (blind in their states), the cone over each triangle, back-face culling, and the
-// triangles' projections sorted into bins of the image plane (docs/design/labelling.md L1, L3).
+// on the voxel — the camera's frame and FOV numbers, the objects that hold the camera (blind in
+// their states), back-face culling, the slots (the triangles that can decide a label, with their
+// projections and, in conservative mode, their cones) and the slots sorted into bins of the
+// image plane per chunk of 64 states (docs/design/labelling.md L1, L3). Its work grows with the
+// triangles in view, its memory is reused from evaluation to evaluation.
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <thread>
 
 #include "camplace/core/geometry.hpp"
 #include "image_plane.hpp"
@@ -13,8 +16,11 @@
 namespace camplace::voxel {
 
 using core::Vec3;
+using detail::BinGrid;
+using detail::BinLists;
 using detail::BinRange;
 using detail::CameraSetup;
+using detail::ChunkCandidates;
 using detail::kMargin;
 using detail::ObjectInfo;
 using detail::TriangleCone;
@@ -24,10 +30,13 @@ namespace {
 using Triangles = std::vector<std::array<Vec3, 3>>;
 
 /// The camera's frame (axis, ex right, ey up), a voxel box's half extents in it, and the FOV's
-/// numbers: near and far planes, the (bounding) cone's half angle, the row test's widened cone.
-CameraSetup camera_frame(const core::CameraSetting& camera, const core::CameraModel& model,
-                         const Vec3& half_step) {
-  CameraSetup cam;
+/// numbers: near and far planes, the (bounding) cone's half angle, the row test's widened cone,
+/// the FOV's section at unit depth. Returns the bins' width per image axis at the grid's
+/// resolution: `bins` bins across the section of the FOV's (bounding) cone, or of a frustum's
+/// image rectangle.
+std::array<double, 2> camera_frame(const core::CameraSetting& camera,
+                                   const core::CameraModel& model, const Vec3& half_step, int bins,
+                                   CameraSetup& cam) {
   cam.setting = camera;
   cam.fov.emplace(camera, model);
   const core::Fov& fov = *cam.fov;
@@ -52,15 +61,23 @@ CameraSetup camera_frame(const core::CameraSetting& camera, const core::CameraMo
   cam.sin_half = std::sin(half_angle);
   const double widened = half_angle + 1e-6;
   cam.row_cos_sq = widened < 0.5 * core::kPi ? std::cos(widened) * std::cos(widened) : 0.0;
-  // Bins over the FOV's section at unit depth: the cone's (which holds the pyramid), or the
-  // frustum's image rectangle, tan(H/2) × tan(V/2) along ex (right) and ey (up), both turned
-  // by the roll. Bins only sort: a triangle outside them lands in an edge bin.
+  // The FOV's section at unit depth: inside the bounding cone's circle of radius tan α, or a
+  // frustum's image rectangle tan(H/2) × tan(V/2) along ex (right) and ey (up), both turned by
+  // the roll (core::Fov's corners). Every box the labeller tests lies in the FOV (its corners
+  // pass core::Fov::contains, or its centre does in center mode), so it projects into this
+  // section, widened here against rounding.
+  std::array<double, 2> half{std::tan(half_angle), std::tan(half_angle)};
   if (model.fov == core::FovShape::frustum) {
-    cam.image_half = {std::tan(0.5 * model.horizontal), std::tan(0.5 * model.vertical)};
-  } else {
-    cam.image_half = {std::tan(half_angle), std::tan(half_angle)};
+    half = {std::tan(0.5 * model.horizontal), std::tan(0.5 * model.vertical)};
   }
-  return cam;
+  const double inf = std::numeric_limits<double>::infinity();
+  for (int a = 0; a < 2; ++a) {
+    const double h =
+        half_angle < 0.5 * core::kPi && std::isfinite(half[a]) ? half[a] * (1 + 1e-6) + 1e-9 : inf;
+    cam.view[2 * a] = -h;
+    cam.view[2 * a + 1] = h;
+  }
+  return {2.0 * half[0] / bins, 2.0 * half[1] / bins};
 }
 
 /// Per object: whether it holds the camera at c. SPEC §3.3 with one convention in both
@@ -68,8 +85,9 @@ CameraSetup camera_frame(const core::CameraSetting& camera, const core::CameraMo
 /// object). The exact pipeline decides this exactly; here a camera within a rounding distance of
 /// the surface counts as on it, which only makes the model larger, never smaller (conservative
 /// mode stays ⊇ exact).
-std::vector<std::uint8_t> objects_holding(const std::vector<ObjectInfo>& objects, const Vec3& c) {
-  std::vector<std::uint8_t> inside(objects.size(), 0);
+void objects_holding(const std::vector<ObjectInfo>& objects, const Vec3& c,
+                     std::vector<std::uint8_t>& inside) {
+  inside.assign(objects.size(), 0);
   for (std::size_t o = 0; o < objects.size(); ++o) {
     const ObjectInfo& info = objects[o];
     const double d = (info.center - c).norm();
@@ -77,215 +95,356 @@ std::vector<std::uint8_t> objects_holding(const std::vector<ObjectInfo>& objects
     const bool near = d <= info.radius + on_surface;
     inside[o] = near && core::point_solid_sq_distance(*info.mesh, c) <= on_surface * on_surface;
   }
-  return inside;
 }
 
-/// The cone from the camera over each triangle (conservative mode; center mode needs only the
-/// nearest distance and flatness). Returns per triangle det / scale, 0 when the camera is in its
-/// plane (the tilt that back-face culling reads).
-std::vector<double> triangle_cones(CameraSetup& cam, const Triangles& triangles,
-                                   const Vec3& half_step, bool conservative) {
-  const Vec3& c = cam.c;
-  cam.triangles.resize(triangles.size());
-  std::vector<double> tilt(triangles.size(), 0.0);
-  for (std::size_t t = 0; t < triangles.size(); ++t) {
-    const auto& tri = triangles[t];
-    TriangleCone& tc = cam.triangles[t];
-    const Vec3 a = tri[0] - c, b = tri[1] - c, e = tri[2] - c;
-    const double det = a.dot(b.cross(e));
-    tc.near_distance = std::sqrt(core::point_triangle_sq_distance(c, tri[0], tri[1], tri[2]));
-    const double scale = a.norm() * b.norm() * e.norm();
-    tc.flat = !(std::abs(det) > 1e-12 * scale);
-    if (tc.flat) continue;
-    tilt[t] = det / scale;
-    if (!conservative) continue;  // center mode needs no cones
-    const double sign = det > 0 ? 1.0 : -1.0;
-    tc.edge[0] = a;
-    tc.edge[1] = b;
-    tc.edge[2] = e;
-    tc.normal[0] = (sign * a.cross(b)).normalized();
-    tc.normal[1] = (sign * b.cross(e)).normalized();
-    tc.normal[2] = (sign * e.cross(a)).normalized();
-    for (int i = 0; i < 3; ++i) tc.abs_normal[i] = tc.normal[i].cwiseAbs();
-    // The voxel-independent part of the separating-axis test (the edges' projections), once
-    // per camera.
-    auto add_axis = [&](const Vec3& axis) {
-      const double pa = axis.dot(tc.edge[0]), pb = axis.dot(tc.edge[1]), pc = axis.dot(tc.edge[2]);
-      const double radius = axis.cwiseAbs().dot(half_step);
-      if (pa >= 0.0 && pb >= 0.0 && pc >= 0.0) {
-        tc.axes[tc.axis_count++] = {axis, radius, 1.0, axis.norm()};
-      } else if (pa <= 0.0 && pb <= 0.0 && pc <= 0.0) {
-        tc.axes[tc.axis_count++] = {axis, radius, -1.0, axis.norm()};
-      }
-    };
-    for (int i = 0; i < 3; ++i) add_axis(Vec3::Unit(i));
-    for (const Vec3& edge : tc.edge) {
-      for (int i = 0; i < 3; ++i) add_axis(edge.cross(Vec3::Unit(i)));
+/// One vertex seen from the camera: its offset q = vertex − c, |q|, and its image coordinates
+/// (X/Z, Y/Z) when it lies in front of the camera (Z > 1e-9 |q|).
+struct VertexView {
+  Vec3 q;
+  double norm;
+  double x, y;
+  bool in_front;
+};
+
+/// A slot's projection before padding, and the bins it covers.
+struct SlotBounds {
+  double x0, x1, y0, y1;
+  BinRange coarse, wide;
+};
+
+/// The working memory of camera_setup, reused from evaluation to evaluation on each thread.
+struct SetupWork {
+  std::vector<VertexView> vertices;
+  std::vector<double> tilt;  ///< per triangle of the current object: det / scale, 0 when flat
+  std::vector<std::uint8_t> flat;
+  std::vector<SlotBounds> bounds;  ///< per slot; x0 = NaN: not wholly in front
+  std::vector<int> fill;
+};
+
+/// Counting sort of the slots of one chunk into the bins of `grid`: `range(slot)` gives the bins
+/// a slot covers, `member(slot)` whether it is one of the chunk's.
+template <class Range, class Member>
+void sort_into_bins(const BinGrid& grid, int slots, const Range& range, const Member& member,
+                    std::vector<int>& fill, BinLists& lists) {
+  const int cells = grid.count();
+  lists.start.assign(cells + 1, 0);
+  for (int s = 0; s < slots; ++s) {
+    if (!member(s)) continue;
+    const BinRange& r = range(s);
+    for (int by = r.y0; by <= r.y1; ++by) {
+      for (int bx = r.x0; bx <= r.x1; ++bx) ++lists.start[by * grid.n[0] + bx + 1];
     }
   }
-  return tilt;
-}
-
-/// Back-face culling (both modes; docs/design/labelling.md L3): det > 0 means the camera is
-/// behind the triangle's plane. An object is culled only when it is oriented outward, the camera
-/// is outside it and clear of its surface, and no triangle is near edge-on; a near miss of a
-/// culled object's front face makes judge_conservative() test its back faces too.
-void cull_back_faces(CameraSetup& cam, const std::vector<ObjectInfo>& objects,
-                     const std::vector<double>& tilt) {
-  for (std::size_t o = 0; o < objects.size(); ++o) {
-    const ObjectInfo& info = objects[o];
-    const int end = info.first_triangle + info.triangle_count;
-    double clearance = std::numeric_limits<double>::infinity();
-    bool clear_tilts = true;
-    for (int t = info.first_triangle; t < end; ++t) {
-      clearance = std::min(clearance, cam.triangles[t].near_distance);
-      clear_tilts = clear_tilts && std::abs(tilt[t]) > 1e-9;
-    }
-    const double scale = (info.center - cam.c).norm() + info.radius;
-    const bool cull =
-        info.outward && !cam.inside_object[o] && clearance > 1e-9 * scale && clear_tilts;
-    for (int t = info.first_triangle; t < end; ++t) {
-      cam.triangles[t].back = cull && tilt[t] > 0;
-      cam.triangles[t].touch = cull;
+  for (int b = 0; b < cells; ++b) lists.start[b + 1] += lists.start[b];
+  lists.items.resize(lists.start[cells]);
+  fill.assign(lists.start.begin(), lists.start.end() - 1);
+  for (int s = 0; s < slots; ++s) {
+    if (!member(s)) continue;
+    const BinRange& r = range(s);
+    for (int by = r.y0; by <= r.y1; ++by) {
+      for (int bx = r.x0; bx <= r.x1; ++bx) lists.items[fill[by * grid.n[0] + bx]++] = s;
     }
   }
 }
 
-/// Each triangle's projection (X/Z, Y/Z): its padded bounding rectangle and edge lines, or the
-/// `everywhere` list when it is not wholly in front of the camera; then the coarse bins (the
-/// triangles whose rectangle, padded by the margin, covers each bin). Conservative mode leaves
-/// out the triangles it never tests (flat or culled).
-void project_into_bins(CameraSetup& cam, const Triangles& triangles, int bins, bool conservative) {
-  cam.bins = bins;
-  for (int a = 0; a < 2; ++a) cam.bin_scale[a] = cam.bins / (2.0 * cam.image_half[a]);
-  const int bin_count = cam.bins * cam.bins;
-  std::vector<BinRange> ranges(triangles.size());
+/// A grid of bins of width `width` per axis over [lo, hi], at most `max_bins` per axis.
+BinGrid grid_over(const std::array<double, 2>& lo, const std::array<double, 2>& hi,
+                  const std::array<double, 2>& width, int max_bins) {
+  BinGrid grid;
+  for (int a = 0; a < 2; ++a) {
+    const double extent = hi[a] - lo[a];
+    const double n = extent > 0.0 && width[a] > 0.0 ? std::ceil(extent / width[a]) : 1.0;
+    grid.n[a] = static_cast<int>(std::clamp(n, 1.0, static_cast<double>(max_bins)));
+    grid.origin[a] = lo[a];
+    grid.scale[a] = extent > 0.0 ? grid.n[a] / extent : 1.0;
+  }
+  return grid;
+}
+
+/// Each vertex of `mesh` once, seen from the camera: its offset, length and projection (the same
+/// numbers per triangle corner as computed from the triangle).
+void view_vertices(const core::TriangleMesh& mesh, const CameraSetup& cam,
+                   std::vector<VertexView>& out) {
+  out.resize(mesh.vertices.size());
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+    VertexView& vv = out[v];
+    vv.q = mesh.vertices[v] - cam.c;
+    vv.norm = vv.q.norm();
+    const double z = vv.q.dot(cam.axis);
+    vv.in_front = z > kMargin * vv.norm;
+    if (vv.in_front) {
+      vv.x = vv.q.dot(cam.ex) / z;
+      vv.y = vv.q.dot(cam.ey) / z;
+    }
+  }
+}
+
+/// The camera's tilt against each triangle's plane (det / scale; 0 when the camera lies in it,
+/// flat: the cone has no volume), into work.tilt and work.flat, and whether the object's back
+/// faces are culled (both modes; docs/design/labelling.md L3): det > 0 means the camera is behind
+/// the triangle's plane. An object is culled only when it is oriented outward, the camera is
+/// outside it and clear of its surface, and no triangle is near edge-on; a near miss of a culled
+/// object's front face makes judge_conservative() test its back faces too. The surface's clearance
+/// is measured per triangle only when the bounding sphere does not prove it (a sphere gap of twice
+/// the bound leaves room for any rounding of either).
+bool cull_back_faces(const ObjectInfo& info, bool camera_inside, const Triangles& triangles,
+                     const Vec3& c, SetupWork& work) {
+  const core::TriangleMesh& mesh = *info.mesh;
+  const int n = info.triangle_count;
+  work.tilt.assign(n, 0.0);
+  work.flat.assign(n, 0);
+  bool clear_tilts = true;
+  for (int i = 0; i < n; ++i) {
+    const auto& tv = mesh.triangles[i];
+    const VertexView &a = work.vertices[tv[0]], &b = work.vertices[tv[1]],
+                     &e = work.vertices[tv[2]];
+    const double det = a.q.dot(b.q.cross(e.q));
+    const double scale = a.norm * b.norm * e.norm;
+    work.flat[i] = !(std::abs(det) > 1e-12 * scale);
+    if (!work.flat[i]) work.tilt[i] = det / scale;
+    clear_tilts = clear_tilts && std::abs(work.tilt[i]) > 1e-9;
+  }
+  const double scale = (info.center - c).norm() + info.radius;
+  if (!(info.outward && !camera_inside && clear_tilts)) return false;
+  if ((info.center - c).norm() - info.radius > 2e-9 * scale) return true;
+  double clearance = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < n; ++i) {
+    const auto& tri = triangles[info.first_triangle + i];
+    clearance =
+        std::min(clearance, std::sqrt(core::point_triangle_sq_distance(c, tri[0], tri[1], tri[2])));
+  }
+  return clearance > 1e-9 * scale;
+}
+
+/// The slots of object o: its triangles that can decide a label (not culled back faces; in
+/// conservative mode not flat; projecting into the FOV's section or not wholly in front of the
+/// camera), with their padded rectangles and, in center mode, edge lines.
+void add_slots(int o, const ObjectInfo& info, bool cull, bool conservative, CameraSetup& cam,
+               SetupWork& work) {
   const double inf = std::numeric_limits<double>::infinity();
-  cam.rect.assign(triangles.size(), {-inf, inf, -inf, inf});
-  cam.lines.assign(triangles.size(), {});
-  cam.bin_start.assign(bin_count + 1, 0);
-  cam.binned.assign(triangles.size(), 0);
-  for (std::size_t t = 0; t < triangles.size(); ++t) {
-    if (cam.triangles[t].back || (conservative && cam.triangles[t].flat)) continue;
-    double xlo = inf, xhi = -inf, ylo = inf, yhi = -inf;
-    double px[3], py[3];
-    bool projectable = true;
-    for (int v = 0; v < 3; ++v) {
-      const Vec3 q = triangles[t][v] - cam.c;
-      const double z = q.dot(cam.axis);
-      if (!(z > kMargin * q.norm())) {
-        projectable = false;
-        break;
-      }
-      const double x = q.dot(cam.ex) / z, y = q.dot(cam.ey) / z;
-      px[v] = x;
-      py[v] = y;
-      xlo = std::min(xlo, x);
-      xhi = std::max(xhi, x);
-      ylo = std::min(ylo, y);
-      yhi = std::max(yhi, y);
-    }
-    if (!projectable) {
-      cam.everywhere.push_back(static_cast<int>(t));
+  const core::TriangleMesh& mesh = *info.mesh;
+  for (int i = 0; i < info.triangle_count; ++i) {
+    const int t = info.first_triangle + i;
+    if (cull && work.tilt[i] > 0) {
+      cam.back[t] = 1;
       continue;
     }
-    cam.binned[t] = 1;
-    ranges[t] = detail::bin_range(cam, xlo, xhi, ylo, yhi);
+    if (conservative && work.flat[i]) continue;
+    const auto& tv = mesh.triangles[i];
+    const VertexView* v[3] = {&work.vertices[tv[0]], &work.vertices[tv[1]], &work.vertices[tv[2]]};
+    if (!(v[0]->in_front && v[1]->in_front && v[2]->in_front)) {
+      // Not wholly in front of the camera: a candidate everywhere.
+      cam.slot_triangle.push_back(t);
+      cam.slot_object.push_back(o);
+      cam.rect.push_back({-inf, inf, -inf, inf});
+      if (!conservative) cam.lines.emplace_back();
+      work.bounds.push_back({std::numeric_limits<double>::quiet_NaN(), 0, 0, 0, {}, {}});
+      continue;
+    }
+    const double xlo = std::min({v[0]->x, v[1]->x, v[2]->x});
+    const double xhi = std::max({v[0]->x, v[1]->x, v[2]->x});
+    const double ylo = std::min({v[0]->y, v[1]->y, v[2]->y});
+    const double yhi = std::max({v[0]->y, v[1]->y, v[2]->y});
     const double pad_x = 2 * kMargin * (1.0 + std::max(std::abs(xlo), std::abs(xhi)));
     const double pad_y = 2 * kMargin * (1.0 + std::max(std::abs(ylo), std::abs(yhi)));
-    cam.rect[t] = {xlo - pad_x, xhi + pad_x, ylo - pad_y, yhi + pad_y};
+    const std::array<double, 4> r{xlo - pad_x, xhi + pad_x, ylo - pad_y, yhi + pad_y};
+    // Outside the FOV's section: no box or ray the labeller tests projects onto it.
+    if (r[1] < cam.view[0] || r[0] > cam.view[1] || r[3] < cam.view[2] || r[2] > cam.view[3]) {
+      continue;
+    }
+    cam.slot_triangle.push_back(t);
+    cam.slot_object.push_back(o);
+    cam.rect.push_back(r);
+    work.bounds.push_back({xlo, xhi, ylo, yhi, {}, {}});
+    if (conservative) continue;
     // The projected triangle's edge lines, inside ≥ 0, unit normals, padded like the
     // rectangle; none for a (nearly) degenerate projection.
+    detail::EdgeLines& lines = cam.lines.emplace_back();
+    const double px[3] = {v[0]->x, v[1]->x, v[2]->x}, py[3] = {v[0]->y, v[1]->y, v[2]->y};
     const double area = (px[1] - px[0]) * (py[2] - py[0]) - (py[1] - py[0]) * (px[2] - px[0]);
     const double size = std::max(xhi - xlo, yhi - ylo);
-    cam.lines[t].valid = std::abs(area) > 1e-9 * size * size;
-    if (cam.lines[t].valid) {
-      const double pad = std::max(pad_x, pad_y);
-      for (int e = 0; e < 3; ++e) {
-        const int f = (e + 1) % 3;
-        double a = -(py[f] - py[e]), b = px[f] - px[e];
-        if (area < 0) {
-          a = -a;
-          b = -b;
-        }
-        const double norm = std::hypot(a, b);
-        a /= norm;
-        b /= norm;
-        cam.lines[t].line[e] = {a, b, -(a * px[e] + b * py[e]) + pad};
+    lines.valid = std::abs(area) > 1e-9 * size * size;
+    if (!lines.valid) continue;
+    const double pad = std::max(pad_x, pad_y);
+    for (int ed = 0; ed < 3; ++ed) {
+      const int f = (ed + 1) % 3;
+      double la = -(py[f] - py[ed]), lb = px[f] - px[ed];
+      if (area < 0) {
+        la = -la;
+        lb = -lb;
       }
-    }
-    for (int by = ranges[t].y0; by <= ranges[t].y1; ++by) {
-      for (int bx = ranges[t].x0; bx <= ranges[t].x1; ++bx) ++cam.bin_start[by * cam.bins + bx + 1];
-    }
-  }
-  for (int b = 0; b < bin_count; ++b) cam.bin_start[b + 1] += cam.bin_start[b];
-  cam.bin_items.resize(cam.bin_start[bin_count]);
-  std::vector<int> fill(cam.bin_start.begin(), cam.bin_start.end() - 1);
-  for (std::size_t t = 0; t < triangles.size(); ++t) {
-    if (!cam.binned[t]) continue;
-    for (int by = ranges[t].y0; by <= ranges[t].y1; ++by) {
-      for (int bx = ranges[t].x0; bx <= ranges[t].x1; ++bx) {
-        cam.bin_items[fill[by * cam.bins + bx]++] = static_cast<int>(t);
-      }
+      const double norm = std::sqrt(la * la + lb * lb);
+      la /= norm;
+      lb /= norm;
+      lines.line[ed] = {la, lb, -(la * px[ed] + lb * py[ed]) + pad};
     }
   }
 }
 
-/// Conservative mode: bins twice as fine with every rectangle widened by half a (coarse) bin, so
-/// that a voxel whose projection is at most that wide finds every triangle it can meet in the
-/// bin of its rectangle's centre, each once (no repeats to skip). Center mode: none.
-void fill_wide_bins(CameraSetup& cam, bool conservative) {
-  cam.wide_bins = 2 * cam.bins;
-  for (int a = 0; a < 2; ++a) {
-    cam.wide_scale[a] = cam.wide_bins / (2.0 * cam.image_half[a]);
-    cam.widen[a] = 0.5 / cam.bin_scale[a];
+/// The bins: they cover the slots' (padded) rectangles within the FOV's section, at bin width
+/// `width`; in center mode finer where there are more slots than a few per bin. A box or ray
+/// whose projection misses that rectangle has no binned candidate (detail::outside_bins).
+/// Conservative mode: wide bins twice as fine with every rectangle widened by half a coarse bin
+/// of that width, so that a box whose projection is at most that wide finds every slot it can
+/// meet in the bin of its rectangle's centre, each once (no repeats to skip). Then each slot's
+/// bin ranges, into work.bounds.
+void place_bins(const std::array<double, 2>& width, bool conservative, CameraSetup& cam,
+                SetupWork& work) {
+  const double inf = std::numeric_limits<double>::infinity();
+  const int slots = static_cast<int>(cam.slot_triangle.size());
+  std::array<double, 2> lo{inf, inf}, hi{-inf, -inf};
+  int binned = 0;
+  for (int s = 0; s < slots; ++s) {
+    if (std::isnan(work.bounds[s].x0)) continue;
+    ++binned;
+    const auto& r = cam.rect[s];
+    lo = {std::min(lo[0], r[0]), std::min(lo[1], r[2])};
+    hi = {std::max(hi[0], r[1]), std::max(hi[1], r[3])};
   }
-  const int wide_count = cam.wide_bins * cam.wide_bins;
-  cam.wide_start.assign(wide_count + 1, 0);
-  cam.wide_items.clear();
-  if (!conservative) return;
-  const std::size_t count = cam.rect.size();
-  std::vector<BinRange> wide(count);
-  for (std::size_t t = 0; t < count; ++t) {
-    if (!cam.binned[t]) continue;
-    const auto& r = cam.rect[t];
-    wide[t] = {detail::wide_of(cam, r[0] - cam.widen[0]), detail::wide_of(cam, r[1] + cam.widen[0]),
-               detail::wide_of(cam, r[2] - cam.widen[1], 1),
-               detail::wide_of(cam, r[3] + cam.widen[1], 1)};
-    for (int by = wide[t].y0; by <= wide[t].y1; ++by) {
-      for (int bx = wide[t].x0; bx <= wide[t].x1; ++bx) {
-        ++cam.wide_start[by * cam.wide_bins + bx + 1];
-      }
+  for (int a = 0; a < 2; ++a) {
+    lo[a] = std::max(lo[a], cam.view[2 * a]);
+    hi[a] = std::min(hi[a], cam.view[2 * a + 1]);
+    if (!(lo[a] < hi[a])) lo[a] = hi[a] = 0.0;
+  }
+  constexpr int kMaxBins = 1024;
+  cam.coarse = grid_over(lo, hi, width, kMaxBins);
+  if (!conservative) {
+    constexpr double kPerBin = 4.0;
+    const double wanted = std::min(binned / kPerBin, double{1 << 18});
+    if (cam.coarse.count() < wanted) {
+      const double f = std::sqrt(wanted / cam.coarse.count());
+      cam.coarse = grid_over(lo, hi, {width[0] / f, width[1] / f}, kMaxBins);
     }
   }
-  for (int b = 0; b < wide_count; ++b) cam.wide_start[b + 1] += cam.wide_start[b];
-  cam.wide_items.resize(cam.wide_start[wide_count]);
-  std::vector<int> next(cam.wide_start.begin(), cam.wide_start.end() - 1);
-  for (std::size_t t = 0; t < count; ++t) {
-    if (!cam.binned[t]) continue;
-    for (int by = wide[t].y0; by <= wide[t].y1; ++by) {
-      for (int bx = wide[t].x0; bx <= wide[t].x1; ++bx) {
-        cam.wide_items[next[by * cam.wide_bins + bx]++] = static_cast<int>(t);
-      }
+  for (int a = 0; a < 2; ++a) cam.widen[a] = 0.5 * width[a];
+  cam.wide = conservative ? grid_over({lo[0] - cam.widen[0], lo[1] - cam.widen[1]},
+                                      {hi[0] + cam.widen[0], hi[1] + cam.widen[1]},
+                                      {0.5 * width[0], 0.5 * width[1]}, 2 * kMaxBins)
+                          : BinGrid{};
+  for (int s = 0; s < slots; ++s) {
+    SlotBounds& b = work.bounds[s];
+    if (std::isnan(b.x0)) continue;
+    b.coarse = detail::bin_range(cam.coarse, b.x0, b.x1, b.y0, b.y1);
+    if (!conservative) continue;
+    const auto& r = cam.rect[s];
+    b.wide = detail::bins_under(cam.wide, r[0] - cam.widen[0], r[1] + cam.widen[0],
+                                r[2] - cam.widen[1], r[3] + cam.widen[1]);
+  }
+}
+
+/// One chunk's candidates: the slots of objects of its states (`object_states`), sorted into
+/// the bins, or in `everywhere`.
+void chunk_candidates(const CameraSetup& cam, const detail::StateMask* object_states,
+                      bool conservative, SetupWork& work, ChunkCandidates& out) {
+  const int slots = static_cast<int>(cam.slot_triangle.size());
+  auto member = [&](int s) {
+    return object_states[cam.slot_object[s]] != 0 && !std::isnan(work.bounds[s].x0);
+  };
+  sort_into_bins(
+      cam.coarse, slots, [&](int s) -> const BinRange& { return work.bounds[s].coarse; }, member,
+      work.fill, out.coarse);
+  if (conservative) {
+    sort_into_bins(
+        cam.wide, slots, [&](int s) -> const BinRange& { return work.bounds[s].wide; }, member,
+        work.fill, out.wide);
+  } else {
+    out.wide.start.assign(cam.wide.count() + 1, 0);
+    out.wide.items.clear();
+  }
+  out.everywhere.clear();
+  for (int s = 0; s < slots; ++s) {
+    if (object_states[cam.slot_object[s]] != 0 && std::isnan(work.bounds[s].x0)) {
+      out.everywhere.push_back(s);
     }
   }
 }
 
 }  // namespace
 
-CameraSetup VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera,
-                                               const core::CameraModel& model) const {
-  CameraSetup cam = camera_frame(camera, model, half_step);
-  cam.inside_object = objects_holding(objects, cam.c);
-  const std::vector<double> tilt = triangle_cones(cam, triangles, half_step, conservative);
-  cull_back_faces(cam, objects, tilt);
+const TriangleCone& VoxelEvaluator::Impl::make_cone_of(const CameraSetup& cam, int slot) const {
+  std::atomic<std::uint8_t>& state = cam.cone_state[slot];
+  std::uint8_t expected = detail::kConeMissing;
+  if (state.compare_exchange_strong(expected, detail::kConeMaking, std::memory_order_acq_rel)) {
+    make_cone(cam.slot_triangle[slot], cam.c, cam.cones[slot]);
+    state.store(detail::kConeReady, std::memory_order_release);
+  } else {
+    while (state.load(std::memory_order_acquire) != detail::kConeReady) std::this_thread::yield();
+  }
+  return cam.cones[slot];
+}
+
+void VoxelEvaluator::Impl::make_cone(int t, const Vec3& c, TriangleCone& tc) const {
+  const auto& tri = triangles[t];
+  const Vec3 a = tri[0] - c, b = tri[1] - c, e = tri[2] - c;
+  const double det = a.dot(b.cross(e));
+  tc.near_distance = std::sqrt(core::point_triangle_sq_distance(c, tri[0], tri[1], tri[2]));
+  const double sign = det > 0 ? 1.0 : -1.0;
+  const Vec3 edge[3] = {a, b, e};
+  tc.normal[0] = (sign * a.cross(b)).normalized();
+  tc.normal[1] = (sign * b.cross(e)).normalized();
+  tc.normal[2] = (sign * e.cross(a)).normalized();
+  for (int i = 0; i < 3; ++i) tc.abs_normal[i] = tc.normal[i].cwiseAbs();
+  // The voxel-independent part of the separating-axis test (the edges' projections), once per
+  // camera.
+  tc.axis_count = 0;
+  auto add_axis = [&](const Vec3& axis) {
+    const double pa = axis.dot(edge[0]), pb = axis.dot(edge[1]), pc = axis.dot(edge[2]);
+    const double radius = axis.cwiseAbs().dot(half_step);
+    if (pa >= 0.0 && pb >= 0.0 && pc >= 0.0) {
+      tc.axes[tc.axis_count++] = {axis, radius, 1.0, axis.norm()};
+    } else if (pa <= 0.0 && pb <= 0.0 && pc <= 0.0) {
+      tc.axes[tc.axis_count++] = {axis, radius, -1.0, axis.norm()};
+    }
+  };
+  for (int i = 0; i < 3; ++i) add_axis(Vec3::Unit(i));
+  for (const Vec3& ed : edge) {
+    for (int i = 0; i < 3; ++i) add_axis(ed.cross(Vec3::Unit(i)));
+  }
+}
+
+void VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera,
+                                        const core::CameraModel& model, CameraSetup& cam) const {
+  thread_local SetupWork work;
   // Center mode looks up one bin per voxel: fine bins. Conservative mode looks up the bins under
-  // the box's projection and then each triangle's rectangle: coarse bins (fewer repeats).
+  // the box's projection and then each slot's rectangle: coarse bins (fewer repeats).
   const int n_max = *std::max_element(grid.n.begin(), grid.n.end());
   const int bins = conservative ? std::clamp(n_max / 3, 8, 32) : std::clamp(n_max, 16, 64);
-  project_into_bins(cam, triangles, bins, conservative);
-  fill_wide_bins(cam, conservative);
-  return cam;
+  const std::array<double, 2> width = camera_frame(camera, model, half_step, bins, cam);
+  objects_holding(objects, cam.c, cam.inside_object);
+  cam.back.assign(triangles.size(), 0);
+  cam.culled.assign(objects.size(), 0);
+  cam.slot_triangle.clear();
+  cam.slot_object.clear();
+  cam.rect.clear();
+  cam.lines.clear();
+  work.bounds.clear();
+  for (std::size_t o = 0; o < objects.size(); ++o) {
+    view_vertices(*objects[o].mesh, cam, work.vertices);
+    const bool cull = cull_back_faces(objects[o], cam.inside_object[o], triangles, cam.c, work);
+    cam.culled[o] = cull;
+    add_slots(static_cast<int>(o), objects[o], cull, conservative, cam, work);
+  }
+  if (conservative) {
+    // The cones are made on first use (cone_of): a fine mesh has many slots that no box tests.
+    const std::size_t slots = cam.slot_triangle.size();
+    if (cam.cone_capacity < slots) {
+      cam.cone_capacity = std::max(slots, 2 * cam.cone_capacity);
+      cam.cones.reset(new TriangleCone[cam.cone_capacity]);  // uninitialised: no page touched
+      cam.cone_state.reset(new std::atomic<std::uint8_t>[cam.cone_capacity]);
+    }
+    // Few slots for many boxes (a coarse mesh): each cone serves many tests, made up front.
+    const bool up_front = slots * 8 <= static_cast<std::size_t>(grid.count());
+    for (std::size_t s = 0; s < slots; ++s) {
+      if (up_front) make_cone(cam.slot_triangle[s], cam.c, cam.cones[s]);
+      cam.cone_state[s].store(up_front ? detail::kConeReady : detail::kConeMissing,
+                              std::memory_order_relaxed);
+    }
+  }
+  place_bins(width, conservative, cam, work);
+  cam.chunks.resize(chunk_object_states.size());
+  for (std::size_t ch = 0; ch < chunk_object_states.size(); ++ch) {
+    chunk_candidates(cam, chunk_object_states[ch].data(), conservative, work, cam.chunks[ch]);
+  }
 }
 
 }  // namespace camplace::voxel

@@ -57,7 +57,8 @@ Evaluation VoxelEvaluator::evaluate(const core::CameraConfig& config) const {
   thread_local std::vector<std::vector<std::uint8_t>> buffers;
   thread_local std::vector<detail::CellSet> leaf_buffers;
   std::vector<std::vector<std::uint8_t>>& models = buffers;
-  std::vector<detail::CameraSetup> cameras;
+  thread_local std::vector<detail::CameraSetup> camera_buffers;
+  std::vector<detail::CameraSetup>& cameras = camera_buffers;
   m.all_raw_models(config, models, &cameras);
   result.timing.labelling_ms = ms_since(t0);
 #if CAMPLACE_EXPENSIVE_CHECKS
@@ -123,7 +124,9 @@ std::vector<Label> VoxelEvaluator::labels(const core::CameraSetting& camera, int
                                           int camera_index) const {
   const Impl& m = *impl_;
   m.states.at(state);  // throws std::out_of_range on a bad index
-  return m.labels(m.camera_setup(camera, m.scene.cameras.models.at(camera_index)), state);
+  detail::CameraSetup cam;
+  m.camera_setup(camera, m.scene.cameras.models.at(camera_index), cam);
+  return m.labels(cam, state);
 }
 
 detail::FilteredModels VoxelEvaluator::Impl::filtered_models(
@@ -142,15 +145,24 @@ detail::FilteredModels VoxelEvaluator::Impl::filtered_models(
 }
 
 std::vector<std::uint8_t> VoxelEvaluator::model(const core::CameraConfig& config, int state) const {
+  impl_->states.at(state);  // throws std::out_of_range on a bad index
+  return std::move(models(config)[state]);
+}
+
+std::vector<std::vector<std::uint8_t>> VoxelEvaluator::models(
+    const core::CameraConfig& config) const {
   const Impl& m = *impl_;
-  m.states.at(state);  // throws std::out_of_range on a bad index
   detail::FilteredModels models = m.filtered_models(config);
-  if (m.levels == 0) return std::move(models.base[state]);
-  std::vector<std::uint8_t> out(m.grid.count(), 0);
-  const detail::CellSet& set = models.cells[state];
-  for (std::size_t slot = 0; slot < set.voxels.size(); ++slot) {
-    const auto begin = set.cells.begin() + slot * m.octree.cells;
-    out[set.voxels[slot]] = std::find(begin, begin + m.octree.cells, 1) != begin + m.octree.cells;
+  if (m.levels == 0) return std::move(models.base);
+  std::vector<std::vector<std::uint8_t>> out(m.states.size());
+  for (std::size_t s = 0; s < out.size(); ++s) {
+    out[s].assign(m.grid.count(), 0);
+    const detail::CellSet& set = models.cells[s];
+    for (std::size_t slot = 0; slot < set.voxels.size(); ++slot) {
+      const auto begin = set.cells.begin() + slot * m.octree.cells;
+      out[s][set.voxels[slot]] =
+          std::find(begin, begin + m.octree.cells, 1) != begin + m.octree.cells;
+    }
   }
   return out;
 }
@@ -163,23 +175,31 @@ Grid VoxelEvaluator::leaf_grid() const {
 
 std::vector<std::uint8_t> VoxelEvaluator::leaf_model(const core::CameraConfig& config,
                                                      int state) const {
+  impl_->states.at(state);  // throws std::out_of_range on a bad index
+  return std::move(leaf_models(config)[state]);
+}
+
+std::vector<std::vector<std::uint8_t>> VoxelEvaluator::leaf_models(
+    const core::CameraConfig& config) const {
   const Impl& m = *impl_;
-  if (m.levels == 0) return model(config, state);
-  m.states.at(state);
+  if (m.levels == 0) return models(config);
   const detail::FilteredModels models = m.filtered_models(config);
   const Grid fine = leaf_grid();
-  std::vector<std::uint8_t> out(static_cast<std::size_t>(fine.count()), 0);
-  const detail::CellSet& set = models.cells[state];
   const int side = m.octree.side, nx = m.grid.n[0], ny = m.grid.n[1];
-  for (std::size_t slot = 0; slot < set.voxels.size(); ++slot) {
-    const int v = set.voxels[slot];
-    const int i = v % nx, j = (v / nx) % ny, k = v / (nx * ny);
-    for (int cell = 0; cell < m.octree.cells; ++cell) {
-      if (!set.cells[slot * m.octree.cells + cell]) continue;
-      const auto& c = m.octree.coords[cell];
-      const long I = static_cast<long>(i) * side + c[0], J = static_cast<long>(j) * side + c[1],
-                 K = static_cast<long>(k) * side + c[2];
-      out[I + fine.n[0] * (J + fine.n[1] * K)] = 1;
+  std::vector<std::vector<std::uint8_t>> out(m.states.size());
+  for (std::size_t s = 0; s < out.size(); ++s) {
+    out[s].assign(static_cast<std::size_t>(fine.count()), 0);
+    const detail::CellSet& set = models.cells[s];
+    for (std::size_t slot = 0; slot < set.voxels.size(); ++slot) {
+      const int v = set.voxels[slot];
+      const int i = v % nx, j = (v / nx) % ny, k = v / (nx * ny);
+      for (int cell = 0; cell < m.octree.cells; ++cell) {
+        if (!set.cells[slot * m.octree.cells + cell]) continue;
+        const auto& c = m.octree.coords[cell];
+        const long I = static_cast<long>(i) * side + c[0], J = static_cast<long>(j) * side + c[1],
+                   K = static_cast<long>(k) * side + c[2];
+        out[s][I + fine.n[0] * (J + fine.n[1] * K)] = 1;
+      }
     }
   }
   return out;

@@ -14,19 +14,12 @@ inline constexpr double kMargin = 1e-9;
 /// Relative gap below which a triangle's cone and a box are a touching configuration.
 inline constexpr double kTouch = 1e-12;
 
-/// The bin of image coordinate x (axis 0) or y (axis 1) (clamped: clamping keeps overlapping
-/// intervals overlapping).
-inline int bin_of(const CameraSetup& cam, double x, int axis = 0) {
-  const double f = (x + cam.image_half[axis]) * cam.bin_scale[axis];
+/// The bin of image coordinate x (axis 0) or y (axis 1) in `grid` (clamped: clamping keeps
+/// overlapping intervals overlapping).
+inline int bin_of(const BinGrid& grid, double x, int axis) {
+  const double f = (x - grid.origin[axis]) * grid.scale[axis];
   if (!(f > 0.0)) return 0;
-  if (f >= cam.bins) return cam.bins - 1;
-  return static_cast<int>(f);
-}
-
-inline int wide_of(const CameraSetup& cam, double x, int axis = 0) {
-  const double f = (x + cam.image_half[axis]) * cam.wide_scale[axis];
-  if (!(f > 0.0)) return 0;
-  if (f >= cam.wide_bins) return cam.wide_bins - 1;
+  if (f >= grid.n[axis]) return grid.n[axis] - 1;
   return static_cast<int>(f);
 }
 
@@ -34,12 +27,23 @@ struct BinRange {
   int x0 = 0, x1 = 0, y0 = 0, y1 = 0;
 };
 
+/// Bins of `grid` overlapping [xlo, xhi] × [ylo, yhi].
+inline BinRange bins_under(const BinGrid& grid, double xlo, double xhi, double ylo, double yhi) {
+  return {bin_of(grid, xlo, 0), bin_of(grid, xhi, 0), bin_of(grid, ylo, 1), bin_of(grid, yhi, 1)};
+}
+
 /// Bins overlapping [lo, hi] on each axis, padded by the margin.
-inline BinRange bin_range(const CameraSetup& cam, double xlo, double xhi, double ylo, double yhi) {
+inline BinRange bin_range(const BinGrid& grid, double xlo, double xhi, double ylo, double yhi) {
   const double px = kMargin * (1.0 + std::max(std::abs(xlo), std::abs(xhi)));
   const double py = kMargin * (1.0 + std::max(std::abs(ylo), std::abs(yhi)));
-  return {bin_of(cam, xlo - px), bin_of(cam, xhi + px), bin_of(cam, ylo - py, 1),
-          bin_of(cam, yhi + py, 1)};
+  return bins_under(grid, xlo - px, xhi + px, ylo - py, yhi + py);
+}
+
+/// Whether [x0, x1] × [y0, y1] misses the rectangle the bins of `grid` cover: no binned slot's
+/// rectangle meets it (the bins cover every one of them).
+inline bool outside_bins(const BinGrid& grid, double x0, double x1, double y0, double y1) {
+  return x1 < grid.origin[0] || x0 > grid.origin[0] + grid.n[0] / grid.scale[0] ||
+         y1 < grid.origin[1] || y0 > grid.origin[1] + grid.n[1] / grid.scale[1];
 }
 
 /// Whether the ball of radius `depth` about the point at w from the camera (axial coordinate z)

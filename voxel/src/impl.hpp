@@ -69,11 +69,10 @@ struct ObjectInfo {
   bool outward = false;  ///< signed volume > 0: the mesh is oriented outward (back-face culling)
 };
 
-/// Per camera and triangle: the infinite cone from the camera over the triangle, as its three
-/// edge rays (vertex − camera) and the inward unit normals of its three planes, and the
-/// triangle's nearest distance.
+/// Per camera and candidate triangle (conservative mode): the infinite cone from the camera over
+/// the triangle, as the inward unit normals of its three planes, the separating-axis candidates,
+/// and the triangle's nearest distance.
 struct TriangleCone {
-  core::Vec3 edge[3];
   core::Vec3 normal[3];
   core::Vec3 abs_normal[3];
   /// The separating-axis candidates beyond the 3 planes (3 box normals, then the 9 products of
@@ -86,14 +85,12 @@ struct TriangleCone {
     double norm;  ///< |axis|
   };
   std::array<Axis, 12> axes;
-  int axis_count = 0;
-  double near_distance = 0.0;
-  bool flat = false;  ///< camera in the triangle's plane: the cone has no volume
-  /// Camera clearly behind the triangle's plane, outside its (outward, closed) object and
-  /// clear of its surface: conservative mode skips the triangle (see labelling.cpp).
-  bool back = false;
-  bool touch = false;  ///< its object's back faces are culled for this camera
+  int axis_count;  // (no initialisers: an array of cones is allocated untouched)
+  double near_distance;
 };
+
+/// The states of a slot's cone in CameraSetup::cone_state.
+inline constexpr std::uint8_t kConeMissing = 0, kConeMaking = 1, kConeReady = 2;
 
 /// A triangle's projection as three lines a x + b y + c ≥ 0 (inside, padded).
 struct EdgeLines {
@@ -101,10 +98,37 @@ struct EdgeLines {
   bool valid = false;
 };
 
+/// A regular grid of bins over a rectangle of the image plane (X/Z, Y/Z): bin (bx, by) covers
+/// [origin + b / scale, origin + (b + 1) / scale) on each axis.
+struct BinGrid {
+  std::array<double, 2> origin{0.0, 0.0};
+  std::array<double, 2> scale{1.0, 1.0};  ///< bins per unit of image coordinate, per axis
+  std::array<int, 2> n{1, 1};             ///< bins per axis
+  int count() const { return n[0] * n[1]; }
+};
+
+/// The candidate lists of one chunk of 64 states: per bin of a BinGrid the slots (ascending)
+/// whose rectangle covers it, as offsets (count() + 1) into items.
+struct BinLists {
+  std::vector<int> start;
+  std::vector<int> items;
+};
+
+/// One chunk's candidates: the coarse bins, the wide bins (conservative mode) and the slots not
+/// wholly in front of the camera, which are candidates everywhere. Only slots of objects that
+/// belong to a state of the chunk.
+struct ChunkCandidates {
+  BinLists coarse, wide;
+  std::vector<int> everywhere;
+};
+
 /// Everything about one camera that one evaluation needs and that does not depend on the
-/// voxel: the FOV test, the triangles sorted into bins of the image plane (a triangle is a
-/// candidate for a voxel only when their projections' bounding rectangles share a bin), the
-/// triangle cones, and which objects hold the camera. A few kB, no per-voxel arrays.
+/// voxel: the FOV test, and the triangles that can decide a label (the candidates: in front of
+/// the camera or across its plane, not culled, projecting into the FOV; in conservative mode not
+/// flat), numbered as slots in triangle order, each with its projection's rectangle and, per
+/// mode, its edge lines or its cone, sorted into bins of the image plane per chunk of 64 states
+/// (a slot is a candidate for a voxel only when their projections' rectangles share a bin).
+/// Rebuilt in place for every evaluation (its memory is reused, camera_setup).
 struct CameraSetup {
   core::CameraSetting setting;
   std::optional<core::Fov> fov;
@@ -121,25 +145,31 @@ struct CameraSetup {
   /// or a frustum (CameraModel::bounding_half_angle).
   double cos_half = 1.0, sin_half = 0.0;
   double row_cos_sq = 0.0;  ///< cos² of the half angle widened by 1e-6 (row_interval); 0: none
-  int bins = 1;             ///< bins per image axis
-  /// The bins cover [−image_half[0], image_half[0]] × [−image_half[1], image_half[1]] of
-  /// (X/Z, Y/Z).
-  std::array<double, 2> image_half{1.0, 1.0};
-  std::array<double, 2> bin_scale{1.0, 1.0};  ///< bins per unit of image coordinate, per axis
-  std::vector<int> bin_start;                 ///< bins² + 1 offsets into bin_items
-  std::vector<int> bin_items;                 ///< triangle indices, ascending within a bin
-  /// Conservative mode: a second, finer set of bins whose rectangles are widened by `widen`.
-  int wide_bins = 1;
-  std::array<double, 2> wide_scale{1.0, 1.0}, widen{0.0, 0.0};  ///< per image axis
-  std::vector<int> wide_start;  ///< wide_bins² + 1 offsets into wide_items
-  std::vector<int> wide_items;
-  std::vector<int> everywhere;       ///< triangles not wholly in front of the camera: in every bin
-  std::vector<std::uint8_t> binned;  ///< per triangle: sorted into the bins (not `everywhere`)
-  /// Per triangle: its projection's bounding rectangle (x0, x1, y0, y1), padded; infinite for
-  /// the triangles in `everywhere`.
+  /// The FOV's section at unit depth lies in [view[0], view[1]] × [view[2], view[3]] of (X/Z,
+  /// Y/Z): the projection of every box or ray the labeller tests.
+  std::array<double, 4> view{-1.0, 1.0, -1.0, 1.0};
+  /// Center mode: the bins one voxel centre looks up. Conservative mode: coarse bins under a
+  /// box's projection, and wide bins (twice as fine) holding each rectangle widened by `widen`.
+  BinGrid coarse, wide;
+  std::array<double, 2> widen{0.0, 0.0};  ///< per image axis
+  std::vector<ChunkCandidates> chunks;
+  // Per slot.
+  std::vector<int> slot_triangle;
+  std::vector<int> slot_object;
+  /// The projection's bounding rectangle (x0, x1, y0, y1), padded; infinite for the slots not
+  /// wholly in front of the camera.
   std::vector<std::array<double, 4>> rect;
-  std::vector<EdgeLines> lines;  ///< per triangle, when projectable and not degenerate
-  std::vector<TriangleCone> triangles;
+  std::vector<EdgeLines> lines;  ///< center mode; when projectable and not degenerate
+  /// Conservative mode: per slot its cone, made on first use by whichever thread needs it first
+  /// (VoxelEvaluator::Impl::cone_of; cone_state kConeMissing → kConeMaking → kConeReady).
+  mutable std::unique_ptr<TriangleCone[]> cones;
+  mutable std::unique_ptr<std::atomic<std::uint8_t>[]> cone_state;
+  std::size_t cone_capacity = 0;
+  // Per triangle and object.
+  /// Back face of an object whose back faces are culled for this camera (docs/design/labelling.md
+  /// L3).
+  std::vector<std::uint8_t> back;
+  std::vector<std::uint8_t> culled;         ///< per object: its back faces are culled
   std::vector<std::uint8_t> inside_object;  ///< camera inside object o (blind in its states)
 };
 
@@ -152,10 +182,11 @@ struct StateInfo {
 
 /// Per-call working memory of the labeller (evaluate() is const and runs on several threads).
 struct Scratch {
-  std::vector<std::uint32_t> stamp;  ///< per triangle: last voxel visit that tested it
+  std::vector<std::uint32_t> stamp;  ///< per slot (any camera's): last visit that tested it
   std::uint32_t visit = 0;
   struct Hit {
     double t;
+    int occupying;  ///< 0 or 1: at equal distance a non-occupying hit comes first (L8)
     int triangle;
   };
   std::vector<Hit> hits;
@@ -177,13 +208,13 @@ struct CellSize {
   double factor = 1.0;                   ///< 2^−l
 };
 
-/// How many deciding triangles refinement remembers per node and camera (judge_conservative()'s
-/// witnesses): one per copy of a target in each time step, say.
+/// How many deciding slots (triangles) refinement remembers per node and camera
+/// (judge_conservative()'s witnesses): one per copy of a target in each time step, say.
 constexpr int kWitnesses = 4;
 
 /// What judge_conservative() tells refinement besides the verdict.
 struct Witnesses {
-  /// kWitnesses triangles to test first (those ≥ 0: the ones that decided the cell's parent),
+  /// kWitnesses slots to test first (those ≥ 0: the ones that decided the cell's parent),
   /// updated with the triangles that decided states here, most recent first.
   int* triangles = nullptr;
   /// Adds the states whose deciding triangle decides them for every box inside this one as
@@ -196,6 +227,7 @@ struct Witnesses {
 struct RefineContext {
   const std::vector<CameraSetup>* cameras = nullptr;
   const StateMask* seeing = nullptr;         ///< per camera: states it is not blind in
+  int chunk = 0;                             ///< the chunk of 64 states being refined
   const StateMask* object_states = nullptr;  ///< the chunk's
   /// Obstacle-interior tables of the voxel's steps: the states of the step, the table.
   std::vector<std::pair<StateMask, const std::uint8_t*>> removal;
@@ -204,7 +236,7 @@ struct RefineContext {
   StateMask* out = nullptr;  ///< per finest cell (Morton order): states where it is in M
   Scratch* scratch = nullptr;
   std::size_t hint = 0;  ///< the camera that last freed a cell (tried first)
-  /// Per level and camera: kWitnesses triangles that decided states of the node being refined
+  /// Per level and camera: kWitnesses slots that decided states of the node being refined
   /// at that level (detail::Witnesses::triangles, most recent first), −1 for none.
   std::vector<int> witness;
   /// Per level and camera: states where every cell below the node at that level is non-free
@@ -399,9 +431,9 @@ struct VoxelEvaluator::Impl : detail::SceneTables,
   /// holds the whole cell of size `size` at w from the camera (d = |w|) by
   /// detail::Witnesses' `sure` margin (judge_conservative() would find the cell, and every cell
   /// inside it, occupied there); else 0.
-  detail::StateMask contained(const detail::CameraSetup& cam, int t, const core::Vec3& w, double d,
-                              const detail::CellSize& size, detail::StateMask interest,
-                              const detail::StateMask* object_states) const;
+  detail::StateMask contained(const detail::CameraSetup& cam, int slot, const core::Vec3& w,
+                              double d, const detail::CellSize& size, detail::StateMask interest,
+                              int chunk) const;
   bool ball_outside_fov(const detail::CameraSetup& cam, const core::Vec3& w, double d,
                         double r) const;
   /// The box of octree node (l, m) below base voxel v (m, world frame).
@@ -411,8 +443,9 @@ struct VoxelEvaluator::Impl : detail::SceneTables,
 
   // Labelling (labelling.cpp): SPEC §3 per camera, voxel and state.
   /// `model`: the camera's (one of scene.cameras.models).
-  detail::CameraSetup camera_setup(const core::CameraSetting& camera,
-                                   const core::CameraModel& model) const;
+  /// Into `cam`, whose memory is reused (camera_setup.cpp).
+  void camera_setup(const core::CameraSetting& camera, const core::CameraModel& model,
+                    detail::CameraSetup& cam) const;
   /// Unfiltered models of all states (1 = no camera sees the voxel free, minus obstacle
   /// interiors), for voxel slices k ∈ [k_begin, k_end): sets their voxels in M to 1; `models[s]`
   /// holds grid.count() bytes, zero beforehand.
@@ -469,22 +502,32 @@ struct VoxelEvaluator::Impl : detail::SceneTables,
                     int& in_hi) const;
   bool in_fov(const detail::CameraSetup& cam, int i, int j, int k, const core::Vec3& w,
               double d) const;
+  /// The judges of one camera for the states `interest` of chunk `chunk` (judge.cpp).
   detail::Verdict judge_center(const detail::CameraSetup& cam, const core::Vec3& w, double d,
-                               detail::StateMask interest, const detail::StateMask* object_states,
-                               detail::Scratch& scratch, bool free_only) const;
+                               detail::StateMask interest, int chunk, detail::Scratch& scratch,
+                               bool free_only) const;
   detail::Verdict judge_conservative(const detail::CameraSetup& cam, const core::Vec3& w, double d,
                                      const detail::CellSize& size, detail::StateMask interest,
-                                     const detail::StateMask* object_states,
-                                     detail::Scratch& scratch, bool free_only,
+                                     int chunk, detail::Scratch& scratch, bool free_only,
                                      detail::Witnesses* witnesses = nullptr) const;
   /// The states of `open` where every voxel of the block [lo, hi] is surely free for the camera
-  /// (raw_models); `object_states`: the chunk's states of each object.
+  /// (raw_models), for the states `open` of chunk `chunk`.
   detail::StateMask block_clear(const detail::CameraSetup& cam, const core::Vec3& lo,
-                                const core::Vec3& hi, detail::StateMask open,
-                                const detail::StateMask* object_states) const;
+                                const core::Vec3& hi, detail::StateMask open, int chunk) const;
   enum class Cone { meet, miss, near_miss };
   Cone cone_test(const detail::TriangleCone& tc, const core::Vec3& w,
                  const detail::CellSize& size) const;
+  /// The cone over triangle t from the camera at c (conservative mode; camera_setup.cpp).
+  void make_cone(int t, const core::Vec3& c, detail::TriangleCone& tc) const;
+  /// The cone of the camera's slot, made on first use (thread-safe; make_cone_of in
+  /// camera_setup.cpp).
+  const detail::TriangleCone& cone_of(const detail::CameraSetup& cam, int slot) const {
+    if (cam.cone_state[slot].load(std::memory_order_acquire) == detail::kConeReady) {
+      return cam.cones[slot];
+    }
+    return make_cone_of(cam, slot);
+  }
+  const detail::TriangleCone& make_cone_of(const detail::CameraSetup& cam, int slot) const;
 };
 
 }  // namespace camplace::voxel

@@ -24,75 +24,80 @@ using detail::Scratch;
 using detail::StateMask;
 using detail::TriangleCone;
 using detail::Verdict;
-using detail::wide_of;
 namespace {
 
-/// The candidate triangles of judge_conservative() in order, until `done`.
+/// The candidate slots of judge_conservative() in order, until `done`.
 template <class Test, class Done>
-void judge_candidates(const CameraSetup& cam, double vx0, double vx1, double vy0, double vy1,
-                      double z_lo, Test& test, const Done& done) {
+void judge_candidates(const CameraSetup& cam, const detail::ChunkCandidates& cand, double vx0,
+                      double vx1, double vy0, double vy1, double z_lo, Test& test,
+                      const Done& done) {
+  auto everywhere = [&] {
+    for (int s : cand.everywhere) {
+      if (test(s, true) && done()) return;
+    }
+  };
+  if (z_lo > 0.0 && detail::outside_bins(cam.coarse, vx0, vx1, vy0, vy1)) return everywhere();
   if (z_lo > 0.0 && vx1 - vx0 <= 2.0 * cam.widen[0] && vy1 - vy0 <= 2.0 * cam.widen[1]) {
-    // A triangle whose rectangle overlaps the voxel's has its widened rectangle around the
-    // voxel rectangle's centre: one wide bin holds every candidate, once.
-    const int b =
-        wide_of(cam, 0.5 * (vy0 + vy1), 1) * cam.wide_bins + wide_of(cam, 0.5 * (vx0 + vx1));
-    for (int n = cam.wide_start[b]; n < cam.wide_start[b + 1]; ++n) {
-      if (test(cam.wide_items[n], true) && done()) return;
+    // A slot whose rectangle overlaps the voxel's has its widened rectangle around the voxel
+    // rectangle's centre: one wide bin holds every candidate, once.
+    const int b = bin_of(cam.wide, 0.5 * (vy0 + vy1), 1) * cam.wide.n[0] +
+                  bin_of(cam.wide, 0.5 * (vx0 + vx1), 0);
+    for (int n = cand.wide.start[b]; n < cand.wide.start[b + 1]; ++n) {
+      if (test(cand.wide.items[n], true) && done()) return;
     }
-    for (int t : cam.everywhere) {
-      if (test(t, true) && done()) return;
-    }
-    return;
+    return everywhere();
   }
   // The bins under the box's projection (all of them when it is not wholly in front).
-  const BinRange bins = z_lo > 0.0 ? BinRange{bin_of(cam, vx0), bin_of(cam, vx1),
-                                              bin_of(cam, vy0, 1), bin_of(cam, vy1, 1)}
-                                   : BinRange{0, cam.bins - 1, 0, cam.bins - 1};
+  const BinRange bins = z_lo > 0.0 ? detail::bins_under(cam.coarse, vx0, vx1, vy0, vy1)
+                                   : BinRange{0, cam.coarse.n[0] - 1, 0, cam.coarse.n[1] - 1};
   for (int by = bins.y0; by <= bins.y1; ++by) {
     for (int bx = bins.x0; bx <= bins.x1; ++bx) {
-      const int b = by * cam.bins + bx;
-      for (int n = cam.bin_start[b]; n < cam.bin_start[b + 1]; ++n) {
-        if (test(cam.bin_items[n], false) && done()) return;
+      const int b = by * cam.coarse.n[0] + bx;
+      for (int n = cand.coarse.start[b]; n < cand.coarse.start[b + 1]; ++n) {
+        if (test(cand.coarse.items[n], false) && done()) return;
       }
     }
   }
-  for (int t : cam.everywhere) {
-    if (test(t, true) && done()) return;
-  }
+  everywhere();
 }
 
 }  // namespace
 
 /// Center mode: the ray from the camera through the voxel centre at w (d = |w|, or < 0 when not
 /// yet known), in the camera's FOV, for the states in `interest`: the states where the voxel is
-/// occupied (the first hit along the whole ray is occupying; ties to the lower triangle index,
-/// docs/design/labelling.md L8) and those where it is otherwise not free (a hit in (0, d]). With
-/// `free_only` the split between the two is not kept (the model needs no more).
+/// occupied (the first hit along the whole ray is occupying; at equal distance a non-occupying
+/// hit first, docs/design/labelling.md L8) and those where it is otherwise not free (a hit in
+/// (0, d]). With `free_only` the split between the two is not kept (the model needs no more).
 Verdict VoxelEvaluator::Impl::judge_center(const CameraSetup& cam, const Vec3& w, double d,
-                                           StateMask interest, const StateMask* object_states,
-                                           Scratch& scratch, bool free_only) const {
+                                           StateMask interest, int chunk, Scratch& scratch,
+                                           bool free_only) const {
   Verdict out;
+  const StateMask* object_states = chunk_object_states[chunk].data();
+  const detail::ChunkCandidates& cand = cam.chunks[chunk];
   const double x = w.dot(cam.ex), y = w.dot(cam.ey), z = w.dot(cam.axis);
-  BinRange bins{0, cam.bins - 1, 0, cam.bins - 1};
+  BinRange bins{0, cam.coarse.n[0] - 1, 0, cam.coarse.n[1] - 1};
   double px = 0.0, py = 0.0;  // the centre's projection
   bool projected = z > 0.0;
+  bool binned = true;  // binned slots may hold the centre
   if (projected) {
     px = x / z;
     py = y / z;
-    const int bx = bin_of(cam, px), by = bin_of(cam, py, 1);
+    binned = !detail::outside_bins(cam.coarse, px, px, py, py);
+    const int bx = bin_of(cam.coarse, px, 0), by = bin_of(cam.coarse, py, 1);
     bins = {bx, bx, by, by};
   }
   // The ray's direction, once a triangle gets to the ray test.
   Vec3 u;
   bool ray_ready = false;
   scratch.hits.clear();
-  auto test = [&](int t) {
-    const StateMask m = object_states[triangle_object[t]] & interest;
+  auto test = [&](int s) {
+    const int o = cam.slot_object[s];
+    const StateMask m = object_states[o] & interest;
     if (!m) return;
     if (projected) {
-      const auto& r = cam.rect[t];  // padded: a ray through the triangle projects inside
+      const auto& r = cam.rect[s];  // padded: a ray through the triangle projects inside
       if (px < r[0] || px > r[1] || py < r[2] || py > r[3]) return;
-      const detail::EdgeLines& lines = cam.lines[t];
+      const detail::EdgeLines& lines = cam.lines[s];
       if (lines.valid) {
         for (const auto& l : lines.line) {
           if (l[0] * px + l[1] * py + l[2] < 0.0) return;
@@ -104,34 +109,39 @@ Verdict VoxelEvaluator::Impl::judge_center(const CameraSetup& cam, const Vec3& w
       u = w / d;
       ray_ready = true;
     }
+    const int t = cam.slot_triangle[s];
     const auto& tri = triangles[t];
     const double hit = core::ray_triangle_hit(cam.c, u, tri[0], tri[1], tri[2]);
     if (!(hit > 0.0)) return;
-    scratch.hits.push_back({hit, t});
+    scratch.hits.push_back({hit, objects[o].occupying ? 1 : 0, t});
     if (hit <= d) out.blocked |= m;
   };
-  const bool single = bins.x0 == bins.x1 && bins.y0 == bins.y1;
-  if (!single) ++scratch.visit;
-  for (int by = bins.y0; by <= bins.y1; ++by) {
-    for (int bx = bins.x0; bx <= bins.x1; ++bx) {
-      const int b = by * cam.bins + bx;
-      for (int n = cam.bin_start[b]; n < cam.bin_start[b + 1]; ++n) {
-        const int t = cam.bin_items[n];
-        if (!single) {
-          if (scratch.stamp[t] == scratch.visit) continue;
-          scratch.stamp[t] = scratch.visit;
+  if (binned) {
+    const bool single = bins.x0 == bins.x1 && bins.y0 == bins.y1;
+    if (!single) ++scratch.visit;
+    for (int by = bins.y0; by <= bins.y1; ++by) {
+      for (int bx = bins.x0; bx <= bins.x1; ++bx) {
+        const int b = by * cam.coarse.n[0] + bx;
+        for (int n = cand.coarse.start[b]; n < cand.coarse.start[b + 1]; ++n) {
+          const int s = cand.coarse.items[n];
+          if (!single) {
+            if (scratch.stamp[s] == scratch.visit) continue;
+            scratch.stamp[s] = scratch.visit;
+          }
+          test(s);
         }
-        test(t);
       }
     }
   }
-  for (int t : cam.everywhere) test(t);
+  for (int s : cand.everywhere) test(s);
   if (scratch.hits.empty()) return out;
   if (free_only && !(interest & ~out.blocked)) return out;
-  // First hit per state: by distance, ties to the lower triangle index (the previous
-  // labeller's order: objects of a state ascending, their triangles in order).
+  // First hit per state: by distance; at equal distance non-occupying first, then by triangle
+  // index (the previous labeller's order: a state's objects ascending, occluding ones before
+  // occupying ones, their triangles in order; L8).
   std::sort(scratch.hits.begin(), scratch.hits.end(), [](const auto& a, const auto& b) {
-    return a.t < b.t || (a.t == b.t && a.triangle < b.triangle);
+    return a.t < b.t || (a.t == b.t && (a.occupying < b.occupying ||
+                                        (a.occupying == b.occupying && a.triangle < b.triangle)));
   });
   StateMask claimed = 0;
   for (const Scratch::Hit& h : scratch.hits) {
@@ -152,10 +162,11 @@ Verdict VoxelEvaluator::Impl::judge_center(const CameraSetup& cam, const Vec3& w
 /// detail::Witnesses; the verdict does not depend on the order of the tests.
 Verdict VoxelEvaluator::Impl::judge_conservative(const CameraSetup& cam, const Vec3& w, double d,
                                                  const detail::CellSize& size, StateMask interest,
-                                                 const StateMask* object_states, Scratch& scratch,
-                                                 bool free_only,
+                                                 int chunk, Scratch& scratch, bool free_only,
                                                  detail::Witnesses* witnesses) const {
   Verdict out;
+  const StateMask* object_states = chunk_object_states[chunk].data();
+  const detail::ChunkCandidates& cand = cam.chunks[chunk];
   const double x = w.dot(cam.ex), y = w.dot(cam.ey), z = w.dot(cam.axis);
   // Conservative: free for every point p of the box B when (SPEC §5) no object triangle meets
   // a segment [c, p] (its cone misses B, or it lies wholly beyond B), and no triangle of an
@@ -177,25 +188,25 @@ Verdict VoxelEvaluator::Impl::judge_conservative(const CameraSetup& cam, const V
   Vec3 wc;            // the previous labeller's dir · dist
   double far = -1.0;  // the box's farthest distance, once an occluding triangle needs it
   bool exact_ready = false;
-  ++scratch.visit;  // the bins' lists repeat triangles; `everywhere` holds others
-  // True when `out` changed. `once`: t cannot come up again for this voxel (no stamp needed).
-  // Inlined into judge_candidates' loops (GCC and Clang): 5% of an evaluation at 36×27×27.
-  auto test = [&](int t, bool once) __attribute__((always_inline)) {
+  ++scratch.visit;  // the coarse bins' lists repeat slots; `everywhere` holds others
+  // True when `out` changed. `once`: slot s cannot come up again for this voxel (no stamp
+  // needed). Inlined into judge_candidates' loops (GCC and Clang): 5% of an evaluation at
+  // 36×27×27.
+  auto test = [&](int s, bool once) __attribute__((always_inline)) {
     if (!once) {
-      if (scratch.stamp[t] == scratch.visit) return false;
-      scratch.stamp[t] = scratch.visit;
+      if (scratch.stamp[s] == scratch.visit) return false;
+      scratch.stamp[s] = scratch.visit;
     }
-    const int o = triangle_object[t];
+    const int o = cam.slot_object[s];
     const bool occupying = objects[o].occupying;
     StateMask m = object_states[o] & interest;
     // States already decided need no more tests (occupied wins over undetectable).
     m &= (free_only || !occupying) ? ~(out.occupied | out.blocked) : ~out.occupied;
     if (!m) return false;
     // (The edge lines of the projection would repeat the cone-plane test of cone_test.)
-    const auto& r = cam.rect[t];
+    const auto& r = cam.rect[s];
     if (r[0] > vx1 || r[1] < vx0 || r[2] > vy1 || r[3] < vy0) return false;
-    const TriangleCone& tc = cam.triangles[t];
-    if (tc.flat || tc.back) return false;
+    const TriangleCone& tc = cone_of(cam, s);
     if (!exact_ready) {
       if (d < 0.0) d = w.norm();
       wc = (w / d) * d;
@@ -206,14 +217,16 @@ Verdict VoxelEvaluator::Impl::judge_conservative(const CameraSetup& cam, const V
       if (tc.near_distance >= far) return false;
     }
     const Cone cone = cone_test(tc, wc, size);
-    if (cone == Cone::near_miss && tc.touch) {
+    if (cone == Cone::near_miss && cam.culled[o]) {
       // A culled object touching the voxel within rounding: its back faces decide as they
       // did without culling (the front face through the touching point may have been
-      // rounded apart). Back faces are in no bin, so each is tested here once.
+      // rounded apart). Back faces are no slots: each one's cone is made here, and tested once.
       const detail::ObjectInfo& info = objects[o];
       for (int b = info.first_triangle; b < info.first_triangle + info.triangle_count; ++b) {
-        const TriangleCone& back = cam.triangles[b];
-        if (!back.back || (!occupying && back.near_distance >= far)) continue;
+        if (!cam.back[b]) continue;
+        detail::TriangleCone back;
+        make_cone(b, cam.c, back);
+        if (!occupying && back.near_distance >= far) continue;
         if (cone_test(back, wc, size) == Cone::meet) {
           (occupying ? out.occupied : out.blocked) |= m;
           return true;
@@ -241,24 +254,24 @@ Verdict VoxelEvaluator::Impl::judge_conservative(const CameraSetup& cam, const V
     int* witness = witnesses->triangles;
     // A repeated test finds the states it decides decided: it changes nothing.
     const auto plain = test;
-    auto test = [&, plain](int t, bool once) {
-      if (!plain(t, once)) return false;
-      // Most recent first, each triangle once.
+    auto test = [&, plain](int s, bool once) {
+      if (!plain(s, once)) return false;
+      // Most recent first, each slot once.
       int at = 0;
-      while (at < detail::kWitnesses - 1 && witness[at] != t) ++at;
+      while (at < detail::kWitnesses - 1 && witness[at] != s) ++at;
       for (; at > 0; --at) witness[at] = witness[at - 1];
-      witness[0] = t;
+      witness[0] = s;
       return true;
     };
     int first[detail::kWitnesses];
     std::copy(witness, witness + detail::kWitnesses, first);
-    for (int t : first) {
-      if (t >= 0 && test(t, true) && done()) return out;
+    for (int s : first) {
+      if (s >= 0 && test(s, true) && done()) return out;
     }
-    judge_candidates(cam, vx0, vx1, vy0, vy1, z_lo, test, done);
+    judge_candidates(cam, cand, vx0, vx1, vy0, vy1, z_lo, test, done);
     return out;
   }
-  judge_candidates(cam, vx0, vx1, vy0, vy1, z_lo, test, done);
+  judge_candidates(cam, cand, vx0, vx1, vy0, vy1, z_lo, test, done);
   return out;
 }
 
@@ -315,7 +328,9 @@ VoxelEvaluator::Impl::Cone VoxelEvaluator::Impl::cone_test(const TriangleCone& t
 /// this camera, as judge_conservative() would label each of them: each test it or box_in_fov()
 /// makes per voxel, made on the whole block with a larger margin (docs/design/labelling.md L4).
 StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& lo, const Vec3& hi,
-                                            StateMask open, const StateMask* object_states) const {
+                                            StateMask open, int chunk) const {
+  const StateMask* object_states = chunk_object_states[chunk].data();
+  const detail::ChunkCandidates& cand = cam.chunks[chunk];
   const Vec3 center = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
   const Vec3 w = center - cam.c;
   const double d = w.norm(), r = half.norm();
@@ -351,13 +366,12 @@ StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& 
   vy1 += py;
   const double far = (w.cwiseAbs() + half).norm() * (1.0 + 1e-12);
   const double scale = 2.0 * kTouch * (d + half.sum());
-  // True when triangle t may decide some voxel of the block.
-  auto decides = [&](int t) {
-    const auto& rect = cam.rect[t];
+  // True when slot s may decide some voxel of the block.
+  auto decides = [&](int s) {
+    const auto& rect = cam.rect[s];
     if (rect[0] > vx1 || rect[1] < vx0 || rect[2] > vy1 || rect[3] < vy0) return false;
-    const TriangleCone& tc = cam.triangles[t];
-    if (tc.flat || tc.back) return false;
-    if (!objects[triangle_object[t]].occupying && tc.near_distance >= far) return false;
+    const TriangleCone& tc = cone_of(cam, s);
+    if (!objects[cam.slot_object[s]].occupying && tc.near_distance >= far) return false;
     for (int i = 0; i < 3; ++i) {
       if (tc.normal[i].dot(w) + tc.abs_normal[i].dot(half) < -scale) return false;
     }
@@ -372,20 +386,21 @@ StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& 
   };
   StateMask clear = open;
   // True when no state is left.
-  auto pass = [&](int t) {
-    const StateMask m = object_states[triangle_object[t]] & clear;
-    if (m && decides(t)) clear &= ~m;
+  auto pass = [&](int s) {
+    const StateMask m = object_states[cam.slot_object[s]] & clear;
+    if (m && decides(s)) clear &= ~m;
     return !clear;
   };
-  for (int t : cam.everywhere) {
-    if (pass(t)) return 0;
+  for (int s : cand.everywhere) {
+    if (pass(s)) return 0;
   }
-  const BinRange bins = bin_range(cam, vx0, vx1, vy0, vy1);
+  if (detail::outside_bins(cam.coarse, vx0, vx1, vy0, vy1)) return clear;
+  const BinRange bins = bin_range(cam.coarse, vx0, vx1, vy0, vy1);
   for (int by = bins.y0; by <= bins.y1; ++by) {
     for (int bx = bins.x0; bx <= bins.x1; ++bx) {
-      const int b = by * cam.bins + bx;
-      for (int n = cam.bin_start[b]; n < cam.bin_start[b + 1]; ++n) {
-        if (pass(cam.bin_items[n])) return 0;
+      const int b = by * cam.coarse.n[0] + bx;
+      for (int n = cand.coarse.start[b]; n < cand.coarse.start[b + 1]; ++n) {
+        if (pass(cand.coarse.items[n])) return 0;
       }
     }
   }

@@ -50,7 +50,6 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
     const int first = chunk * detail::kChunk;
     const int count = std::min(detail::kChunk, state_count - first);
     const StateMask all = count == 64 ? ~StateMask(0) : (StateMask(1) << count) - 1;
-    const StateMask* object_states = chunk_object_states[chunk].data();
     const StateMask* step_states = chunk_step_states[chunk].data();
     const StateMask* reached = conservative ? chunk_reached[chunk].data() : nullptr;
     const std::vector<StateMask> seeing = seeing_states(cameras, chunk);
@@ -90,9 +89,9 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
             if (!in_fov(cam, i, j, k, w, d)) continue;
           }
           const Verdict verdict =
-              conservative ? judge_conservative(cam, w, d, cell_sizes[0], interest, object_states,
-                                                scratch, true)
-                           : judge_center(cam, w, d, interest, object_states, scratch, true);
+              conservative
+                  ? judge_conservative(cam, w, d, cell_sizes[0], interest, chunk, scratch, true)
+                  : judge_center(cam, w, d, interest, chunk, scratch, true);
           const StateMask freed = interest & ~(verdict.occupied | verdict.blocked);
           if (freed) hint = c;
           pending &= ~freed;
@@ -126,7 +125,7 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
         for (std::size_t step = 0; step < n_cam && (clear | held) != all; ++step) {
           const std::size_t c = (block_hint + step) % n_cam;
           const StateMask open = seeing[c] & ~clear & ~held;
-          const StateMask cleared = open ? block_clear(cameras[c], lo, hi, open, object_states) : 0;
+          const StateMask cleared = open ? block_clear(cameras[c], lo, hi, open, chunk) : 0;
           if (cleared) {
             clear |= cleared;
             block_hint = c;
@@ -184,10 +183,9 @@ void VoxelEvaluator::Impl::all_raw_models(const core::CameraConfig& config,
   core::check_configuration(scene, config);
   std::vector<CameraSetup> local;
   std::vector<CameraSetup>& cameras = cameras_out ? *cameras_out : local;
-  cameras.clear();
-  cameras.reserve(config.size());
+  cameras.resize(config.size());  // each one's memory reused
   for (std::size_t i = 0; i < config.size(); ++i) {
-    cameras.push_back(camera_setup(config[i], scene.cameras.models[i]));
+    camera_setup(config[i], scene.cameras.models[i], cameras[i]);
   }
   models.resize(states.size());
   // raw_models() writes only the voxels in M.
@@ -208,7 +206,6 @@ std::vector<Label> VoxelEvaluator::Impl::labels(const CameraSetup& cam, int stat
   }
   const int chunk = state / detail::kChunk;
   const StateMask interest = StateMask(1) << (state % detail::kChunk);
-  const StateMask* object_states = chunk_object_states[chunk].data();
   Scratch scratch;
   scratch.stamp.assign(triangles.size(), 0);
   int v = 0;
@@ -220,9 +217,9 @@ std::vector<Label> VoxelEvaluator::Impl::labels(const CameraSetup& cam, int stat
         const double d = w.norm();
         if (!in_fov(cam, i, j, k, w, d)) continue;
         const Verdict verdict =
-            conservative ? judge_conservative(cam, w, d, cell_sizes[0], interest, object_states,
-                                              scratch, false)
-                         : judge_center(cam, w, d, interest, object_states, scratch, false);
+            conservative
+                ? judge_conservative(cam, w, d, cell_sizes[0], interest, chunk, scratch, false)
+                : judge_center(cam, w, d, interest, chunk, scratch, false);
         out[v] = verdict.occupied  ? Label::occupied
                  : verdict.blocked ? Label::undetectable
                                    : Label::free;

@@ -171,6 +171,7 @@ void VoxelEvaluator::Impl::refined_states(const std::vector<CameraSetup>& camera
         detail::RefineContext ctx;
         ctx.cameras = &cameras;
         ctx.seeing = seeing.data();
+        ctx.chunk = chunk;
         ctx.object_states = chunk_object_states[chunk].data();
         ctx.scratch = &scratch;
         for (int n = items * piece / pieces; n < items * (piece + 1) / pieces; ++n) {
@@ -295,13 +296,13 @@ void VoxelEvaluator::Impl::refine_node(detail::RefineContext& ctx, int level, in
         // decided the parent holds it in its cone (and so every cell below): no test needed.
         StateMask held = 0;
         for (int n = 0; n < detail::kWitnesses && witness[n] >= 0; ++n) {
-          held |= contained(cam, witness[n], w, d, size, interest & ~held, ctx.object_states);
+          held |= contained(cam, witness[n], w, d, size, interest & ~held, ctx.chunk);
         }
         child_sure[c] |= held;
         if (held == interest) continue;
         detail::Witnesses witnesses{witness};
         const detail::Verdict verdict = judge_conservative(
-            cam, w, d, size, interest & ~held, ctx.object_states, *ctx.scratch, true, &witnesses);
+            cam, w, d, size, interest & ~held, ctx.chunk, *ctx.scratch, true, &witnesses);
         const StateMask freed = interest & ~held & ~(verdict.occupied | verdict.blocked);
         if (freed) ctx.hint = c;
         o &= ~freed;
@@ -324,14 +325,13 @@ void VoxelEvaluator::Impl::refine_node(detail::RefineContext& ctx, int level, in
   }
 }
 
-StateMask VoxelEvaluator::Impl::contained(const CameraSetup& cam, int t, const Vec3& w, double d,
+StateMask VoxelEvaluator::Impl::contained(const CameraSetup& cam, int slot, const Vec3& w, double d,
                                           const detail::CellSize& size, StateMask interest,
-                                          const StateMask* object_states) const {
-  const int o = triangle_object[t];
-  const StateMask states = interest & object_states[o];
+                                          int chunk) const {
+  const int o = cam.slot_object[slot];
+  const StateMask states = interest & chunk_object_states[chunk][o];
   if (!objects[o].occupying || !states) return 0;
-  const detail::TriangleCone& tc = cam.triangles[t];
-  if (tc.flat || tc.back) return 0;
+  const detail::TriangleCone& tc = cone_of(cam, slot);
   // judge_conservative()'s `sure` test (detail::Witnesses): the box's lowest point along each
   // inward plane normal is inside by the margin (then the cone test meets it: the centre is inside
   // too).

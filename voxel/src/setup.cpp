@@ -20,21 +20,18 @@ int VoxelEvaluator::Impl::add_object(const core::SceneObject& object, core::Obje
   detail::ObjectInfo info;
   info.mesh = &object.mesh;
   info.occupying = role == core::ObjectRole::occupying;
-  // Conservative mode shares an object between the states that hold an equal one: the same role
-  // and the same mesh (equal vertices, same triangles), as a robot link that does not move or a
-  // target that appears in several time steps. Every test the labeller makes on an object
-  // depends on its role and its triangles' numbers only, and ORs the verdict into the states of
-  // the object: a shared object gives each state the verdict its own copy gave, with one test
-  // instead of one per copy. (Center mode keeps the copies: the first hit on a ray breaks ties by
-  // triangle index, in the order of each state's objects.)
-  if (conservative) {
-    for (std::size_t o = 0; o < objects.size(); ++o) {
-      // Vertices first: copies of a mesh elsewhere (robot links, boxes) share their triangles.
-      if (objects[o].occupying == info.occupying &&
-          objects[o].mesh->vertices == object.mesh.vertices &&
-          objects[o].mesh->triangles == object.mesh.triangles) {
-        return static_cast<int>(o);
-      }
+  // An object is shared between the states that hold an equal one: the same role and the same
+  // mesh (equal vertices, same triangles), as a robot link that does not move or a target that
+  // appears in several time steps. Every test the labeller makes on an object depends on its
+  // role and its triangles' numbers only, and ORs the verdict into the states of the object: a
+  // shared object gives each state the verdict its own copy gave, with one test instead of one
+  // per copy (docs/design/labelling.md L7; center mode's ties, L8, depend on roles only).
+  for (std::size_t o = 0; o < objects.size(); ++o) {
+    // Vertices first: copies of a mesh elsewhere (robot links, boxes) share their triangles.
+    if (objects[o].occupying == info.occupying &&
+        objects[o].mesh->vertices == object.mesh.vertices &&
+        objects[o].mesh->triangles == object.mesh.triangles) {
+      return static_cast<int>(o);
     }
   }
   info.center = object.bounds.center();

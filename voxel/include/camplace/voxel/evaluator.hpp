@@ -98,10 +98,14 @@ class VoxelEvaluator {
   /// Model voxels after the plausibility filter (1 = in M) for one state. With refinement: the
   /// base voxels that hold at least one finest cell of M (leaf_model() has the cells).
   std::vector<std::uint8_t> model(const core::CameraConfig& config, int state) const;
+  /// model() of every state (index of core::states()), from one labelling of all states.
+  std::vector<std::vector<std::uint8_t>> models(const core::CameraConfig& config) const;
   /// The grid of the finest cells: S cut into n·2^L cells per axis (grid() when L = 0).
   Grid leaf_grid() const;
   /// M after the filter for one state on leaf_grid() (1 = in M); model() when L = 0.
   std::vector<std::uint8_t> leaf_model(const core::CameraConfig& config, int state) const;
+  /// leaf_model() of every state, from one labelling of all states.
+  std::vector<std::vector<std::uint8_t>> leaf_models(const core::CameraConfig& config) const;
 
   /// A lower bound of Err over all camera configurations (m²), conservative mode only; center
   /// mode: 0 (no bound). Per state, the voxels an occupying object (a target; a dynamic obstacle
