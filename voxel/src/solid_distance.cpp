@@ -231,12 +231,10 @@ double box_solids_sq_distance(const std::vector<IndexedSolid>& solids, const Box
                               double cutoff) {
   // core::box_solid_sq_distance per solid is 0 when a triangle meets the box or the box's
   // centre is inside, else the smallest triangle–box distance; the minimum over the solids is
-  // 0 when any solid gives 0, else the smallest of all triangle terms. A solid whose bounds
-  // hold the box's centre is never skipped (its gap is 0), so the centre test comes first.
+  // 0 when any solid gives 0, else the smallest of all triangle terms.
+  // The triangles are searched first and the (costly) centre test made only when no triangle
+  // meets the box: 0 either way when one does.
   const Vec3 center = box.center();
-  for (const IndexedSolid& s : solids) {
-    if (s.bounds.contains(center) && core::inside_mesh(*s.mesh, center)) return 0.0;
-  }
   const double radius = 0.5 * box.diagonal();
   // Each solid's triangles through its hierarchy, the nearer child (to the box's centre) first.
   // The distance from the centre to a triangle is an upper bound of the box's distance (the
@@ -277,11 +275,14 @@ double box_solids_sq_distance(const std::vector<IndexedSolid>& solids, const Box
       }
     }
   }
+  for (const IndexedSolid& s : solids) {
+    if (s.bounds.contains(center) && core::inside_mesh(*s.mesh, center)) return 0.0;
+  }
   return best;
 }
 
 double point_solids_sq_distance(const std::vector<IndexedSolid>& solids, const Vec3& p,
-                                double cutoff) {
+                                double cutoff, bool inside_test) {
   double result = kInf;
   thread_local std::vector<int> stack;
   for (const IndexedSolid& s : solids) {
@@ -289,7 +290,7 @@ double point_solids_sq_distance(const std::vector<IndexedSolid>& solids, const V
     if (beyond(core::point_box_sq_distance(p, s.bounds), bound)) continue;
     // core::point_solid_sq_distance: 0 inside (a point outside the bounds is not), else the
     // nearest triangle.
-    if (s.bounds.contains(p) && core::inside_mesh(*s.mesh, p)) {
+    if (inside_test && s.bounds.contains(p) && core::inside_mesh(*s.mesh, p)) {
       result = 0.0;
       continue;
     }

@@ -53,9 +53,11 @@ double vertex_upper_bound(const std::vector<IndexedSolid>& solids, const core::V
 /// `cutoff`; otherwise some value above `cutoff` (possibly infinity).
 double box_solids_sq_distance(const std::vector<IndexedSolid>& solids, const core::Box3& box,
                               double cutoff);
-/// min over the solids of core::point_solid_sq_distance(mesh, p), same contract.
+/// min over the solids of core::point_solid_sq_distance(mesh, p), same contract. Without
+/// `inside_test`: the distance to the solids' surfaces (no point counts as inside), which is at
+/// least that minimum.
 double point_solids_sq_distance(const std::vector<IndexedSolid>& solids, const core::Vec3& p,
-                                double cutoff);
+                                double cutoff, bool inside_test = true);
 
 /// Whether a triangle of `mesh` meets `box` (core::triangle_box_overlap); `bounds`: the mesh's
 /// bounding box, tested first.
