@@ -41,7 +41,7 @@ TEST(TrueDistance, TetrahedronApexAboveBoxFace) {
 }  // namespace
 }  // namespace camplace::testing
 
-// ---- The branch and bound against measuring every triangle pair exactly ---------------------
+// ---- The filtered search against measuring every triangle pair exactly ----------------------
 
 #include <CGAL/squared_distance_3.h>
 
