@@ -204,9 +204,9 @@ double VoxelEvaluator::Impl::node_sq(int time_step, int v, int level, int morton
   if (!std::isnan(known)) return known;
   const auto& solids = critical_solids_by_step[time_step];
   const Box3 box = node_box(v, level, morton);
-  const double value = solids.empty() ? kInf
-                                      : detail::box_solids_sq_distance(
-                                            solids, box, detail::vertex_upper_bound(solids, box));
+  // No cutoff: the minimum itself, the same double as with the nearest vertex's distance as
+  // cutoff (an upper bound of it), found through the triangle hierarchy without that scan.
+  const double value = solids.empty() ? kInf : detail::box_solids_sq_distance(solids, box, kInf);
   slot.store(value, std::memory_order_relaxed);
   return value;
 }

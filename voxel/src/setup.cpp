@@ -16,6 +16,14 @@ namespace camplace::voxel {
 using core::Box3;
 using core::Vec3;
 
+namespace {
+// No cutoff for the culled distances: they then return the minimum itself, the same double as
+// with the nearest vertex's distance as cutoff (which bounds the minimum from above); the
+// triangle hierarchy finds the near triangles without that bound, whose scan of every vertex
+// cost more than the distance itself on fine meshes.
+constexpr double kNoCutoff = std::numeric_limits<double>::infinity();
+}  // namespace
+
 int VoxelEvaluator::Impl::add_object(const core::SceneObject& object, core::ObjectRole role) {
   detail::ObjectInfo info;
   info.mesh = &object.mesh;
@@ -174,7 +182,7 @@ std::array<std::array<int, 2>, 3> VoxelEvaluator::Impl::voxel_range(const Box3& 
 
 /// Lower bounds of d(C_h, voxel)² (SPEC §5) for one step: from the distance of the voxel's
 /// centre to the critical solids (core::point_solid_sq_distance, min over C_h, the same doubles
-/// by culling below the vertices' bound), less the voxel's radius in conservative mode (every
+/// through the triangle hierarchy), less the voxel's radius in conservative mode (every
 /// point of the box is within it of the centre; margins of 1e-12 cover rounding). In center
 /// mode they are the values themselves.
 std::vector<double> VoxelEvaluator::Impl::critical_distances(
@@ -186,15 +194,20 @@ std::vector<double> VoxelEvaluator::Impl::critical_distances(
     for (int j = 0; j < ny; ++j) {
       for (int i = 0; i < nx; ++i) {
         const Vec3 p(box_center[0][i], box_center[1][j], box_center[2][k]);
-        const double sq =
-            detail::point_solids_sq_distance(solids, p, detail::vertex_upper_bound(solids, p));
         double& lb = out[i + nx * (j + ny * k)];
         if (!conservative) {
-          lb = sq;
+          lb = detail::point_solids_sq_distance(solids, p, kNoCutoff);
           continue;
         }
-        const double gap = std::sqrt(sq) * (1.0 - 1e-12) - voxel_radius * (1.0 + 1e-12) - 1e-12;
-        lb = gap > 0.0 ? gap * gap : 0.0;
+        const auto bound = [&](double sq) {
+          const double gap = std::sqrt(sq) * (1.0 - 1e-12) - voxel_radius * (1.0 + 1e-12) - 1e-12;
+          return gap > 0.0 ? gap * gap : 0.0;
+        };
+        // The bound is monotonic in the distance, and the distance to the surfaces is at least
+        // the distance to the solids (0 inside): when the surfaces already give 0, so does the
+        // solid, and the costly inside test is not needed.
+        lb = bound(detail::point_solids_sq_distance(solids, p, kNoCutoff, false));
+        if (lb > 0.0) lb = bound(detail::point_solids_sq_distance(solids, p, kNoCutoff));
       }
     }
   });
@@ -235,8 +248,7 @@ double VoxelEvaluator::Impl::critical_sq(int time_step, int v) const {
   const Box3 box{Vec3(box_min[0][i], box_min[1][j], box_min[2][k]),
                  Vec3(box_max[0][i], box_max[1][j], box_max[2][k])};
   const double value = solids.empty() ? std::numeric_limits<double>::infinity()
-                                      : detail::box_solids_sq_distance(
-                                            solids, box, detail::vertex_upper_bound(solids, box));
+                                      : detail::box_solids_sq_distance(solids, box, kNoCutoff);
   // The lower bound that lets model_distance skip voxels bounds the value (distance.md D1).
   CAMPLACE_ASSERT(!detail::beyond(critical_lb_by_step[time_step][v], value));
   slot.store(value, std::memory_order_relaxed);

@@ -136,6 +136,58 @@ void triangle_box(const IndexedSolid& s, std::size_t t, const Box3& box,
   }
 }
 
+/// The hierarchy of s's triangle boxes: top down, each node split at the median of its box
+/// centres along the widest axis of their range, leaves of at most 4 triangles.
+void build_hierarchy(IndexedSolid& s) {
+  constexpr int kLeaf = 4;
+  const int n = static_cast<int>(s.triangles.size());
+  s.order.resize(n);
+  for (int t = 0; t < n; ++t) s.order[t] = t;
+  s.nodes.clear();
+  if (n == 0) return;
+  struct Task {
+    int node, first, last;
+  };
+  s.nodes.emplace_back();
+  std::vector<Task> tasks{{0, 0, n}};
+  while (!tasks.empty()) {
+    const Task task = tasks.back();
+    tasks.pop_back();
+    Box3 box = s.triangle_bounds[s.order[task.first]];
+    Box3 centres{box.center(), box.center()};
+    for (int k = task.first; k < task.last; ++k) {
+      const Box3& b = s.triangle_bounds[s.order[k]];
+      box.min = box.min.cwiseMin(b.min);
+      box.max = box.max.cwiseMax(b.max);
+      centres.min = centres.min.cwiseMin(b.center());
+      centres.max = centres.max.cwiseMax(b.center());
+    }
+    s.nodes[task.node].box = box;
+    const int count = task.last - task.first;
+    if (count <= kLeaf) {
+      s.nodes[task.node].first = task.first;
+      s.nodes[task.node].count = count;
+      continue;
+    }
+    int axis = 0;
+    const Vec3 extent = centres.max - centres.min;
+    if (extent[1] > extent[axis]) axis = 1;
+    if (extent[2] > extent[axis]) axis = 2;
+    const int mid = task.first + count / 2;
+    std::nth_element(s.order.begin() + task.first, s.order.begin() + mid,
+                     s.order.begin() + task.last, [&](int x, int y) {
+                       const Box3 &bx = s.triangle_bounds[x], &by = s.triangle_bounds[y];
+                       return bx.min[axis] + bx.max[axis] < by.min[axis] + by.max[axis];
+                     });
+    const int left = static_cast<int>(s.nodes.size());
+    s.nodes[task.node].first = left;
+    s.nodes.emplace_back();
+    s.nodes.emplace_back();
+    tasks.push_back({left, task.first, mid});
+    tasks.push_back({left + 1, mid, task.last});
+  }
+}
+
 }  // namespace
 
 IndexedSolid index_solid(const core::TriangleMesh& mesh) {
@@ -154,6 +206,7 @@ IndexedSolid index_solid(const core::TriangleMesh& mesh) {
     const Vec3 n = (b - a).cross(c - a);
     s.unit_normals.push_back(n.norm() > 0.0 ? Vec3(n.normalized()) : Vec3::Zero());
   }
+  build_hierarchy(s);
   return s;
 }
 
@@ -179,68 +232,92 @@ double box_solids_sq_distance(const std::vector<IndexedSolid>& solids, const Box
   // core::box_solid_sq_distance per solid is 0 when a triangle meets the box or the box's
   // centre is inside, else the smallest triangle–box distance; the minimum over the solids is
   // 0 when any solid gives 0, else the smallest of all triangle terms.
+  // The triangles are searched first and the (costly) centre test made only when no triangle
+  // meets the box: 0 either way when one does.
   const Vec3 center = box.center();
   const double radius = 0.5 * box.diagonal();
-  // The distance from the box's centre to each near triangle: an upper bound of the box's
-  // distance (the centre is in the box) and, less the box's radius, a lower bound of the
-  // triangle's. Triangles are then taken nearest first.
-  struct Near {
-    double centre_sq;
-    std::size_t solid, triangle;
-  };
-  thread_local std::vector<Near> near;
-  near.clear();
-  for (std::size_t o = 0; o < solids.size(); ++o) {
-    const IndexedSolid& s = solids[o];
-    if (beyond(core::box_box_sq_distance(s.bounds, box), cutoff)) continue;
-    if (s.bounds.contains(center) && core::inside_mesh(*s.mesh, center)) return 0.0;
-    for (std::size_t t = 0; t < s.triangles.size(); ++t) {
-      const auto& tri = s.triangles[t];
-      const double d = core::point_triangle_sq_distance(center, tri[0], tri[1], tri[2]);
-      near.push_back({d, o, t});
-      cutoff = std::min(cutoff, d * (1.0 + 1e-9) + 1e-18);
+  // Each solid's triangles through its hierarchy, the nearer child (to the box's centre) first.
+  // The distance from the centre to a triangle is an upper bound of the box's distance (the
+  // centre is in the box): it tightens the cutoff; less the box's radius it bounds the
+  // triangle's distance from below. Every triangle or subtree is skipped only when a lower
+  // bound of its distance is beyond min(best, cutoff), where best and the cutoff are at least
+  // the minimum: the triangle term holding the minimum is always computed, so the result is
+  // the minimum over the same doubles as core's scan of every triangle.
+  double best = kInf;
+  const std::array<Vec3, 8> corners = box_corners(box);
+  thread_local std::vector<int> stack;
+  for (const IndexedSolid& s : solids) {
+    if (s.nodes.empty() || beyond(core::box_box_sq_distance(s.bounds, box), std::min(best, cutoff)))
+      continue;
+    stack.assign(1, 0);
+    while (!stack.empty()) {
+      const BvhNode& node = s.nodes[stack.back()];
+      stack.pop_back();
+      if (beyond(core::box_box_sq_distance(node.box, box), std::min(best, cutoff))) continue;
+      if (node.count == 0) {
+        const double near = core::point_box_sq_distance(center, s.nodes[node.first].box);
+        const double far = core::point_box_sq_distance(center, s.nodes[node.first + 1].box);
+        stack.push_back(near <= far ? node.first + 1 : node.first);
+        stack.push_back(near <= far ? node.first : node.first + 1);
+        continue;
+      }
+      for (int k = node.first; k < node.first + node.count; ++k) {
+        const int t = s.order[k];
+        const auto& tri = s.triangles[t];
+        const double d = core::point_triangle_sq_distance(center, tri[0], tri[1], tri[2]);
+        cutoff = std::min(cutoff, d * (1.0 + 1e-9) + 1e-18);
+        const double cut = std::min(best, cutoff);
+        const double gap = std::sqrt(d) - radius;
+        if (gap > 0.0 && beyond(gap * gap * (1.0 - 1e-9), cut)) continue;
+        if (beyond(core::box_box_sq_distance(s.triangle_bounds[t], box), cut)) continue;
+        triangle_box(s, static_cast<std::size_t>(t), box, corners, cut, best);
+        if (best == 0.0) return 0.0;
+      }
     }
   }
-  std::sort(near.begin(), near.end(),
-            [](const Near& a, const Near& b) { return a.centre_sq < b.centre_sq; });
-  double best = kInf;
-  std::array<Vec3, 8> corners;
-  bool have_corners = false;
-  for (const Near& n : near) {
-    const IndexedSolid& s = solids[n.solid];
-    const double cut = std::min(best, cutoff);
-    const double gap = std::sqrt(n.centre_sq) - radius;
-    if (gap > 0.0 && beyond(gap * gap * (1.0 - 1e-9), cut)) break;  // so are all later ones
-    if (beyond(core::box_box_sq_distance(s.triangle_bounds[n.triangle], box), cut)) continue;
-    if (!have_corners) {
-      corners = box_corners(box);
-      have_corners = true;
-    }
-    triangle_box(s, n.triangle, box, corners, cut, best);
-    if (best == 0.0) return 0.0;
+  for (const IndexedSolid& s : solids) {
+    if (s.bounds.contains(center) && core::inside_mesh(*s.mesh, center)) return 0.0;
   }
   return best;
 }
 
 double point_solids_sq_distance(const std::vector<IndexedSolid>& solids, const Vec3& p,
-                                double cutoff) {
+                                double cutoff, bool inside_test) {
   double result = kInf;
+  thread_local std::vector<int> stack;
   for (const IndexedSolid& s : solids) {
     const double bound = std::min(result, cutoff);
     if (beyond(core::point_box_sq_distance(p, s.bounds), bound)) continue;
     // core::point_solid_sq_distance: 0 inside (a point outside the bounds is not), else the
     // nearest triangle.
-    if (s.bounds.contains(p) && core::inside_mesh(*s.mesh, p)) {
+    if (inside_test && s.bounds.contains(p) && core::inside_mesh(*s.mesh, p)) {
       result = 0.0;
       continue;
     }
+    // The triangles through the hierarchy, nearer child first; a subtree or triangle is skipped
+    // when its box's distance is beyond min(best, bound) (then so is every triangle in it): the
+    // nearest triangle is never skipped, so the minimum is the scan's, the same double.
     double best = kInf;
-    for (std::size_t t = 0; t < s.triangles.size(); ++t) {
-      if (beyond(core::point_box_sq_distance(p, s.triangle_bounds[t]), std::min(best, bound))) {
+    stack.clear();
+    if (!s.nodes.empty()) stack.push_back(0);
+    while (!stack.empty()) {
+      const BvhNode& node = s.nodes[stack.back()];
+      stack.pop_back();
+      if (beyond(core::point_box_sq_distance(p, node.box), std::min(best, bound))) continue;
+      if (node.count == 0) {
+        const double near = core::point_box_sq_distance(p, s.nodes[node.first].box);
+        const double far = core::point_box_sq_distance(p, s.nodes[node.first + 1].box);
+        stack.push_back(near <= far ? node.first + 1 : node.first);
+        stack.push_back(near <= far ? node.first : node.first + 1);
         continue;
       }
-      const auto& tri = s.triangles[t];
-      best = std::min(best, core::point_triangle_sq_distance(p, tri[0], tri[1], tri[2]));
+      for (int k = node.first; k < node.first + node.count; ++k) {
+        const int t = s.order[k];
+        if (beyond(core::point_box_sq_distance(p, s.triangle_bounds[t]), std::min(best, bound)))
+          continue;
+        const auto& tri = s.triangles[t];
+        best = std::min(best, core::point_triangle_sq_distance(p, tri[0], tri[1], tri[2]));
+      }
     }
     result = std::min(result, best);
   }

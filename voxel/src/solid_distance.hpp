@@ -6,13 +6,26 @@
 // bound of its distance (the gap between bounding boxes) exceeds a known upper bound of the
 // minimum by a margin (relative 1e-9 plus 1e-18 m², far above rounding). Every computed
 // candidate is the distance between two actual points (core's closest-point routines clamp to
-// the features), so a skipped one could not have been the minimum. Private to voxel/.
+// the features), so a skipped one could not have been the minimum. The triangles are found
+// through a bounding-volume hierarchy (whole subtrees skipped by the same test on their boxes),
+// which changes which candidates are computed, not the minimum. Private to voxel/.
 #include <array>
 #include <vector>
 
 #include "camplace/core/geometry.hpp"
 
 namespace camplace::voxel::detail {
+
+/// A node of a bounding-volume hierarchy over a solid's triangle boxes: a leaf (count > 0)
+/// holds the triangles order[first .. first + count), an inner node has the children first and
+/// first + 1. Its box is the union of its triangles' boxes (min/max: no rounding), so the
+/// distance to it bounds every one of theirs from below, as the computed doubles do too
+/// (rounding is monotonic: a larger box never gives a larger computed gap).
+struct BvhNode {
+  core::Box3 box;
+  int first = 0;
+  int count = 0;
+};
 
 /// One closed solid with the bounding boxes the culling needs.
 struct IndexedSolid {
@@ -22,6 +35,8 @@ struct IndexedSolid {
   std::vector<core::Box3> triangle_bounds;
   std::vector<std::array<core::Box3, 3>> edge_bounds;  ///< edge i = vertices (i, i + 1)
   std::vector<core::Vec3> unit_normals;                ///< zero for a degenerate triangle
+  std::vector<BvhNode> nodes;                          ///< node 0: the root (none: no triangle)
+  std::vector<int> order;                              ///< triangle indices in leaf order
 };
 
 IndexedSolid index_solid(const core::TriangleMesh& mesh);
@@ -38,9 +53,11 @@ double vertex_upper_bound(const std::vector<IndexedSolid>& solids, const core::V
 /// `cutoff`; otherwise some value above `cutoff` (possibly infinity).
 double box_solids_sq_distance(const std::vector<IndexedSolid>& solids, const core::Box3& box,
                               double cutoff);
-/// min over the solids of core::point_solid_sq_distance(mesh, p), same contract.
+/// min over the solids of core::point_solid_sq_distance(mesh, p), same contract. Without
+/// `inside_test`: the distance to the solids' surfaces (no point counts as inside), which is at
+/// least that minimum.
 double point_solids_sq_distance(const std::vector<IndexedSolid>& solids, const core::Vec3& p,
-                                double cutoff);
+                                double cutoff, bool inside_test = true);
 
 /// Whether a triangle of `mesh` meets `box` (core::triangle_box_overlap); `bounds`: the mesh's
 /// bounding box, tested first.

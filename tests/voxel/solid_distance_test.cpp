@@ -1,0 +1,121 @@
+// The voxel pipeline's culled point/box–solid distances (voxel/src/solid_distance.cpp, through a
+// bounding-volume hierarchy over the triangles) against core's plain scans of every triangle
+// (core::point_solid_sq_distance, core::box_solid_sq_distance): the same doubles, bit for bit,
+// on random fine solids and random points and boxes near, on, inside and far from them.
+#include "../../voxel/src/solid_distance.hpp"
+
+#include <gtest/gtest.h>
+
+#include <limits>
+#include <random>
+
+#include "../core/fine_meshes.hpp"
+#include "camplace/core/geometry.hpp"
+
+namespace camplace::testing {
+namespace {
+
+using core::Box3;
+using core::TriangleMesh;
+using core::Vec3;
+
+Eigen::Matrix3d random_rotation(std::mt19937& rng) {
+  std::uniform_real_distribution<double> angle(-3.14, 3.14);
+  return (Eigen::AngleAxisd(angle(rng), Vec3::UnitZ()) *
+          Eigen::AngleAxisd(angle(rng), Vec3::UnitY()) *
+          Eigen::AngleAxisd(angle(rng), Vec3::UnitX()))
+      .toRotationMatrix();
+}
+
+/// Two to three solids: fine ellipsoids and fine boxes, turned at random, in [−1, 1]³.
+std::vector<TriangleMesh> random_solids(std::mt19937& rng) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<TriangleMesh> out;
+  const int count = 2 + static_cast<int>(unit(rng) * 2);
+  for (int k = 0; k < count; ++k) {
+    const Vec3 at(2 * unit(rng) - 1, 2 * unit(rng) - 1, 2 * unit(rng) - 1);
+    const Vec3 size(0.1 + 0.5 * unit(rng), 0.1 + 0.5 * unit(rng), 0.1 + 0.5 * unit(rng));
+    if (k % 2 == 0) {
+      out.push_back(ellipsoid(at, size, 12 + k * 7, 7 + k * 3, random_rotation(rng)));
+    } else {
+      out.push_back(moved(subdivided_box(-size, size, 3 + k), random_rotation(rng), at));
+    }
+  }
+  return out;
+}
+
+/// A random point: uniform in [−1.5, 1.5]³, or a vertex of a solid moved by up to 1e-9 or
+/// 1e-3 (near and on the surface).
+Vec3 random_point(std::mt19937& rng, const std::vector<TriangleMesh>& solids) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double kind = unit(rng);
+  if (kind < 0.5) return Vec3(3 * unit(rng) - 1.5, 3 * unit(rng) - 1.5, 3 * unit(rng) - 1.5);
+  const TriangleMesh& m = solids[static_cast<std::size_t>(unit(rng) * solids.size())];
+  const Vec3& v = m.vertices[static_cast<std::size_t>(unit(rng) * m.vertices.size())];
+  const double scale = kind < 0.65 ? 0.0 : kind < 0.8 ? 1e-9 : 1e-3;
+  return v + scale * Vec3(unit(rng) - 0.5, unit(rng) - 0.5, unit(rng) - 0.5);
+}
+
+TEST(SolidDistanceHierarchy, PointDistancesEqualThePlainScan) {
+  std::mt19937 rng(21);
+  int compared = 0;
+  for (int trial = 0; trial < 6; ++trial) {
+    const std::vector<TriangleMesh> meshes = random_solids(rng);
+    std::vector<voxel::detail::IndexedSolid> solids;
+    for (const TriangleMesh& m : meshes) solids.push_back(voxel::detail::index_solid(m));
+    for (int q = 0; q < 300; ++q) {
+      const Vec3 p = random_point(rng, meshes);
+      double scan = std::numeric_limits<double>::infinity();
+      for (const TriangleMesh& m : meshes)
+        scan = std::min(scan, core::point_solid_sq_distance(m, p));
+      // With the cutoff the set-up gives (the nearest vertex) and with none.
+      EXPECT_EQ(voxel::detail::point_solids_sq_distance(
+                    solids, p, voxel::detail::vertex_upper_bound(solids, p)),
+                scan)
+          << "trial " << trial << " point " << q;
+      EXPECT_EQ(voxel::detail::point_solids_sq_distance(solids, p,
+                                                        std::numeric_limits<double>::infinity()),
+                scan)
+          << "trial " << trial << " point " << q;
+      ++compared;
+    }
+  }
+  EXPECT_EQ(compared, 1800);
+}
+
+TEST(SolidDistanceHierarchy, BoxDistancesEqualThePlainScan) {
+  std::mt19937 rng(22);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int zero = 0, positive = 0;
+  for (int trial = 0; trial < 6; ++trial) {
+    const std::vector<TriangleMesh> meshes = random_solids(rng);
+    std::vector<voxel::detail::IndexedSolid> solids;
+    for (const TriangleMesh& m : meshes) solids.push_back(voxel::detail::index_solid(m));
+    for (int q = 0; q < 150; ++q) {
+      const Vec3 c = random_point(rng, meshes);
+      const double half = q % 3 == 0 ? 1e-6 : 0.01 + 0.1 * unit(rng);
+      const Box3 box{c - Vec3::Constant(half), c + Vec3::Constant(half * (0.5 + unit(rng)))};
+      double scan = std::numeric_limits<double>::infinity();
+      for (const TriangleMesh& m : meshes)
+        scan = std::min(scan, core::box_solid_sq_distance(m, box));
+      EXPECT_EQ(voxel::detail::box_solids_sq_distance(
+                    solids, box, voxel::detail::vertex_upper_bound(solids, box)),
+                scan)
+          << "trial " << trial << " box " << q;
+      EXPECT_EQ(voxel::detail::box_solids_sq_distance(solids, box,
+                                                      std::numeric_limits<double>::infinity()),
+                scan)
+          << "trial " << trial << " box " << q;
+      // With cutoff 0 (the reached voxels' test): 0 exactly when the scan gives 0.
+      EXPECT_EQ(voxel::detail::box_solids_sq_distance(solids, box, 0.0) == 0.0, scan == 0.0)
+          << "trial " << trial << " box " << q;
+      ++(scan == 0.0 ? zero : positive);
+    }
+  }
+  // Both outcomes occur (boxes on the surfaces and away from them).
+  EXPECT_GT(zero, 50);
+  EXPECT_GT(positive, 300);
+}
+
+}  // namespace
+}  // namespace camplace::testing
