@@ -9,10 +9,12 @@
 //                the scene's 6 states;
 //  - states:     2, 8, 32, 128 time steps × 3 events = 6, 24, 96, 384 states (up to
 //                --max-states); "distinct": time step h ≥ 2 repeats step h mod 2 with its robot
-//                moved by its own offset, and each of its events' people by theirs (≤ 8 cm,
-//                horizontal, all different), so no two states share an object position;
-//                "identical": the same steps repeated unmoved (the voxel pipeline shares equal
-//                objects between states in conservative mode, center mode keeps the copies);
+//                moved by its own offset, and each of its events' people by theirs (< 6 cm,
+//                horizontal, all different), so every added state has objects of its own (the
+//                paper's 2 time steps share their events' people); "identical": the paper's 2
+//                steps repeated unmoved, so Err is the paper's times H/2 (the voxel pipeline
+//                shares equal objects between states in conservative mode, center mode keeps
+//                the copies);
 //  - cameras:    2, 6, 12, 24 cameras: the first 2 of the corners configuration, all 6, and 6 or
 //                18 more on the ceiling's edge (z = 2.9 m) looking at (2, 1.5, 0.9);
 //  - resolution: 16×12×12, 36×27×27, 64×48×48 voxels.
@@ -26,10 +28,15 @@
 // (rtcIntersect1, from the camera through the voxel centre, unbounded) per camera and voxel
 // centre inside that camera's FOV (core::Fov), CPU ms, median of --repeat after one warm-up;
 // only the time is compared (camplace finds the first hit per state, Embree over the union).
-// Tables per family, then log-log slopes (growth exponents) between consecutive points, over
-// the top decade and over the whole range; --csv writes every row.
+// The exact true distances of the states (core::true_squared_distance, part of the set-up) are
+// timed apart once per point (dtrue_s). Tables per family, then log-log slopes (growth
+// exponents) between consecutive points, over the top decade and over the whole range; --csv
+// writes every row; --help explains every column.
 //   build/release/bench/scale_bench [--family F[,F...]] [--max-triangles N] [--max-states N]
 //                                   [--mode conservative|center|both] [--repeat R] [--csv FILE]
+// Without options: every family, N ≤ 10k triangles, up to 384 states, both modes, 5 repeats
+// (about a minute on 2 loaded cores). --max-triangles 100000 takes several minutes and, in the
+// person family's center mode with 6 states, about 3.3 GB of RSS.
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
@@ -93,14 +100,20 @@ Columns (one child process per point and mode):
                (core::true_squared_distance, which the set-up computes too; first mode only)
   setup_s      wall-clock seconds of building the VoxelEvaluator
   eval_ms      CPU ms of one warm evaluate() (threads = 1), median of R; min_ms the fastest
+               (the CSV also has the labelling stage's wall ms from evaluate()'s Timing,
+               median, which under load may exceed the CPU time)
   rss_MiB      peak RSS growth of the child: VmHWM at the end less VmRSS before the set-up
   Err          the configuration's Err (m^2), for orientation
-  embree_*     center mode, when built with Embree 3: BVH build (wall ms, one thread), rays
-               (one per camera and voxel centre inside its FOV) and the CPU ms of casting them
-               all with rtcIntersect1 (median of R): a yardstick, first hit over all states'
-               triangles at once, where camplace needs the first hit per state
-Exponents: log-log slopes d ln(value) / d ln(N) between consecutive points, over the top
-decade (the first point with N >= N_top/10 to the top) and over the whole range.
+  embree_bms   center mode, when built with Embree 3: wall ms of building one BVH over all
+               triangles of the scene (one thread; after a warm-up build)
+  rays         one per camera and voxel centre inside its FOV (core::Fov)
+  embree_ms    CPU ms of casting them all with rtcIntersect1, median of R (unbounded rays
+               through the centres, made before the clock starts): a yardstick, the first hit
+               over all states' triangles at once, where camplace needs the first hit per state
+               (compare times only)
+Exponents: log-log slopes d ln(value) / d ln(N) of eval_ms, setup_s, rss_MiB and embree_ms
+between consecutive points, over the top decade (the first point with N >= N_top/10 to the
+top) and over the whole range; n/a where a value is not positive.
 )";
 
 // ---------------------------------------------------------------------------------------------
@@ -378,6 +391,7 @@ struct Result {
   char error[200] = {};
   int triangles = 0, states = 0, cameras = 0, voxels = 0;
   double true_distance_s = -1.0;  ///< wall s of the states' exact true distances (-1: not run)
+  double labelling_ms = 0.0;      ///< the labelling stage's wall ms (Timing), median
   double setup_s = 0.0, eval_ms = 0.0, eval_min_ms = 0.0, rss_mib = 0.0, err = 0.0;
   int embree = 0;  ///< 1 when the Embree yardstick ran
   long long embree_rays = 0;
@@ -541,14 +555,16 @@ Result measure(const Point& p, voxel::LabelMode mode, int repeat, bool time_true
   r.setup_s = wall_s() - t0;
   r.voxels = evaluator.grid().count();
   r.err = evaluator.evaluate(p.config).err;  // warm-up
-  std::vector<double> times;
+  std::vector<double> times, labelling;
   for (int i = 0; i < repeat; ++i) {
     const double c0 = cpu_ms();
     const core::Evaluation e = evaluator.evaluate(p.config);
     times.push_back(cpu_ms() - c0);
+    labelling.push_back(e.timing.labelling_ms);
     if (e.err != r.err) throw std::runtime_error("evaluations differ");
   }
   r.eval_ms = median(times);
+  r.labelling_ms = median(labelling);
   r.eval_min_ms = *std::min_element(times.begin(), times.end());
   r.rss_mib = (status_kib("VmHWM") - rss0) / 1024.0;
 #ifdef CAMPLACE_WITH_EMBREE
@@ -700,8 +716,8 @@ void write_csv(const std::string& path, const std::vector<Row>& rows, int repeat
   std::ofstream out(path);
   if (!out) throw std::runtime_error("cannot write " + path);
   out << "family,series,n_label,n,mode,ok,triangles,states,cameras,voxels,true_distance_s,"
-         "setup_s,eval_cpu_ms,"
-         "eval_cpu_min_ms,repeat,rss_growth_mib,err,embree,embree_build_ms,embree_rays,"
+         "setup_s,eval_cpu_ms,eval_cpu_min_ms,labelling_wall_ms,repeat,rss_growth_mib,err,embree,"
+         "embree_build_ms,embree_rays,"
          "embree_cpu_ms,embree_hits\n";
   out.precision(10);
   for (const Row& row : rows) {
@@ -710,9 +726,9 @@ void write_csv(const std::string& path, const std::vector<Row>& rows, int repeat
     out << p.family << ',' << p.series << ',' << p.label << ',' << p.n << ',' << mode_name(row.mode)
         << ',' << r.ok << ',' << r.triangles << ',' << r.states << ',' << r.cameras << ','
         << r.voxels << ',' << r.true_distance_s << ',' << r.setup_s << ',' << r.eval_ms << ','
-        << r.eval_min_ms << ',' << repeat << ',' << r.rss_mib << ',' << r.err << ',' << r.embree
-        << ',' << r.embree_build_ms << ',' << r.embree_rays << ',' << r.embree_ms << ','
-        << r.embree_hits << '\n';
+        << r.eval_min_ms << ',' << r.labelling_ms << ',' << repeat << ',' << r.rss_mib << ','
+        << r.err << ',' << r.embree << ',' << r.embree_build_ms << ',' << r.embree_rays << ','
+        << r.embree_ms << ',' << r.embree_hits << '\n';
   }
 }
 
