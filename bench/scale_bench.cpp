@@ -103,6 +103,7 @@ Columns (one child process per point and mode):
                (the CSV also has the labelling stage's wall ms from evaluate()'s Timing,
                median, which under load may exceed the CPU time)
   rss_MiB      peak RSS growth of the child: VmHWM at the end less VmRSS before the set-up
+               (the CSV also has it at the end of the set-up)
   Err          the configuration's Err (m^2), for orientation
   embree_bms   center mode, when built with Embree 3: wall ms of building one BVH over all
                triangles of the scene (one thread; after a warm-up build)
@@ -391,6 +392,7 @@ struct Result {
   char error[200] = {};
   int triangles = 0, states = 0, cameras = 0, voxels = 0;
   double true_distance_s = -1.0;  ///< wall s of the states' exact true distances (-1: not run)
+  double setup_rss_mib = 0.0;     ///< the peak RSS growth by the end of the set-up (CSV only)
   double labelling_ms = 0.0;      ///< the labelling stage's wall ms (Timing), median
   double setup_s = 0.0, eval_ms = 0.0, eval_min_ms = 0.0, rss_mib = 0.0, err = 0.0;
   int embree = 0;  ///< 1 when the Embree yardstick ran
@@ -553,6 +555,7 @@ Result measure(const Point& p, voxel::LabelMode mode, int repeat, bool time_true
   const double t0 = wall_s();
   const voxel::VoxelEvaluator evaluator(p.scene, options);
   r.setup_s = wall_s() - t0;
+  r.setup_rss_mib = (status_kib("VmHWM") - rss0) / 1024.0;
   r.voxels = evaluator.grid().count();
   r.err = evaluator.evaluate(p.config).err;  // warm-up
   std::vector<double> times, labelling;
@@ -716,7 +719,8 @@ void write_csv(const std::string& path, const std::vector<Row>& rows, int repeat
   std::ofstream out(path);
   if (!out) throw std::runtime_error("cannot write " + path);
   out << "family,series,n_label,n,mode,ok,triangles,states,cameras,voxels,true_distance_s,"
-         "setup_s,eval_cpu_ms,eval_cpu_min_ms,labelling_wall_ms,repeat,rss_growth_mib,err,embree,"
+         "setup_s,eval_cpu_ms,eval_cpu_min_ms,labelling_wall_ms,repeat,setup_rss_growth_mib,rss_"
+         "growth_mib,err,embree,"
          "embree_build_ms,embree_rays,"
          "embree_cpu_ms,embree_hits\n";
   out.precision(10);
@@ -726,9 +730,9 @@ void write_csv(const std::string& path, const std::vector<Row>& rows, int repeat
     out << p.family << ',' << p.series << ',' << p.label << ',' << p.n << ',' << mode_name(row.mode)
         << ',' << r.ok << ',' << r.triangles << ',' << r.states << ',' << r.cameras << ','
         << r.voxels << ',' << r.true_distance_s << ',' << r.setup_s << ',' << r.eval_ms << ','
-        << r.eval_min_ms << ',' << r.labelling_ms << ',' << repeat << ',' << r.rss_mib << ','
-        << r.err << ',' << r.embree << ',' << r.embree_build_ms << ',' << r.embree_rays << ','
-        << r.embree_ms << ',' << r.embree_hits << '\n';
+        << r.eval_min_ms << ',' << r.labelling_ms << ',' << repeat << ',' << r.setup_rss_mib << ','
+        << r.rss_mib << ',' << r.err << ',' << r.embree << ',' << r.embree_build_ms << ','
+        << r.embree_rays << ',' << r.embree_ms << ',' << r.embree_hits << '\n';
   }
 }
 
