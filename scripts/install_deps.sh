@@ -17,6 +17,8 @@ packages=(
   pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
   libtinygltf-dev libjs-three chromium
   openmpi-bin libopenmpi-dev
+  # Embree 3, for bench/scale_bench's ray-casting yardstick only (optional: it builds without).
+  libembree-dev
 )
 missing=()
 for p in "${packages[@]}"; do

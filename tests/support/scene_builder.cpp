@@ -3,9 +3,11 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
 #include <vector>
 
 namespace camplace::testing {
@@ -22,6 +24,58 @@ core::SceneObject box_object(const std::string& name, const Vec3& lo, const Vec3
   }
   o.mesh.triangles = {{0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}, {0, 1, 5}, {0, 5, 4},
                       {2, 6, 7}, {2, 7, 3}, {0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}};
+  o.bounds = core::bounding_box(o.mesh);
+  return o;
+}
+
+core::TriangleMesh ellipsoid_mesh(const core::Box3& box, int triangles) {
+  if (triangles < 6 || triangles % 2 != 0) {
+    throw std::invalid_argument("ellipsoid_mesh: the triangle count must be even and at least 6");
+  }
+  const Vec3 radii = 0.5 * box.size();
+  if (!(radii.minCoeff() > 0.0)) throw std::invalid_argument("ellipsoid_mesh: empty box");
+  // 2·m·(b − 1) = triangles: pick d = b − 1 among the divisors of triangles/2 with m ≥ 3.
+  const int half = triangles / 2;
+  const double ideal = std::sqrt(triangles / 4.0);
+  int d = 1;
+  for (int k = 1; k <= half / 3; ++k) {
+    if (half % k == 0 && std::abs(k - ideal) < std::abs(d - ideal)) d = k;
+  }
+  const int m = half / d, bands = d + 1;
+  const Vec3 c = box.center();
+  core::TriangleMesh mesh;
+  // Vertex 0 the top pole, then rings 1..b−1 from the top (m vertices each), then the bottom.
+  mesh.vertices.push_back(c + Vec3(0, 0, radii.z()));
+  for (int i = 1; i < bands; ++i) {
+    const double phi = core::kPi * i / bands;
+    for (int j = 0; j < m; ++j) {
+      const double theta = 2.0 * core::kPi * j / m;
+      mesh.vertices.push_back(c + Vec3(radii.x() * std::sin(phi) * std::cos(theta),
+                                       radii.y() * std::sin(phi) * std::sin(theta),
+                                       radii.z() * std::cos(phi)));
+    }
+  }
+  const int bottom = static_cast<int>(mesh.vertices.size());
+  mesh.vertices.push_back(c - Vec3(0, 0, radii.z()));
+  auto ring = [&](int i, int j) { return 1 + (i - 1) * m + (j % m); };
+  // Counter-clockwise seen from outside: (upper, lower j, lower j + 1) around +z.
+  for (int j = 0; j < m; ++j) mesh.triangles.push_back({0, ring(1, j), ring(1, j + 1)});
+  for (int i = 1; i + 1 < bands; ++i) {
+    for (int j = 0; j < m; ++j) {
+      mesh.triangles.push_back({ring(i, j), ring(i + 1, j), ring(i + 1, j + 1)});
+      mesh.triangles.push_back({ring(i, j), ring(i + 1, j + 1), ring(i, j + 1)});
+    }
+  }
+  for (int j = 0; j < m; ++j) {
+    mesh.triangles.push_back({bottom, ring(bands - 1, j + 1), ring(bands - 1, j)});
+  }
+  return mesh;
+}
+
+core::SceneObject ellipsoid_object(const std::string& name, const core::Box3& box, int triangles) {
+  core::SceneObject o;
+  o.name = o.entry = name;
+  o.mesh = ellipsoid_mesh(box, triangles);
   o.bounds = core::bounding_box(o.mesh);
   return o;
 }

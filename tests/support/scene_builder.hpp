@@ -10,6 +10,16 @@ namespace camplace::testing {
 
 /// Axis-aligned box object (outward triangles).
 core::SceneObject box_object(const std::string& name, const core::Vec3& min, const core::Vec3& max);
+/// A closed, outward triangle mesh of exactly `triangles` triangles approximating the ellipsoid
+/// inscribed in `box` (centre and semi-axes from the box): a latitude–longitude sphere of b
+/// bands and m segments (2·m·(b − 1) triangles: fans at the poles, quads split in two between),
+/// scaled; every vertex lies on the ellipsoid, the poles at the box's top and bottom faces. b − 1
+/// is the divisor of triangles/2 nearest to √(triangles/4) (m ≈ 2(b − 1): near-square quads),
+/// so counts with few divisors give long thin triangles. Throws std::invalid_argument when
+/// `triangles` is odd or below 6 (m ≥ 3) or the box is empty along an axis.
+core::TriangleMesh ellipsoid_mesh(const core::Box3& box, int triangles);
+/// An object of ellipsoid_mesh(box, triangles), bounds set.
+core::SceneObject ellipsoid_object(const std::string& name, const core::Box3& box, int triangles);
 /// Tetrahedron object, oriented outward whatever the order of the points.
 core::SceneObject tetra_object(const std::string& name, const core::Vec3& a, const core::Vec3& b,
                                const core::Vec3& c, const core::Vec3& d);
