@@ -7,6 +7,8 @@
 #include <utility>
 #include <vector>
 
+#include "scene_builder.hpp"
+
 namespace camplace::testing {
 
 using core::Vec3;
@@ -160,6 +162,55 @@ core::Scene cut_every_object(
     for (core::Event& event : step.events) cut_all(event.targets);
   }
   return out;
+}
+
+namespace {
+
+/// The convex prism over the quadrilateral (x, z) = (0.3, −0.6), (6, −0.6), (6, −0.35),
+/// (3, −0.35), for y in [−0.5, 0.5]: 8 corners, 6 faces, 12 triangles oriented outward.
+core::SceneObject prism_object() {
+  core::SceneObject o;
+  o.name = o.entry = "prism";
+  const std::array<std::array<double, 2>, 4> q{
+      {{0.3, -0.6}, {6.0, -0.6}, {6.0, -0.35}, {3.0, -0.35}}};
+  for (double y : {-0.5, 0.5}) {
+    for (const auto& xz : q) o.mesh.vertices.emplace_back(xz[0], y, xz[1]);
+  }
+  const std::array<std::array<int, 4>, 6> faces{
+      {{0, 1, 2, 3}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}}};
+  Vec3 centre = Vec3::Zero();
+  for (const Vec3& v : o.mesh.vertices) centre += v / 8.0;
+  for (const auto& f : faces) {
+    for (const std::array<int, 3> t : {std::array<int, 3>{f[0], f[1], f[2]}, {f[0], f[2], f[3]}}) {
+      const Vec3 &a = o.mesh.vertices[t[0]], &b = o.mesh.vertices[t[1]], &c = o.mesh.vertices[t[2]];
+      const bool outward = (b - a).cross(c - a).dot((a + b + c) / 3.0 - centre) > 0;
+      o.mesh.triangles.push_back(outward ? t : std::array<int, 3>{t[0], t[2], t[1]});
+    }
+  }
+  o.bounds = core::bounding_box(o.mesh);
+  return o;
+}
+
+}  // namespace
+
+core::Scene slab_scene() {
+  const core::Box3 area{Vec3(0.1, -1.1, -1.1), Vec3(4.1, 1.1, 1.1)};
+  core::Scene scene =
+      simple_scene(area, {20, 11, 11}, 1, 30.0,
+                   {box_object("critical", Vec3(3.6, 0.7, 0.5), Vec3(3.8, 0.9, 0.7))},
+                   {box_object("target", Vec3(1.5, 0.7, 0.5), Vec3(1.7, 0.9, 0.7))});
+  scene.static_obstacles.push_back(box_object("slab", Vec3(0.2, -0.5, -0.5), Vec3(3.5, 0.5, -0.3)));
+  return scene;
+}
+
+core::Scene prism_scene() {
+  const core::Box3 area{Vec3(0.1, -1.1, -1.1), Vec3(6.1, 1.1, 1.1)};
+  core::Scene scene =
+      simple_scene(area, {30, 11, 11}, 1, 30.0,
+                   {box_object("critical", Vec3(3.6, 0.7, 0.5), Vec3(3.8, 0.9, 0.7))},
+                   {box_object("target", Vec3(1.5, 0.7, 0.5), Vec3(1.7, 0.9, 0.7))});
+  scene.static_obstacles.push_back(prism_object());
+  return scene;
 }
 
 }  // namespace camplace::testing

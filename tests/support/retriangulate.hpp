@@ -40,4 +40,14 @@ core::Scene cut_every_object(
     const core::Scene& scene,
     const std::function<core::TriangleMesh(const core::TriangleMesh&)>& cut);
 
+/// The hand cases of docs/design/labelling.md L9, both with one cone camera (30°) meant to sit
+/// at the origin looking along +x at the voxel (4, 5, 5) = [0.9, 1.1] × [−0.1, 0.1]², a small
+/// target and a critical box out of the way, and one static obstacle below and beyond that
+/// voxel. slab_scene: S = [0.1, 4.1] × [−1.1, 1.1]², 20 × 11 × 11 voxels, the box slab
+/// [0.2, 3.5] × [−0.5, 0.5] × [−0.5, −0.3]. prism_scene: S = [0.1, 6.1] × [−1.1, 1.1]²,
+/// 30 × 11 × 11 voxels, the convex prism over the quadrilateral (x, z) = (0.3, −0.6), (6, −0.6),
+/// (6, −0.35), (3, −0.35) for y in [−0.5, 0.5] (12 triangles).
+core::Scene slab_scene();
+core::Scene prism_scene();
+
 }  // namespace camplace::testing

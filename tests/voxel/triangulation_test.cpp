@@ -71,12 +71,7 @@ std::vector<const core::TriangleMesh*> obstacles(const core::Scene& scene, int h
 // hold hit points x ≥ 2.7, so they lie at x ≥ 2.675 (2.675 < 2.7 < 3.5), at least 2.69 from
 // the camera, beyond B: B is free. Both answers are conservative; the cut one is exact here.
 TEST(Triangulation, HandCaseAFaceCutFinerFreesTheVoxelAboveIt) {
-  const core::Box3 area{Vec3(0.1, -1.1, -1.1), Vec3(4.1, 1.1, 1.1)};
-  core::Scene scene =
-      simple_scene(area, {20, 11, 11}, 1, 30.0,
-                   {box_object("critical", Vec3(3.6, 0.7, 0.5), Vec3(3.8, 0.9, 0.7))},
-                   {box_object("target", Vec3(1.5, 0.7, 0.5), Vec3(1.7, 0.9, 0.7))});
-  scene.static_obstacles.push_back(box_object("slab", Vec3(0.2, -0.5, -0.5), Vec3(3.5, 0.5, -0.3)));
+  const core::Scene scene = slab_scene();
   const core::Scene cut =
       cut_every_object(scene, [](const core::TriangleMesh& m) { return subdivide(m, 4); });
   ASSERT_EQ(cut.static_obstacles[0].mesh.triangles.size(), 12u * 16u);
@@ -95,35 +90,10 @@ TEST(Triangulation, HandCaseAFaceCutFinerFreesTheVoxelAboveIt) {
   EXPECT_EQ(reference_box_label(cut, 0, 0, camera, box).label, Label::free);
 }
 
-/// The convex prism over the quadrilateral (x, z) = (0.3, −0.6), (6, −0.6), (6, −0.35),
-/// (3, −0.35), for y in [−0.5, 0.5]: 8 corners, 6 faces, 12 triangles oriented outward.
-core::SceneObject prism_object() {
-  core::SceneObject o;
-  o.name = o.entry = "prism";
-  const std::array<std::array<double, 2>, 4> q{
-      {{0.3, -0.6}, {6.0, -0.6}, {6.0, -0.35}, {3.0, -0.35}}};
-  for (double y : {-0.5, 0.5}) {
-    for (const auto& xz : q) o.mesh.vertices.emplace_back(xz[0], y, xz[1]);
-  }
-  const std::array<std::array<int, 4>, 6> faces{
-      {{0, 1, 2, 3}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}}};
-  Vec3 centre = Vec3::Zero();
-  for (const Vec3& v : o.mesh.vertices) centre += v / 8.0;
-  for (const auto& f : faces) {
-    for (const std::array<int, 3> t : {std::array<int, 3>{f[0], f[1], f[2]}, {f[0], f[2], f[3]}}) {
-      const Vec3 &a = o.mesh.vertices[t[0]], &b = o.mesh.vertices[t[1]], &c = o.mesh.vertices[t[2]];
-      const bool outward = (b - a).cross(c - a).dot((a + b + c) / 3.0 - centre) > 0;
-      o.mesh.triangles.push_back(outward ? t : std::array<int, 3>{t[0], t[2], t[1]});
-    }
-  }
-  o.bounds = core::bounding_box(o.mesh);
-  return o;
-}
-
 // The second rule, by hand: back-face culling is on only when no triangle of the object is near
 // edge-on from the camera, and one sliver anywhere turns it off. Camera at the origin looking
 // along +x; B = [0.9, 1.1] × [−0.1, 0.1]² (farthest point √1.23 = 1.109 away); a static prism
-// below and beyond it (prism_object). Every ray through B descends at most 0.1/0.9, so it meets
+// below and beyond it (prism_scene). Every ray through B descends at most 0.1/0.9, so it meets
 // the prism's top face z = −0.35 (x ≥ 3) at x ≥ 3.15, beyond B: B is free. With culling, only
 // front faces are tested: the top face lies at x ≥ 3 (≥ 3.02 from the camera, beyond B); the
 // slanted face from (0.3, −0.6) to (3, −0.35) is seen at slopes z/x ≤ −0.35/3 = −0.117 while B
@@ -134,12 +104,7 @@ core::SceneObject prism_object() {
 // near x = 6, the end at |y/x| ≤ 0.111 for x ≥ 4.5) and come within 0.68 and 0.80 of the
 // camera (near (0.3, 0, −0.6) and the slanted edge): B is undetectable. Both are conservative.
 TEST(Triangulation, HandCaseOneSliverTurnsCullingOffAndBackFacesBlock) {
-  const core::Box3 area{Vec3(0.1, -1.1, -1.1), Vec3(6.1, 1.1, 1.1)};
-  core::Scene scene =
-      simple_scene(area, {30, 11, 11}, 1, 30.0,
-                   {box_object("critical", Vec3(3.6, 0.7, 0.5), Vec3(3.8, 0.9, 0.7))},
-                   {box_object("target", Vec3(1.5, 0.7, 0.5), Vec3(1.7, 0.9, 0.7))});
-  scene.static_obstacles.push_back(prism_object());
+  const core::Scene scene = prism_scene();
   core::Scene sliver = scene;
   core::TriangleMesh& mesh = sliver.static_obstacles[0].mesh;
   int far_face = -1;  // a triangle of the face x = 6
