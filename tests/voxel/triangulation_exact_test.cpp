@@ -75,7 +75,7 @@ int expect_models_hold_exact(core::Scene scene, std::vector<core::Scene> cuts,
   return differ;
 }
 
-// The hand cases of tests/voxel/triangulation_test.cpp: the slab below the voxel with its
+// The hand cases of triangulation_test.cpp: the slab below the voxel with its
 // faces cut 4 × 4 (the cut frees voxels the uncut faces block), the prism with one sliver (no
 // culling: back faces block voxels the culled prism leaves free). Both models hold the exact one.
 TEST(TriangulationExact, HandCasesBothModelsHoldTheExactModel) {
