@@ -202,19 +202,6 @@ double cone_box_depth(const std::array<Vec3, 3>& n, const Vec3& w, const Vec3& h
 }
 }  // namespace
 
-double reference_cone_box_depth(const Vec3& c, const Vec3& a_world, const Vec3& b_world,
-                                const Vec3& e_world, const core::Box3& box) {
-  const Vec3 a = a_world - c, b = b_world - c, e = e_world - c;
-  const double det = a.dot(b.cross(e));
-  if (std::abs(det) <= 1e-9 * a.norm() * b.norm() * e.norm()) {
-    return std::numeric_limits<double>::quiet_NaN();
-  }
-  const double sign = det > 0 ? 1.0 : -1.0;
-  const std::array<Vec3, 3> n{(sign * a.cross(b)).normalized(), (sign * b.cross(e)).normalized(),
-                              (sign * e.cross(a)).normalized()};
-  return cone_box_depth(n, box.center() - c, 0.5 * box.size());
-}
-
 bool reference_inside(const core::TriangleMesh& mesh, const Vec3& p) {
   const Vec3 dir = Vec3(0.5773, 0.5774, 0.5775).normalized();
   int crossings = 0;

@@ -38,13 +38,6 @@ ReferenceLabel reference_box_label(const core::Scene& scene, int time_step, int 
                                    const core::CameraSetting& camera, const core::Box3& box,
                                    double margin = 1e-7, int camera_index = 0);
 
-/// How deep the box reaches into the cone from c over triangle (a, b, e) (SPEC §5's
-/// conservative test, by the LP duality of reference_box_label): the largest, over points x of
-/// the box, of x's smallest distance inside the cone's three planes; ≥ 0 when they meet. NaN
-/// when c lies in the triangle's plane (|det| ≤ 1e-9·|a − c||b − c||e − c|: no cone).
-double reference_cone_box_depth(const core::Vec3& c, const core::Vec3& a, const core::Vec3& b,
-                                const core::Vec3& e, const core::Box3& box);
-
 /// True when p is inside the closed mesh, by counting crossings of a fixed skew ray.
 bool reference_inside(const core::TriangleMesh& mesh, const core::Vec3& p);
 
