@@ -13,8 +13,7 @@
 //                horizontal, all different), so every added state has objects of its own (the
 //                paper's 2 time steps share their events' people); "identical": the paper's 2
 //                steps repeated unmoved, so Err is the paper's times H/2 (the voxel pipeline
-//                shares equal objects between states in conservative mode, center mode keeps
-//                the copies);
+//                shares equal objects between states);
 //  - cameras:    2, 6, 12, 24 cameras: the first 2 of the corners configuration, all 6, and 6 or
 //                18 more on the ceiling's edge (z = 2.9 m) looking at (2, 1.5, 0.9);
 //  - resolution: 16×12×12, 36×27×27, 64×48×48 voxels.

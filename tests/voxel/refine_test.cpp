@@ -62,6 +62,38 @@ TEST(Refine, LevelZeroIsTheUnrefinedPipeline) {
   }
 }
 
+// models() and leaf_models() label every state at once: each state's finest cells, counted, give
+// the evaluation's model volume, and the base voxels holding one of them are models()'s.
+TEST(Refine, AllStatesModelsMatchTheEvaluationAndEachOther) {
+  const core::Scene scene = core::load_scene(kPaperBasic);
+  const voxel::VoxelEvaluator evaluator(scene, refined(2));
+  const voxel::Grid base = evaluator.grid(), fine = evaluator.leaf_grid();
+  for (const core::CameraConfig& config : paper_configs(scene, 5)) {
+    const voxel::Evaluation ev = evaluator.evaluate(config);
+    const auto models = evaluator.models(config);
+    const auto leaves = evaluator.leaf_models(config);
+    ASSERT_EQ(models.size(), ev.states.size());
+    ASSERT_EQ(leaves.size(), ev.states.size());
+    for (std::size_t s = 0; s < ev.states.size(); ++s) {
+      long cells = 0;
+      std::vector<std::uint8_t> holding(static_cast<std::size_t>(base.count()), 0);
+      for (int k = 0; k < fine.n[2]; ++k) {
+        for (int j = 0; j < fine.n[1]; ++j) {
+          for (int i = 0; i < fine.n[0]; ++i) {
+            if (!leaves[s][i + fine.n[0] * (j + fine.n[1] * k)]) continue;
+            ++cells;
+            const int side = fine.n[0] / base.n[0];
+            holding[i / side + base.n[0] * (j / side + base.n[1] * (k / side))] = 1;
+          }
+        }
+      }
+      const double cell_volume = fine.step.x() * fine.step.y() * fine.step.z();
+      EXPECT_NEAR(cells * cell_volume, ev.states[s].model_volume, 1e-9) << "state " << s;
+      EXPECT_EQ(holding, models[s]) << "state " << s;
+    }
+  }
+}
+
 // Every refined model lies inside the unrefined one (cells of kept voxels), and refinement only
 // moves the model away from C: d_model does not decrease, the volume does not grow.
 TEST(Refine, RefinedModelLiesInTheUnrefinedOne) {
