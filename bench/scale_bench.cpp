@@ -32,6 +32,7 @@
 // exponents) between consecutive points, over the top decade and over the whole range; --csv
 // writes every row; --help explains every column.
 //   build/release/bench/scale_bench [--family F[,F...]] [--max-triangles N] [--max-states N]
+//                                   [--voxels NXxNYxNZ]
 //                                   [--mode conservative|center|both] [--repeat R] [--csv FILE]
 // Without options: every family, N ≤ 10k triangles, up to 384 states, both modes, 5 repeats
 // (about a minute on 2 loaded cores). --max-triangles 100000 takes several minutes and, in the
@@ -87,6 +88,7 @@ Options:
                      resolution  16x12x12, 36x27x27, 64x48x48 voxels.
   --max-triangles N  largest N of the robot and person families (default 10000)
   --max-states N     largest state count of the states family (default 384)
+  --voxels NXxNYxNZ  the resolution of every family but resolution (default 16x12x12)
   --mode M           conservative, center or both (default both)
   --repeat R         evaluations timed per point after one warm-up (default 5)
   --csv FILE         also write every row as CSV
@@ -126,6 +128,7 @@ struct Options {
   std::vector<voxel::LabelMode> modes{voxel::LabelMode::conservative, voxel::LabelMode::center};
   int repeat = 5;
   std::string csv;
+  std::array<int, 3> voxels{16, 12, 12};  ///< every family's resolution but `resolution`'s
 };
 
 const std::vector<std::string> kFamilies{"robot", "person", "states", "cameras", "resolution"};
@@ -169,6 +172,15 @@ Options parse_options(int argc, char** argv) {
       }
     } else if (arg == "--max-triangles") {
       o.max_triangles = parse_int(value(), arg, 1000);
+    } else if (arg == "--voxels") {
+      const std::string v = value();
+      char x1 = 0, x2 = 0;
+      std::istringstream in(v);
+      if (!(in >> o.voxels[0] >> x1 >> o.voxels[1] >> x2 >> o.voxels[2]) || x1 != 'x' ||
+          x2 != 'x' || !in.eof() || *std::min_element(o.voxels.begin(), o.voxels.end()) < 1) {
+        throw std::invalid_argument("--voxels: expected NXxNYxNZ with positive counts, got \"" + v +
+                                    "\"");
+      }
     } else if (arg == "--max-states") {
       o.max_states = parse_int(value(), arg, 6);
     } else if (arg == "--repeat") {
@@ -324,6 +336,9 @@ core::CameraConfig camera_config(int n) {
   return config;
 }
 
+/// --voxels: the resolution of every point but the resolution family's.
+std::array<int, 3> g_voxels{16, 12, 12};
+
 Point make_point(const std::string& family, const std::string& series, const std::string& label,
                  double n, core::Scene scene) {
   Point p;
@@ -333,6 +348,7 @@ Point make_point(const std::string& family, const std::string& series, const std
   p.n = n;
   p.scene = std::move(scene);
   p.config = corners();
+  p.resolution = g_voxels;
   return p;
 }
 
@@ -740,6 +756,7 @@ void write_csv(const std::string& path, const std::vector<Row>& rows, int repeat
 int main(int argc, char** argv) {
   try {
     const Options o = parse_options(argc, argv);
+    g_voxels = o.voxels;
     const double t0 = wall_s();
 #ifdef CAMPLACE_WITH_EMBREE
     std::printf("Embree: %d.%d.%d (yardstick in center mode)\n", RTC_VERSION_MAJOR,
