@@ -14,6 +14,7 @@
 #include <sstream>
 #include <type_traits>
 
+#include "camplace/core/box_tree.hpp"
 #include "camplace/core/closest_points.hpp"
 #include "camplace/core/error.hpp"
 #include "camplace/core/internal/exact_kernel.hpp"
@@ -48,16 +49,10 @@ struct FlatTriangle {
   std::size_t index;  ///< in mesh->triangles
 };
 
-/// Bounding-volume hierarchy over triangle boxes: node 0 is the root; a node with count > 0 is
-/// a leaf holding triangles [first, first + count) of `triangles` (reordered by the build),
-/// otherwise its children are nodes `first` and `first + 1`. Node boxes are unions of
-/// triangle boxes (min/max of the input coordinates: no rounding).
+/// Bounding-volume hierarchy over triangle boxes (core::build_box_tree): the leaves hold
+/// triangles of `triangles` (reordered by the build).
 struct Bvh {
-  struct Node {
-    Box3 box;
-    std::size_t first = 0;
-    std::size_t count = 0;
-  };
+  using Node = BoxTreeNode;
   std::vector<FlatTriangle> triangles;
   std::vector<Node> nodes;
 };
@@ -75,48 +70,8 @@ Bvh build_bvh(const std::vector<const TriangleMesh*>& meshes) {
     }
   }
   CAMPLACE_ASSERT(!bvh.triangles.empty());
-  // Top down, splitting at the median of the box centres along the widest axis of their range.
-  struct Task {
-    std::size_t node, first, last;
-  };
-  bvh.nodes.emplace_back();
-  std::vector<Task> tasks{{0, 0, bvh.triangles.size()}};
-  while (!tasks.empty()) {
-    const Task task = tasks.back();
-    tasks.pop_back();
-    auto begin = bvh.triangles.begin() + static_cast<std::ptrdiff_t>(task.first);
-    auto end = bvh.triangles.begin() + static_cast<std::ptrdiff_t>(task.last);
-    Box3 box = begin->box;
-    Box3 centres{begin->box.center(), begin->box.center()};
-    for (auto it = begin; it != end; ++it) {
-      box.min = box.min.cwiseMin(it->box.min);
-      box.max = box.max.cwiseMax(it->box.max);
-      centres.min = centres.min.cwiseMin(it->box.center());
-      centres.max = centres.max.cwiseMax(it->box.center());
-    }
-    bvh.nodes[task.node].box = box;
-    const std::size_t count = task.last - task.first;
-    if (count <= kLeafSize) {
-      bvh.nodes[task.node].first = task.first;
-      bvh.nodes[task.node].count = count;
-      continue;
-    }
-    int axis = 0;
-    const Vec3 extent = centres.max - centres.min;
-    if (extent[1] > extent[axis]) axis = 1;
-    if (extent[2] > extent[axis]) axis = 2;
-    const std::size_t mid = task.first + count / 2;
-    std::nth_element(begin, bvh.triangles.begin() + static_cast<std::ptrdiff_t>(mid), end,
-                     [axis](const FlatTriangle& s, const FlatTriangle& t) {
-                       return s.box.min[axis] + s.box.max[axis] < t.box.min[axis] + t.box.max[axis];
-                     });
-    const std::size_t left = bvh.nodes.size();
-    bvh.nodes[task.node].first = left;
-    bvh.nodes.emplace_back();
-    bvh.nodes.emplace_back();
-    tasks.push_back({left, task.first, mid});
-    tasks.push_back({left + 1, mid, task.last});
-  }
+  bvh.nodes = build_box_tree(
+      bvh.triangles, [](const FlatTriangle& t) -> const Box3& { return t.box; }, kLeafSize);
   return bvh;
 }
 

@@ -139,53 +139,11 @@ void triangle_box(const IndexedSolid& s, std::size_t t, const Box3& box,
 /// The hierarchy of s's triangle boxes: top down, each node split at the median of its box
 /// centres along the widest axis of their range, leaves of at most 4 triangles.
 void build_hierarchy(IndexedSolid& s) {
-  constexpr int kLeaf = 4;
-  const int n = static_cast<int>(s.triangles.size());
-  s.order.resize(n);
-  for (int t = 0; t < n; ++t) s.order[t] = t;
-  s.nodes.clear();
-  if (n == 0) return;
-  struct Task {
-    int node, first, last;
-  };
-  s.nodes.emplace_back();
-  std::vector<Task> tasks{{0, 0, n}};
-  while (!tasks.empty()) {
-    const Task task = tasks.back();
-    tasks.pop_back();
-    Box3 box = s.triangle_bounds[s.order[task.first]];
-    Box3 centres{box.center(), box.center()};
-    for (int k = task.first; k < task.last; ++k) {
-      const Box3& b = s.triangle_bounds[s.order[k]];
-      box.min = box.min.cwiseMin(b.min);
-      box.max = box.max.cwiseMax(b.max);
-      centres.min = centres.min.cwiseMin(b.center());
-      centres.max = centres.max.cwiseMax(b.center());
-    }
-    s.nodes[task.node].box = box;
-    const int count = task.last - task.first;
-    if (count <= kLeaf) {
-      s.nodes[task.node].first = task.first;
-      s.nodes[task.node].count = count;
-      continue;
-    }
-    int axis = 0;
-    const Vec3 extent = centres.max - centres.min;
-    if (extent[1] > extent[axis]) axis = 1;
-    if (extent[2] > extent[axis]) axis = 2;
-    const int mid = task.first + count / 2;
-    std::nth_element(s.order.begin() + task.first, s.order.begin() + mid,
-                     s.order.begin() + task.last, [&](int x, int y) {
-                       const Box3 &bx = s.triangle_bounds[x], &by = s.triangle_bounds[y];
-                       return bx.min[axis] + bx.max[axis] < by.min[axis] + by.max[axis];
-                     });
-    const int left = static_cast<int>(s.nodes.size());
-    s.nodes[task.node].first = left;
-    s.nodes.emplace_back();
-    s.nodes.emplace_back();
-    tasks.push_back({left, task.first, mid});
-    tasks.push_back({left + 1, mid, task.last});
-  }
+  constexpr std::size_t kLeaf = 4;
+  s.order.resize(s.triangles.size());
+  for (std::size_t t = 0; t < s.order.size(); ++t) s.order[t] = static_cast<int>(t);
+  s.nodes = core::build_box_tree(
+      s.order, [&](int t) -> const Box3& { return s.triangle_bounds[t]; }, kLeaf);
 }
 
 }  // namespace
@@ -245,13 +203,13 @@ double box_solids_sq_distance(const std::vector<IndexedSolid>& solids, const Box
   // the minimum over the same doubles as core's scan of every triangle.
   double best = kInf;
   const std::array<Vec3, 8> corners = box_corners(box);
-  thread_local std::vector<int> stack;
+  thread_local std::vector<std::size_t> stack;
   for (const IndexedSolid& s : solids) {
     if (s.nodes.empty() || beyond(core::box_box_sq_distance(s.bounds, box), std::min(best, cutoff)))
       continue;
     stack.assign(1, 0);
     while (!stack.empty()) {
-      const BvhNode& node = s.nodes[stack.back()];
+      const core::BoxTreeNode& node = s.nodes[stack.back()];
       stack.pop_back();
       if (beyond(core::box_box_sq_distance(node.box, box), std::min(best, cutoff))) continue;
       if (node.count == 0) {
@@ -261,7 +219,7 @@ double box_solids_sq_distance(const std::vector<IndexedSolid>& solids, const Box
         stack.push_back(near <= far ? node.first : node.first + 1);
         continue;
       }
-      for (int k = node.first; k < node.first + node.count; ++k) {
+      for (std::size_t k = node.first; k < node.first + node.count; ++k) {
         const int t = s.order[k];
         const auto& tri = s.triangles[t];
         const double d = core::point_triangle_sq_distance(center, tri[0], tri[1], tri[2]);
@@ -284,7 +242,7 @@ double box_solids_sq_distance(const std::vector<IndexedSolid>& solids, const Box
 double point_solids_sq_distance(const std::vector<IndexedSolid>& solids, const Vec3& p,
                                 double cutoff, bool inside_test) {
   double result = kInf;
-  thread_local std::vector<int> stack;
+  thread_local std::vector<std::size_t> stack;
   for (const IndexedSolid& s : solids) {
     const double bound = std::min(result, cutoff);
     if (beyond(core::point_box_sq_distance(p, s.bounds), bound)) continue;
@@ -301,7 +259,7 @@ double point_solids_sq_distance(const std::vector<IndexedSolid>& solids, const V
     stack.clear();
     if (!s.nodes.empty()) stack.push_back(0);
     while (!stack.empty()) {
-      const BvhNode& node = s.nodes[stack.back()];
+      const core::BoxTreeNode& node = s.nodes[stack.back()];
       stack.pop_back();
       if (beyond(core::point_box_sq_distance(p, node.box), std::min(best, bound))) continue;
       if (node.count == 0) {
@@ -311,7 +269,7 @@ double point_solids_sq_distance(const std::vector<IndexedSolid>& solids, const V
         stack.push_back(near <= far ? node.first : node.first + 1);
         continue;
       }
-      for (int k = node.first; k < node.first + node.count; ++k) {
+      for (std::size_t k = node.first; k < node.first + node.count; ++k) {
         const int t = s.order[k];
         if (beyond(core::point_box_sq_distance(p, s.triangle_bounds[t]), std::min(best, bound)))
           continue;

@@ -12,20 +12,10 @@
 #include <array>
 #include <vector>
 
+#include "camplace/core/box_tree.hpp"
 #include "camplace/core/geometry.hpp"
 
 namespace camplace::voxel::detail {
-
-/// A node of a bounding-volume hierarchy over a solid's triangle boxes: a leaf (count > 0)
-/// holds the triangles order[first .. first + count), an inner node has the children first and
-/// first + 1. Its box is the union of its triangles' boxes (min/max: no rounding), so the
-/// distance to it bounds every one of theirs from below, as the computed doubles do too
-/// (rounding is monotonic: a larger box never gives a larger computed gap).
-struct BvhNode {
-  core::Box3 box;
-  int first = 0;
-  int count = 0;
-};
 
 /// One closed solid with the bounding boxes the culling needs.
 struct IndexedSolid {
@@ -35,8 +25,10 @@ struct IndexedSolid {
   std::vector<core::Box3> triangle_bounds;
   std::vector<std::array<core::Box3, 3>> edge_bounds;  ///< edge i = vertices (i, i + 1)
   std::vector<core::Vec3> unit_normals;                ///< zero for a degenerate triangle
-  std::vector<BvhNode> nodes;                          ///< node 0: the root (none: no triangle)
-  std::vector<int> order;                              ///< triangle indices in leaf order
+  /// Over the triangles' bounds (core::build_box_tree, leaves of 4): node 0 the root (none: no
+  /// triangle); a leaf holds the triangles order[first .. first + count).
+  std::vector<core::BoxTreeNode> nodes;
+  std::vector<int> order;  ///< triangle indices in leaf order
 };
 
 IndexedSolid index_solid(const core::TriangleMesh& mesh);
