@@ -34,6 +34,7 @@
 #include "camplace/core/scene.hpp"
 #include "camplace/voxel/evaluator.hpp"
 #include "legacy_labeller.hpp"
+#include "paper_basic.hpp"
 #include "reference.hpp"
 #include "scene_builder.hpp"
 
@@ -41,17 +42,8 @@ namespace {
 
 using namespace camplace;
 
-const core::Scene& paper_scene() {
-  static const core::Scene scene =
-      core::load_scene(std::string(CAMPLACE_SOURCE_DIR) + "/data/paper_basic.json");
-  return scene;
-}
-
-const core::CameraConfig& corners() {
-  static const core::CameraConfig config = core::load_camera_config(
-      std::string(CAMPLACE_SOURCE_DIR) + "/data/paper_basic_corners.json", paper_scene());
-  return config;
-}
+using bench::corners;
+using bench::paper_scene;
 
 // Eight configurations: the corners heuristic and seven random ones (seed 1).
 const std::vector<core::CameraConfig>& configs() {

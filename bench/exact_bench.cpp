@@ -13,22 +13,14 @@
 #include "camplace/core/camera.hpp"
 #include "camplace/core/scene.hpp"
 #include "camplace/exact/evaluator.hpp"
+#include "paper_basic.hpp"
 
 namespace {
 
 using namespace camplace;
 
-const core::Scene& paper_scene() {
-  static const core::Scene scene =
-      core::load_scene(std::string(CAMPLACE_SOURCE_DIR) + "/data/paper_basic.json");
-  return scene;
-}
-
-const core::CameraConfig& corners() {
-  static const core::CameraConfig config = core::load_camera_config(
-      std::string(CAMPLACE_SOURCE_DIR) + "/data/paper_basic_corners.json", paper_scene());
-  return config;
-}
+using bench::corners;
+using bench::paper_scene;
 
 // The model of one state (time step 0, event 0), FOVs and per-camera caches included.
 void BM_ExactState(benchmark::State& state) {

@@ -61,6 +61,7 @@
 #include "camplace/core/distance.hpp"
 #include "camplace/core/scene.hpp"
 #include "camplace/voxel/evaluator.hpp"
+#include "paper_basic.hpp"
 #include "scene_builder.hpp"
 
 #ifdef CAMPLACE_WITH_EMBREE
@@ -207,17 +208,8 @@ Options parse_options(int argc, char** argv) {
 // ---------------------------------------------------------------------------------------------
 // Scene families
 
-const core::Scene& paper_scene() {
-  static const core::Scene scene =
-      core::load_scene(std::string(CAMPLACE_SOURCE_DIR) + "/data/paper_basic.json");
-  return scene;
-}
-
-const core::CameraConfig& corners() {
-  static const core::CameraConfig config = core::load_camera_config(
-      std::string(CAMPLACE_SOURCE_DIR) + "/data/paper_basic_corners.json", paper_scene());
-  return config;
-}
+using bench::corners;
+using bench::paper_scene;
 
 /// One point of a family: the scene and configuration to measure.
 struct Point {
