@@ -53,10 +53,10 @@ TEST(TrueDistance, TetrahedronApexAboveBoxFace) {
 namespace camplace::testing {
 namespace {
 
-/// Every triangle pair measured exactly, no skipping (what solids_squared_distance computed
-/// before its filter); containment is not needed for disjoint solids, which the test uses.
-std::string brute_force_fraction(const std::vector<const core::TriangleMesh*>& a,
-                                 const std::vector<const core::TriangleMesh*>& b) {
+/// The smallest exact squared distance over all triangle pairs of the two sets (CGAL's exact
+/// kernel, no skipping): the distance of the solids when neither holds the other.
+core::internal::FT all_pairs_minimum(const std::vector<const core::TriangleMesh*>& a,
+                                     const std::vector<const core::TriangleMesh*>& b) {
   using K = core::internal::Kernel;
   auto tri = [](const core::TriangleMesh& m, const std::array<int, 3>& t) {
     return K::Triangle_3(core::internal::to_point(m.vertices[t[0]]),
@@ -66,12 +66,22 @@ std::string brute_force_fraction(const std::vector<const core::TriangleMesh*>& a
   K::FT best = -1;
   for (const auto* ma : a)
     for (const auto* mb : b)
-      for (const auto& x : ma->triangles)
+      for (const auto& x : ma->triangles) {
+        const K::Triangle_3 tx = tri(*ma, x);
         for (const auto& y : mb->triangles) {
-          const K::FT d = CGAL::squared_distance(tri(*ma, x), tri(*mb, y));
+          const K::FT d = CGAL::squared_distance(tx, tri(*mb, y));
           if (best < 0 || d < best) best = d;
         }
-  return core::internal::fraction_string(best);
+      }
+  return best;
+}
+
+/// Every triangle pair measured exactly, no skipping (what solids_squared_distance computed
+/// before its filter), as a fraction; containment is not needed for disjoint solids, which the
+/// test uses.
+std::string brute_force_fraction(const std::vector<const core::TriangleMesh*>& a,
+                                 const std::vector<const core::TriangleMesh*>& b) {
+  return core::internal::fraction_string(all_pairs_minimum(a, b));
 }
 
 /// A box of random size, rotated at random and placed at `at`, its 12 triangles each split
@@ -132,29 +142,6 @@ namespace camplace::testing {
 namespace {
 
 using core::TriangleMesh;
-
-/// The smallest exact squared distance over all triangle pairs of the two sets (CGAL's exact
-/// kernel, no skipping): the distance of the solids when neither holds the other.
-core::internal::FT all_pairs_minimum(const std::vector<const TriangleMesh*>& a,
-                                     const std::vector<const TriangleMesh*>& b) {
-  using K = core::internal::Kernel;
-  auto tri = [](const TriangleMesh& m, const std::array<int, 3>& t) {
-    return K::Triangle_3(core::internal::to_point(m.vertices[t[0]]),
-                         core::internal::to_point(m.vertices[t[1]]),
-                         core::internal::to_point(m.vertices[t[2]]));
-  };
-  K::FT best = -1;
-  for (const auto* ma : a)
-    for (const auto* mb : b)
-      for (const auto& x : ma->triangles) {
-        const K::Triangle_3 tx = tri(*ma, x);
-        for (const auto& y : mb->triangles) {
-          const K::FT d = CGAL::squared_distance(tx, tri(*mb, y));
-          if (best < 0 || d < best) best = d;
-        }
-      }
-  return best;
-}
 
 /// solids_squared_distance(a, b) equals the all-pairs minimum, fraction and value (the value:
 /// the exact number rounded to double by the same rule, CGAL's to_double of the exact number).
