@@ -10,6 +10,7 @@
 
 #include "camplace/compare/evaluation_json.hpp"
 #include "camplace/core/camera.hpp"
+#include "camplace/core/err.hpp"
 #include "camplace/core/error.hpp"
 #include "camplace/core/files.hpp"
 #include "camplace/core/scene.hpp"
@@ -88,8 +89,8 @@ void print_table(const nlohmann::json& r) {
   if (r.contains("tolerance")) std::printf("   (tolerance %.4f m²)", r["tolerance"].get<double>());
   if (r.value("err_lower_bound", 0.0) > 0.0) {
     std::printf(
-        "\nno configuration has Err below %.4f m² in this mode and resolution (voxels an occupying "
-        "object reaches into stay in M: voxel/evaluator.hpp, err_lower_bound)",
+        "\nno configuration has Err below %.4f m² in this mode and resolution (the voxels an "
+        "occupying object reaches into stay in every model: docs/design/lower-bound.md)",
         r["err_lower_bound"].get<double>());
   }
   const auto& t = r["timing_ms"];
@@ -97,6 +98,42 @@ void print_table(const nlohmann::json& r) {
   if (t.contains("labelling")) {
     std::printf(" (labelling %.3f, clustering %.3f, distance %.3f)", t["labelling"].get<double>(),
                 t["clustering"].get<double>(), t["distance"].get<double>());
+  }
+  std::printf("\n");
+}
+
+/// The last line of the table: the voxel Err against the tolerance and the conservative lower
+/// bound (equal to it: no configuration does better at this mode and resolution), and with
+/// `voxel` and `exact` both given the exact Err of the same configuration. `r` is the voxel
+/// result, `exact` null when only one pipeline ran.
+void print_summary(const nlohmann::json& r, const nlohmann::json& exact) {
+  const double err = r["err"].get<double>();
+  std::printf("summary: Err %.4f m² (%s pipeline", err, r["pipeline"].get<std::string>().c_str());
+  if (r.contains("mode")) {
+    std::printf(", %s, %dx%dx%d", r["mode"].get<std::string>().c_str(),
+                r["resolution"][0].get<int>(), r["resolution"][1].get<int>(),
+                r["resolution"][2].get<int>());
+    if (r.contains("fov")) std::printf(", FOV %s", r["fov"].get<std::string>().c_str());
+  }
+  std::printf(")");
+  const double bound = r.value("err_lower_bound", 0.0);
+  if (bound > 0.0) {
+    std::printf("; lower bound %.4f m²%s", bound,
+                err <= core::lower_bound_threshold(bound)
+                    ? ": provably optimal at this mode and resolution"
+                    : "");
+  }
+  if (r.contains("tolerance")) {
+    const double tolerance = r["tolerance"].get<double>();
+    std::printf("; tolerance %.4f m² %s", tolerance, err <= tolerance ? "reached" : "not reached");
+  }
+  if (!exact.is_null()) {
+    const double exact_err = exact["err"].get<double>();
+    std::printf("; exact Err %.4f m²", exact_err);
+    if (r.contains("tolerance")) {
+      std::printf(" (tolerance %s)",
+                  exact_err <= r["tolerance"].get<double>() ? "reached" : "not reached");
+    }
   }
   std::printf("\n");
 }
@@ -220,8 +257,10 @@ void run_evaluate(const EvaluateArgs& args) {
     print_table(out["exact"]);
     std::printf("\nErr voxel - exact = %.6f m²\n",
                 out["differences"]["err_voxel_minus_exact"].get<double>());
+    print_summary(out["voxel"], out["exact"]);
   } else {
     print_table(out);
+    print_summary(out, nullptr);
   }
   if (jobs::InterruptSignals::flag().load()) {
     throw jobs::Interrupted(

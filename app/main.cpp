@@ -1,5 +1,6 @@
 // The camplace command-line tool: parse, call the modules, print. Errors → message, exit 1.
 #include <CLI/CLI.hpp>
+#include <cstdio>
 #include <cstdlib>
 #include <exception>
 #include <iostream>
@@ -7,6 +8,7 @@
 #include <string>
 
 #include "camplace/core/error.hpp"
+#include "camplace/core/provenance.hpp"
 #include "camplace/jobs/interrupt.hpp"
 #include "commands.hpp"
 
@@ -18,6 +20,26 @@ void print_out_of_memory(const std::string& command) {
   std::cerr << "error: out of memory: " << (work.empty() ? "camplace " + command : work)
             << " asked for more memory than the machine could give; use a coarser "
                "--resolution, fewer cameras or fewer --refine levels\n";
+}
+
+/// `camplace` alone: every command with its one-line description, the bundled example and
+/// where to read on.
+void print_overview(const CLI::App& app) {
+  const camplace::core::BuildInfo build = camplace::core::build_info();
+  std::printf("camplace %s: where to mount the cameras of a human-robot work cell so that the\n"
+              "person-robot distance measured on their visual hull is as close to the true one as\n"
+              "possible, never larger.\n\nUsage: camplace COMMAND [OPTIONS]  (camplace COMMAND "
+              "--help for its options)\n\nCommands:\n",
+              build.version.c_str());
+  for (const CLI::App* command : app.get_subcommands({})) {
+    std::printf("  %-18s %s\n", command->get_name().c_str(),
+                command->get_description().c_str());
+  }
+  const std::string example = std::string(CAMPLACE_DATA_DIR) + "/paper_basic.json";
+  std::printf("\nBundled example (the paper's basic scene): %s\n", example.c_str());
+  std::printf("  camplace optimize %s --out out/paper_basic\n", example.c_str());
+  std::printf("  camplace export %s --cameras out/paper_basic/run-1.json --out out/view\n",
+              example.c_str());
 }
 
 std::string g_command;                                 // argv[1], for the terminate handler
@@ -46,7 +68,9 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   // Every option's help shows its default (inherited by the subcommands registered below).
   app.option_defaults()->always_capture_default();
-  app.set_version_flag("--version", "camplace 0.1.0");
+  const camplace::core::BuildInfo build = camplace::core::build_info();
+  app.set_version_flag("--version", "camplace " + build.version + " (commit " + build.commit +
+                                        ", " + build.build_type + " build)");
   camplace::app::register_evaluate_command(app);
   camplace::app::register_export_command(app);
   camplace::app::register_expand_command(app);
@@ -56,6 +80,10 @@ int main(int argc, char** argv) {
   camplace::app::register_study_command(app);
   camplace::app::register_validate_command(app);
   camplace::app::register_generate_command(app);
+  if (argc == 1) {
+    print_overview(app);
+    return 0;
+  }
   if (argc > 1 && argv[1][0] != '-') {
     std::string names;
     bool known = false;

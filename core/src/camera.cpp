@@ -9,10 +9,6 @@
 
 namespace camplace::core {
 
-namespace {
-constexpr double kDeg = kDegree;
-}  // namespace
-
 Vec3 view_direction(const CameraSetting& camera) {
   const double cp = std::cos(camera.pitch);
   return Vec3(cp * std::cos(camera.yaw), cp * std::sin(camera.yaw), std::sin(camera.pitch));
@@ -125,9 +121,9 @@ CameraConfig camera_config_from_json(const nlohmann::json& doc, const std::strin
       entry.at("position")
           .fail("coordinates must lie within ±" + format_number(kMaxCoordinate) + " m");
     }
-    camera.yaw = entry.at("yaw_deg").number_in(-180.0, 180.0) * kDeg;
-    camera.pitch = entry.at("pitch_deg").number_in(-90.0, 90.0) * kDeg;
-    if (entry.has("roll_deg")) camera.roll = entry.at("roll_deg").number_in(-180.0, 180.0) * kDeg;
+    camera.yaw = entry.at("yaw_deg").number_in(-180.0, 180.0) * kDegree;
+    camera.pitch = entry.at("pitch_deg").number_in(-90.0, 90.0) * kDegree;
+    if (entry.has("roll_deg")) camera.roll = entry.at("roll_deg").number_in(-180.0, 180.0) * kDegree;
     if (entry.has("model") && scene != nullptr) {
       const JsonNode model = entry.at("model");
       const std::string& expected = scene->cameras.models.at(i).name;
@@ -151,11 +147,11 @@ std::string camera_config_json(const CameraConfig& config, int indent, const Sce
       entry["model"] = scene->cameras.models[i].name;
     }
     entry["position"] = {c.position.x(), c.position.y(), c.position.z()};
-    entry["yaw_deg"] = std::clamp(c.yaw / kDeg, -180.0, 180.0);
-    entry["pitch_deg"] = std::clamp(c.pitch / kDeg, -90.0, 90.0);
+    entry["yaw_deg"] = std::clamp(c.yaw / kDegree, -180.0, 180.0);
+    entry["pitch_deg"] = std::clamp(c.pitch / kDegree, -90.0, 90.0);
     // Only a rolled camera carries roll_deg: files without it read as roll 0, and those written
     // before roll existed are written back byte for byte.
-    if (c.roll != 0.0) entry["roll_deg"] = std::clamp(c.roll / kDeg, -180.0, 180.0);
+    if (c.roll != 0.0) entry["roll_deg"] = std::clamp(c.roll / kDegree, -180.0, 180.0);
     cameras.push_back(entry);
   }
   return nlohmann::json{{"cameras", cameras}}.dump(indent);

@@ -53,14 +53,6 @@ Eigen::Isometry3d to_isometry(const urdf::Pose& pose) {
   return t;
 }
 
-Eigen::Matrix3d rotation_deg(const Vec3& deg) {
-  // Rz · Ry · Rx, as an object's transform (docs/scene-format.md).
-  return (Eigen::AngleAxisd(deg.z() * kDegree, Vec3::UnitZ()) *
-          Eigen::AngleAxisd(deg.y() * kDegree, Vec3::UnitY()) *
-          Eigen::AngleAxisd(deg.x() * kDegree, Vec3::UnitX()))
-      .toRotationMatrix();
-}
-
 /// The pose of joint motion for value v: rotation about the axis (rad) or translation along it
 /// (m).
 Eigen::Isometry3d joint_motion(const JointMotion& m, double v) {

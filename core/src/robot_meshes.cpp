@@ -1,18 +1,17 @@
 // Robots' link meshes: the polyhedra of URDF <cylinder> and <sphere>, mesh file URIs, and the
-// convex hulls of swept volumes (CGAL).
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Surface_mesh.h>
-#include <CGAL/convex_hull_3.h>
+// convex hulls of swept volumes (detail::convex_hull, CGAL).
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "camplace/core/error.hpp"
+#include "mesh_repair.hpp"
 #include "robot.hpp"
 #include "robot_parts.hpp"
 
@@ -21,39 +20,18 @@ namespace camplace::core::detail {
 namespace robot_parts {
 
 TriangleMesh convex_hull_with_cube(const std::vector<Vec3>& points, double h) {
-  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-  using Mesh = CGAL::Surface_mesh<K::Point_3>;
-  std::vector<K::Point_3> cloud;
-  cloud.reserve(points.size() * (h > 0 ? 8 : 1));
+  CAMPLACE_ASSERT(h > 0.0);
+  TriangleMesh cloud;
+  cloud.vertices.reserve(points.size() * 8);
   for (const Vec3& p : points) {
-    if (h > 0) {
-      for (int c = 0; c < 8; ++c)
-        cloud.emplace_back(p.x() + (c & 1 ? h : -h), p.y() + (c & 2 ? h : -h),
-                           p.z() + (c & 4 ? h : -h));
-    } else {
-      cloud.emplace_back(p.x(), p.y(), p.z());
-    }
+    for (int c = 0; c < 8; ++c)
+      cloud.vertices.emplace_back(p.x() + (c & 1 ? h : -h), p.y() + (c & 2 ? h : -h),
+                                  p.z() + (c & 4 ? h : -h));
   }
-  Mesh hull;
-  CGAL::convex_hull_3(cloud.begin(), cloud.end(), hull);
-  TriangleMesh out;
-  std::map<Mesh::Vertex_index, int> index;
-  for (const auto v : hull.vertices()) {
-    index[v] = static_cast<int>(out.vertices.size());
-    const auto& q = hull.point(v);
-    out.vertices.emplace_back(q.x(), q.y(), q.z());
-  }
-  for (const auto f : hull.faces()) {
-    std::array<int, 3> tri{};
-    int n = 0;
-    for (const auto v : CGAL::vertices_around_face(hull.halfedge(f), hull)) {
-      if (n < 3) tri[n] = index.at(v);
-      ++n;
-    }
-    CAMPLACE_ASSERT(n == 3);
-    out.triangles.push_back(tri);
-  }
-  return out;
+  // The corners of a cube of edge 2h > 0 span a volume: there is a hull.
+  std::optional<TriangleMesh> hull = convex_hull(cloud);
+  CAMPLACE_ASSERT(hull.has_value());
+  return *std::move(hull);
 }
 
 std::string resolve_mesh_path(const std::string& uri, const JsonNode& node,

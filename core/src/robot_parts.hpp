@@ -73,8 +73,8 @@ std::vector<double> sample_times(const Trajectory& traj, const JsonNode* sample)
 /// Joint values (trajectory columns) at time t, linear between the rows around it.
 std::vector<double> interpolate(const Trajectory& traj, double t);
 
-/// The convex hull of the points, each moved by every corner of the cube [−h, h]³ (h ≥ 0, m):
-/// the hull of the points Minkowski-added the cube. Closed and outward.
+/// The convex hull of the points, each moved by every corner of the cube [−h, h]³ (h > 0, m):
+/// the hull of the points Minkowski-added the cube (detail::convex_hull). Closed and outward.
 TriangleMesh convex_hull_with_cube(const std::vector<Vec3>& points, double h);
 
 /// The file a URDF <mesh filename> `uri` names: package://PKG/... through the robot's

@@ -1,7 +1,8 @@
 #pragma once
 // The meshes the scene loader makes of "box" and "tetrahedron" objects (SPEC §2), shared with
-// the scene writer, which recognises them to write such objects back in the same form. Private
-// to core.
+// the scene writer, which recognises them to write such objects back in the same form, and the
+// rotation convention of "rotate_deg" (objects and robot bases). Private to core.
+#include <Eigen/Geometry>
 #include <vector>
 
 #include "camplace/core/geometry.hpp"
@@ -29,6 +30,15 @@ inline TriangleMesh tetrahedron_mesh(const std::vector<Vec3>& points) {
   m.vertices = points;
   m.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
   return m;
+}
+
+/// The rotation of "rotate_deg": Rz · Ry · Rx, i.e. about x first, then y, then z (extrinsic,
+/// world axes), angles in degrees (docs/scene-format.md).
+inline Eigen::Matrix3d rotation_deg(const Vec3& deg) {
+  return (Eigen::AngleAxisd(deg.z() * kDegree, Vec3::UnitZ()) *
+          Eigen::AngleAxisd(deg.y() * kDegree, Vec3::UnitY()) *
+          Eigen::AngleAxisd(deg.x() * kDegree, Vec3::UnitX()))
+      .toRotationMatrix();
 }
 
 }  // namespace camplace::core::detail

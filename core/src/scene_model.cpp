@@ -14,12 +14,6 @@
 
 namespace camplace::core {
 
-namespace {
-
-constexpr double kDeg = kDegree;
-
-}  // namespace
-
 Vec3 Mount::normal() const { return u.cross(v).normalized(); }
 Vec3 Mount::e1() const { return u.normalized(); }
 Vec3 Mount::e2() const { return normal().cross(e1()); }
@@ -90,7 +84,7 @@ std::string fov_description(const CameraSpec& cameras) {
   const CameraModel& first = cameras.models.front();
   if (cameras.one_model() && first.fov == FovShape::cone) {
     out << "the " << first.sides << "-sided pyramid inscribed in each camera's "
-        << first.half_angle / kDeg << "° cone";
+        << first.half_angle / kDegree << "° cone";
     return out.str();
   }
   std::vector<std::string> seen;
@@ -103,11 +97,11 @@ std::string fov_description(const CameraSpec& cameras) {
     if (seen.size() > 1) out << "; ";
     if (!m.name.empty()) out << "model \"" << m.name << "\" (" << uses << " cameras): ";
     if (m.fov == FovShape::frustum) {
-      out << "a " << m.horizontal / kDeg << "° × " << m.vertical / kDeg << "° frustum";
+      out << "a " << m.horizontal / kDegree << "° × " << m.vertical / kDegree << "° frustum";
     } else if (m.fov == FovShape::pyramid) {
-      out << "a " << m.sides << "-sided pyramid of half angle " << m.half_angle / kDeg << "°";
+      out << "a " << m.sides << "-sided pyramid of half angle " << m.half_angle / kDegree << "°";
     } else {
-      out << "the " << m.sides << "-sided pyramid inscribed in a " << m.half_angle / kDeg
+      out << "the " << m.sides << "-sided pyramid inscribed in a " << m.half_angle / kDegree
           << "° cone";
     }
     if (m.near > 0.0) out << ", near " << m.near << " m";

@@ -127,12 +127,12 @@ CameraDomain SceneParser::parse_domain(const JsonNode& node) const {
     if (node.has("x")) d.x = parse_interval(node.at("x"), s.min.x(), s.max.x(), 1.0);
     if (node.has("y")) d.y = parse_interval(node.at("y"), s.min.y(), s.max.y(), 1.0);
     if (node.has("z")) d.z = parse_interval(node.at("z"), s.min.z(), s.max.z(), 1.0);
-    if (node.has("yaw_deg")) d.yaw = parse_interval(node.at("yaw_deg"), -kPi, kPi, kDeg);
+    if (node.has("yaw_deg")) d.yaw = parse_interval(node.at("yaw_deg"), -kPi, kPi, kDegree);
     if (node.has("pitch_deg")) {
-      d.pitch = parse_interval(node.at("pitch_deg"), -kPi / 2, kPi / 2, kDeg);
+      d.pitch = parse_interval(node.at("pitch_deg"), -kPi / 2, kPi / 2, kDegree);
       d.ceiling_pitch = false;
     }
-    if (node.has("roll_deg")) d.roll = parse_interval(node.at("roll_deg"), -kPi, kPi, kDeg);
+    if (node.has("roll_deg")) d.roll = parse_interval(node.at("roll_deg"), -kPi, kPi, kDegree);
   }
   return d;
 }
@@ -176,7 +176,7 @@ CameraModel SceneParser::parse_model(const JsonNode& node) {
       if (!(deg > 0.0 && deg < 180.0)) {
         a.fail(std::string(key) + " (a full opening angle) must lie in (0, 180)");
       }
-      return deg * kDeg;
+      return deg * kDegree;
     };
     m.horizontal = full_angle("horizontal_deg");
     m.vertical = full_angle("vertical_deg");
@@ -187,7 +187,7 @@ CameraModel SceneParser::parse_model(const JsonNode& node) {
     const JsonNode half = node.at("half_angle_deg");
     const double half_deg = half.number();
     if (!(half_deg > 0.0 && half_deg < 90.0)) half.fail("half_angle_deg must lie in (0, 90)");
-    m.half_angle = half_deg * kDeg;
+    m.half_angle = half_deg * kDegree;
     if (node.has("sides")) m.sides = node.at("sides").integer_in(3, 1024);
   }
   if (node.has("range")) parse_range(node.at("range"), m);
@@ -376,11 +376,11 @@ void SceneParser::parse_mounts(const JsonNode& list) {
         }
       }
     }
-    if (node.has("yaw_deg")) m.yaw = parse_interval(node.at("yaw_deg"), -kPi / 2, kPi / 2, kDeg);
+    if (node.has("yaw_deg")) m.yaw = parse_interval(node.at("yaw_deg"), -kPi / 2, kPi / 2, kDegree);
     if (node.has("pitch_deg")) {
-      m.pitch = parse_interval(node.at("pitch_deg"), -kPi / 2, kPi / 2, kDeg);
+      m.pitch = parse_interval(node.at("pitch_deg"), -kPi / 2, kPi / 2, kDegree);
     }
-    if (node.has("roll_deg")) m.roll = parse_interval(node.at("roll_deg"), -kPi, kPi, kDeg);
+    if (node.has("roll_deg")) m.roll = parse_interval(node.at("roll_deg"), -kPi, kPi, kDegree);
     scene_.cameras.mounts.push_back(std::move(m));
   }
 }

@@ -17,7 +17,6 @@ namespace camplace::core {
 
 namespace {
 
-constexpr double kDeg = kDegree;
 // Vertices may leave S by this much (metres) to absorb rounding of transformed meshes.
 constexpr double kAreaSlack = 1e-9;
 

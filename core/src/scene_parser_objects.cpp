@@ -22,14 +22,6 @@ namespace camplace::core {
 
 namespace {
 
-Eigen::Matrix3d rotation_deg(const Vec3& deg) {
-  // Rz · Ry · Rx: rotate about x first, then y, then z (extrinsic, world axes).
-  return (Eigen::AngleAxisd(deg.z() * kDeg, Vec3::UnitZ()) *
-          Eigen::AngleAxisd(deg.y() * kDeg, Vec3::UnitY()) *
-          Eigen::AngleAxisd(deg.x() * kDeg, Vec3::UnitX()))
-      .toRotationMatrix();
-}
-
 void apply_transform(TriangleMesh& mesh, const JsonNode& node) {
   node.only_keys({"scale", "rotate_deg", "translate"});
   Vec3 scale = Vec3::Ones();
@@ -39,7 +31,7 @@ void apply_transform(TriangleMesh& mesh, const JsonNode& node) {
     if ((scale.array() == 0.0).any()) s.fail("scale must not be 0");
   }
   const Eigen::Matrix3d rotation = node.has("rotate_deg")
-                                       ? rotation_deg(node.at("rotate_deg").vec3())
+                                       ? detail::rotation_deg(node.at("rotate_deg").vec3())
                                        : Eigen::Matrix3d::Identity();
   const Vec3 translation = node.has("translate") ? node.at("translate").vec3() : Vec3::Zero();
   for (Vec3& v : mesh.vertices) v = rotation * scale.cwiseProduct(v) + translation;

@@ -17,7 +17,6 @@ namespace camplace::core {
 namespace {
 
 using Json = nlohmann::ordered_json;
-constexpr double kDeg = kDegree;  // as the loader reads *_deg entries
 
 Json vec_json(const Vec3& v) { return Json::array({v.x(), v.y(), v.z()}); }
 
@@ -37,20 +36,20 @@ double round_to_digits(double v, int digits) {
   return r;
 }
 
-/// The degree value the loader reads back as exactly `radians` (d · kDeg), the shortest in
+/// The degree value the loader reads back as exactly `radians` (d · kDegree), the shortest in
 /// decimal: 30 for the radians of "30".
 Json degrees_json(double radians) {
-  // d ↦ d · kDeg is monotone and each rounding moves the result by at most half an ulp, so
-  // every d the loader turns into `radians` lies within 2 ulps of radians / kDeg.
-  const double nearest = radians / kDeg;
+  // d ↦ d · kDegree is monotone and each rounding moves the result by at most half an ulp, so
+  // every d the loader turns into `radians` lies within 2 ulps of radians / kDegree.
+  const double nearest = radians / kDegree;
   constexpr double kInf = std::numeric_limits<double>::infinity();
   std::vector<double> exact;
   double d = nearest;
   for (int k = 0; k < 4; ++k) d = std::nextafter(d, -kInf);
   for (int k = 0; k < 9; ++k, d = std::nextafter(d, kInf)) {
-    if (d * kDeg == radians) exact.push_back(d);
+    if (d * kDegree == radians) exact.push_back(d);
   }
-  // Nearest first: of two equally short decimals the one closer to radians / kDeg (0, never a
+  // Nearest first: of two equally short decimals the one closer to radians / kDegree (0, never a
   // denormal whose product also rounds to 0).
   std::stable_sort(exact.begin(), exact.end(), [&](double a, double b) {
     return std::abs(a - nearest) < std::abs(b - nearest);
@@ -60,7 +59,7 @@ Json degrees_json(double radians) {
   for (int digits = 1; digits <= 17; ++digits) {
     for (const double candidate : exact) {
       const double rounded = round_to_digits(candidate, digits);
-      if (rounded * kDeg == radians) return number_json(rounded);
+      if (rounded * kDegree == radians) return number_json(rounded);
     }
   }
   return number_json(exact.front());  // 17 digits always read back exactly

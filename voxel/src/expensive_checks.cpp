@@ -9,6 +9,8 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "impl.hpp"
 #include "reference.hpp"
@@ -122,12 +124,23 @@ void VoxelEvaluator::Impl::check_refined(const std::vector<std::vector<std::uint
                std::to_string(base.d_model) + " m)",
            __FILE__, __LINE__);
     }
-    // The refined distance is the plain minimum over its finest cells.
+    // The refined distance is the minimum over its finest cells. A cell lies in its voxel's box,
+    // so it is no nearer than the voxel: voxels are visited nearest first, and those farther
+    // than the nearest cell found so far (with a margin for the rounding of the two box
+    // distances) hold no nearer cell. The same minimum as a scan of every cell, without the
+    // distance of every cell (at 3 levels, 512 per voxel).
+    const int step = states[s].time_step;
+    std::vector<std::pair<double, std::size_t>> nearest_first;
+    nearest_first.reserve(set.voxels.size());
+    for (std::size_t slot = 0; slot < set.voxels.size(); ++slot)
+      nearest_first.emplace_back(critical_sq(step, set.voxels[slot]), slot);
+    std::sort(nearest_first.begin(), nearest_first.end());
     double best = std::numeric_limits<double>::infinity();
-    for (std::size_t slot = 0; slot < set.voxels.size(); ++slot) {
+    for (const auto& [voxel_sq, slot] : nearest_first) {
+      if (voxel_sq > best * (1.0 + 1e-9)) break;
       for (int m = 0; m < octree.cells; ++m) {
         if (set.cells[slot * octree.cells + m]) {
-          best = std::min(best, node_sq(states[s].time_step, set.voxels[slot], levels, m));
+          best = std::min(best, node_sq(step, set.voxels[slot], levels, m));
         }
       }
     }

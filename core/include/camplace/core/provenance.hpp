@@ -11,11 +11,12 @@
 
 namespace camplace::core {
 
-/// The camplace version and the git commit it was built from ("<sha>-dirty" when the work
-/// tree had uncommitted changes, "unknown" outside a git checkout).
+/// The camplace version, the git commit it was built from ("<sha>-dirty" when the work tree
+/// had uncommitted changes, "unknown" outside a git checkout) and the build type.
 struct BuildInfo {
   std::string version;
   std::string commit;
+  std::string build_type;  ///< CMAKE_BUILD_TYPE: Release, Debug, ...
 };
 BuildInfo build_info();
 
