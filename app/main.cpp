@@ -26,14 +26,14 @@ void print_out_of_memory(const std::string& command) {
 /// where to read on.
 void print_overview(const CLI::App& app) {
   const camplace::core::BuildInfo build = camplace::core::build_info();
-  std::printf("camplace %s: where to mount the cameras of a human-robot work cell so that the\n"
-              "person-robot distance measured on their visual hull is as close to the true one as\n"
-              "possible, never larger.\n\nUsage: camplace COMMAND [OPTIONS]  (camplace COMMAND "
-              "--help for its options)\n\nCommands:\n",
-              build.version.c_str());
+  std::printf(
+      "camplace %s: where to mount the cameras of a human-robot work cell so that the\n"
+      "person-robot distance measured on their visual hull is as close to the true one as\n"
+      "possible, never larger.\n\nUsage: camplace COMMAND [OPTIONS]  (camplace COMMAND "
+      "--help for its options)\n\nCommands:\n",
+      build.version.c_str());
   for (const CLI::App* command : app.get_subcommands({})) {
-    std::printf("  %-18s %s\n", command->get_name().c_str(),
-                command->get_description().c_str());
+    std::printf("  %-18s %s\n", command->get_name().c_str(), command->get_description().c_str());
   }
   const std::string example = std::string(CAMPLACE_DATA_DIR) + "/paper_basic.json";
   std::printf("\nBundled example (the paper's basic scene): %s\n", example.c_str());

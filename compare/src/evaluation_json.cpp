@@ -71,6 +71,7 @@ nlohmann::json voxel_diagnostics(
   long targets_total = 0;
   nlohmann::json states = nlohmann::json::array();
   int zero_distance = 0, empty = 0;
+  bool observed_at_zero = false;  // a nearest component at d = 0 that some camera observes
   const std::vector<std::vector<std::uint8_t>> models = evaluator.models(config);
   for (std::size_t s = 0; s < all.size(); ++s) {
     progress("voxel diagnostics", static_cast<int>(s), static_cast<int>(all.size()));
@@ -152,6 +153,7 @@ nlohmann::json voxel_diagnostics(
       }
       const double distance = std::sqrt(best);
       zero_distance += distance == 0.0;
+      observed_at_zero |= distance == 0.0 && std::count(observing.begin(), observing.end(), 1) > 0;
       entry["nearest_component"] = {
           {"index", id},
           {"voxels", voxels},
@@ -179,9 +181,18 @@ nlohmann::json voxel_diagnostics(
   }
   nlohmann::json warnings = nlohmann::json::array();
   if (!all.empty() && zero_distance == static_cast<int>(all.size())) {
-    warnings.push_back(
+    std::string why =
         "d(C, M) = 0 in every state: the model touches the critical objects everywhere; a "
-        "nearest component with cameras_observing 0 lies where no camera sees");
+        "nearest component with cameras_observing 0 lies where no camera sees";
+    if (observed_at_zero && scene.dynamic_mode == core::DynamicMode::masked) {
+      // The usual cause of an observed component at d = 0 (docs/scene-format.md#plausibility).
+      why +=
+          "; one that cameras observe is often the hull of a masked dynamic obstacle (the "
+          "robot): it is larger than the obstacle and reaches up toward the cameras, and the "
+          "plausibility filter keeps it when it is higher than plausibility.min_height or "
+          "larger than min_volume: raise them toward the smallest target part";
+    }
+    warnings.push_back(why);
   }
   if (empty > 0) {
     warnings.push_back("the model is empty in " + std::to_string(empty) + " of " +

@@ -67,6 +67,12 @@ std::vector<fs::path> find_run_files(const fs::path& dir) {
   return out;
 }
 
+}  // namespace
+
+// Named rather than anonymous: RunChecker::Impl holds a SceneCache, and a class with linkage
+// must not have a member of a type in an anonymous namespace.
+namespace detail {
+
 /// A scene with what the checks need, loaded once and shared by the threads (read-only).
 struct LoadedScene {
   core::Scene scene;
@@ -122,6 +128,13 @@ class SceneCache {
   std::map<std::string, std::shared_ptr<const LoadedScene>> scenes_;
   std::map<std::string, std::shared_ptr<const voxel::VoxelEvaluator>> evaluators_;
 };
+
+}  // namespace detail
+
+using detail::LoadedScene;
+using detail::SceneCache;
+
+namespace {
 
 /// The scene path a run recorded, resolved: as recorded (relative to the working directory),
 /// or else the study layout's copy DIR/scenes/<file name>.

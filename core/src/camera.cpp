@@ -123,7 +123,8 @@ CameraConfig camera_config_from_json(const nlohmann::json& doc, const std::strin
     }
     camera.yaw = entry.at("yaw_deg").number_in(-180.0, 180.0) * kDegree;
     camera.pitch = entry.at("pitch_deg").number_in(-90.0, 90.0) * kDegree;
-    if (entry.has("roll_deg")) camera.roll = entry.at("roll_deg").number_in(-180.0, 180.0) * kDegree;
+    if (entry.has("roll_deg"))
+      camera.roll = entry.at("roll_deg").number_in(-180.0, 180.0) * kDegree;
     if (entry.has("model") && scene != nullptr) {
       const JsonNode model = entry.at("model");
       const std::string& expected = scene->cameras.models.at(i).name;
