@@ -3,7 +3,8 @@
 # for a bounded time on its seeds (tests/fuzz/seeds/<target>, plus data/ for scenes and camera
 # files). A finding (crash, sanitizer report, a loader throwing anything but core::InputError,
 # an input taking over 10 s) fails the script and leaves the input in build/fuzz/findings/;
-# add it to tests/fuzz/regressions/ once fixed.
+# add it to tests/fuzz/regressions/ once fixed. The three targets run at the same time, each
+# for SECONDS of wall-clock time (on 2 cores each gets about two thirds of a core).
 #   bash scripts/fuzz.sh [SECONDS_PER_TARGET]   (default 60)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -11,21 +12,35 @@ seconds=${1:-60}
 cmake --preset fuzz >/dev/null
 cmake --build --preset fuzz
 mkdir -p build/fuzz/findings
-status=0
-for target in scene mesh cameras; do
-  corpus=build/fuzz/corpus/$target
+
+# fuzz_TARGET on its seeds for $seconds s; its log is build/fuzz/fuzz_TARGET.log.
+run_target() {
+  local target=$1
+  local corpus=build/fuzz/corpus/$target
   mkdir -p "$corpus"
-  seeds=(tests/fuzz/seeds/$target)
+  local seeds=(tests/fuzz/seeds/$target)
   if [ "$target" != mesh ]; then seeds+=(data); fi
+  build/fuzz/tests/fuzz/fuzz_$target "$corpus" "${seeds[@]}" -max_total_time="$seconds" \
+    -timeout=10 -rss_limit_mb=4096 -print_final_stats=1 \
+    -artifact_prefix=build/fuzz/findings/$target- 2>build/fuzz/fuzz_$target.log
+}
+
+targets=(scene mesh cameras)
+pids=()
+for target in "${targets[@]}"; do
+  run_target "$target" &
+  pids+=($!)
+done
+status=0
+for i in "${!targets[@]}"; do
+  target=${targets[$i]}
   echo "--- fuzz_$target: ${seconds} s"
-  if ! build/fuzz/tests/fuzz/fuzz_$target "$corpus" "${seeds[@]}" -max_total_time="$seconds" \
-      -timeout=10 -rss_limit_mb=4096 -print_final_stats=1 \
-      -artifact_prefix=build/fuzz/findings/$target- 2>build/fuzz/fuzz_$target.log; then
-    tail -n 40 build/fuzz/fuzz_$target.log
+  if ! wait "${pids[$i]}"; then
+    tail -n 40 "build/fuzz/fuzz_$target.log"
     echo "fuzz_$target: FINDING (input in build/fuzz/findings/)"
     status=1
   else
-    grep -E "stat::number_of_executed_units|stat::peak_rss_mb" build/fuzz/fuzz_$target.log || true
+    grep -E "stat::number_of_executed_units|stat::peak_rss_mb" "build/fuzz/fuzz_$target.log" || true
   fi
 done
 exit $status
