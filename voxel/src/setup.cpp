@@ -90,7 +90,8 @@ void VoxelEvaluator::Impl::build() {
       state.time_step = static_cast<int>(h);
       state.event = static_cast<int>(l);
       state.weight = step.events[l].weight;
-      state.objects = static_ids;
+      state.objects.reserve(static_ids.size() + dynamic_ids.size() + step.events[l].targets.size());
+      state.objects.insert(state.objects.end(), static_ids.begin(), static_ids.end());
       state.objects.insert(state.objects.end(), dynamic_ids.begin(), dynamic_ids.end());
       for (const auto& o : step.events[l].targets) {
         state.objects.push_back(add_object(o, core::role_of(ObjectKind::target, mode)));
