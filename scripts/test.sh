@@ -16,9 +16,12 @@
 # the list of failed steps and exits 1 if there is one. docs/development.md has the timings.
 set -uo pipefail
 cd "$(dirname "$0")/.."
+start=$SECONDS
 bash scripts/install_deps.sh || exit 1
+echo "=== packages installed ($((SECONDS - start)) s)"
 
 failed=()
+passed=0
 # step NAME COMMAND...: runs COMMAND, prints its duration, records NAME if it fails.
 step() {
   local name=$1
@@ -27,6 +30,7 @@ step() {
   echo "=== $name"
   if "$@"; then
     echo "=== $name: passed ($((SECONDS - start)) s)"
+    passed=$((passed + 1))
   else
     echo "=== $name: FAILED ($((SECONDS - start)) s)"
     failed+=("$name")
@@ -41,6 +45,8 @@ step "asan build" bash -c 'cmake --preset asan && cmake --build --preset asan' &
   step "asan tests (library)" ctest --preset asan
 step "fuzz (30 s per target)" bash scripts/fuzz.sh 30
 
+echo "=== in all $SECONDS s"
+echo "steps: $passed passed, ${#failed[@]} failed"
 if [ ${#failed[@]} -gt 0 ]; then
   echo "=== FAILED: ${failed[*]}"
   exit 1
