@@ -29,7 +29,6 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
                                       std::vector<std::vector<std::uint8_t>>& models) const {
   const int nx = grid.n[0], ny = grid.n[1];
   const int state_count = static_cast<int>(states.size());
-  const int steps = static_cast<int>(removed_by_step.size());
   const std::size_t n_cam = cameras.size();
   Scratch scratch;
   scratch.stamp.assign(triangles.size(), 0);
@@ -50,7 +49,7 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
     const int first = chunk * detail::kChunk;
     const int count = std::min(detail::kChunk, state_count - first);
     const StateMask all = count == 64 ? ~StateMask(0) : (StateMask(1) << count) - 1;
-    const StateMask* step_states = chunk_step_states[chunk].data();
+    const StateMask* removed = chunk_removed[chunk].data();
     const StateMask* reached = conservative ? chunk_reached[chunk].data() : nullptr;
     const std::vector<StateMask> seeing = seeing_states(cameras, chunk);
     std::uint8_t* out[detail::kChunk];
@@ -60,10 +59,7 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
     auto label = [&](int i, int j, int k, StateMask clear) __attribute__((always_inline)) {
       auto* row = &rows[((k - k_begin) * ny + j) * n_cam];
       const int v = i + nx * (j + ny * k);
-      StateMask pending = all & ~clear;  // not removed, not yet seen free
-      for (int h = 0; h < steps && pending; ++h) {
-        if (removed_by_step[h][v]) pending &= ~step_states[h];
-      }
+      StateMask pending = all & ~clear & ~removed[v];  // not removed, not yet seen free
       // Conservative mode: the states where an occupying object reaches into the voxel stay in
       // M untested; no camera would see it free there (docs/design/labelling.md L6).
       const StateMask kept = reached ? pending & reached[v] : 0;
