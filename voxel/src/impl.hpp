@@ -521,7 +521,8 @@ struct VoxelEvaluator::Impl : detail::SceneTables,
   /// The states of `open` where every voxel of the block [lo, hi] is surely free for the camera
   /// (raw_models), for the states `open` of chunk `chunk`.
   detail::StateMask block_clear(const detail::CameraSetup& cam, const core::Vec3& lo,
-                                const core::Vec3& hi, detail::StateMask open, int chunk) const;
+                                const core::Vec3& hi, detail::StateMask open, int chunk,
+                                detail::Scratch& scratch) const;
   enum class Cone { meet, miss, near_miss };
   Cone cone_test(const detail::TriangleCone& tc, const core::Vec3& w,
                  const detail::CellSize& size) const;

@@ -121,7 +121,8 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
         for (std::size_t step = 0; step < n_cam && (clear | held) != all; ++step) {
           const std::size_t c = (block_hint + step) % n_cam;
           const StateMask open = seeing[c] & ~clear & ~held;
-          const StateMask cleared = open ? block_clear(cameras[c], lo, hi, open, chunk) : 0;
+          const StateMask cleared =
+              open ? block_clear(cameras[c], lo, hi, open, chunk, scratch) : 0;
           if (cleared) {
             clear |= cleared;
             block_hint = c;
