@@ -45,6 +45,12 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
       }
     }
   }
+  // Per voxel of the slice: the camera that last freed a state of it, in an earlier chunk (or
+  // kNone); a camera that sees a voxel free in some states tends to in the others too.
+  constexpr std::uint8_t kNone = 0xff;
+  CAMPLACE_ASSERT(n_cam < kNone);
+  const int slice_first = nx * ny * k_begin;
+  std::vector<std::uint8_t> freed_by(static_cast<std::size_t>(nx) * ny * (k_end - k_begin), kNone);
   for (int chunk = 0; chunk * detail::kChunk < state_count; ++chunk) {
     const int first = chunk * detail::kChunk;
     const int count = std::min(detail::kChunk, state_count - first);
@@ -66,9 +72,11 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
       pending &= ~kept;
       if (pending) {
         const Vec3 center(box_center[0][i], box_center[1][j], box_center[2][k]);
-        // Cameras from the one that last freed a voxel on: neighbours tend to be seen by the
-        // same camera (the order does not change the result).
-        const std::size_t first_cam = hint;
+        // Cameras from the one that last freed this voxel in an earlier chunk on, else from the
+        // one that last freed a voxel: neighbours tend to be seen by the same camera (the order
+        // does not change the result).
+        std::uint8_t& last = freed_by[v - slice_first];
+        const std::size_t first_cam = last != kNone ? last : hint;
         for (std::size_t step = 0; step < n_cam && pending; ++step) {
           const std::size_t c =
               first_cam + step < n_cam ? first_cam + step : first_cam + step - n_cam;
@@ -89,7 +97,10 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
                   ? judge_conservative(cam, w, d, cell_sizes[0], interest, chunk, scratch, true)
                   : judge_center(cam, w, d, interest, chunk, scratch, true);
           const StateMask freed = interest & ~(verdict.occupied | verdict.blocked);
-          if (freed) hint = c;
+          if (freed) {
+            hint = c;
+            last = static_cast<std::uint8_t>(c);
+          }
           pending &= ~freed;
         }
       }
