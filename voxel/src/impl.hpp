@@ -501,9 +501,9 @@ struct VoxelEvaluator::Impl : detail::SceneTables,
                      const std::vector<ModelDistance>& distances) const;
 
  private:
-  /// The scan of model_distance over either view of M (distance.cpp).
+  /// The scan of model_distance over either view of M with `count` cells (distance.cpp).
   template <class Members>
-  ModelDistance nearest(const Members& members, int time_step) const;
+  ModelDistance nearest(const Members& members, long count, int time_step) const;
   /// min(best, distance² of the nearest cell of M in `slot` of `set`), by branch and bound.
   double nearest_cell(const detail::CellSet& set, int slot, int time_step, double best) const;
   void row_interval(const detail::CameraSetup& cam, int j, int k, int& lo, int& hi, int& in_lo,
