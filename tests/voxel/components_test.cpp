@@ -81,12 +81,13 @@ std::vector<int> flood_fill_labels(const std::vector<std::uint8_t>& model, const
 }
 
 TEST(Components, LabelsEqualAFloodFillOnRandomModels) {
-  // Rows shorter and longer than the eight bytes the run scan skips at once, sparse and dense
-  // models, and runs of random lengths (long runs of 1 and of 0 along x).
+  // Rows shorter and longer than the eight bytes the run scan skips at once, rows of up to 64
+  // voxels (scanned as bit masks) and longer ones (byte by byte), sparse and dense models, and
+  // runs of random lengths (long runs of 1 and of 0 along x).
   std::mt19937 rng(4242);
   long voxels = 0;
   for (const std::array<int, 3> n :
-       {std::array<int, 3>{5, 4, 3}, {9, 5, 4}, {17, 6, 5}, {36, 7, 6}, {64, 3, 3}}) {
+       {std::array<int, 3>{5, 4, 3}, {9, 5, 4}, {17, 6, 5}, {36, 7, 6}, {64, 3, 3}, {77, 3, 3}}) {
     const voxel::Grid grid = voxel::make_grid({core::Vec3(0, 0, 0), core::Vec3(1, 1, 1)}, n);
     for (const double density : {0.1, 0.5, 0.9}) {
       for (int trial = 0; trial < 4; ++trial) {

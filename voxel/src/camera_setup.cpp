@@ -119,17 +119,17 @@ struct SetupWork {
   std::vector<std::uint8_t> flat;
   std::vector<SlotBounds> bounds;  ///< per slot; x0 = NaN: not wholly in front
   std::vector<int> fill;
+  std::vector<int> members;  ///< one chunk's binned slots (chunk_candidates)
 };
 
-/// Counting sort of the slots of one chunk into the bins of `grid`: `range(slot)` gives the bins
-/// a slot covers, `member(slot)` whether it is one of the chunk's.
-template <class Range, class Member>
-void sort_into_bins(const BinGrid& grid, int slots, const Range& range, const Member& member,
+/// Counting sort of the slots of one chunk (`members`, ascending) into the bins of `grid`:
+/// `range(slot)` gives the bins a slot covers.
+template <class Range>
+void sort_into_bins(const BinGrid& grid, const std::vector<int>& members, const Range& range,
                     std::vector<int>& fill, BinLists& lists) {
   const int cells = grid.count();
   lists.start.assign(cells + 1, 0);
-  for (int s = 0; s < slots; ++s) {
-    if (!member(s)) continue;
+  for (int s : members) {
     const BinRange& r = range(s);
     for (int by = r.y0; by <= r.y1; ++by) {
       for (int bx = r.x0; bx <= r.x1; ++bx) ++lists.start[by * grid.n[0] + bx + 1];
@@ -138,8 +138,7 @@ void sort_into_bins(const BinGrid& grid, int slots, const Range& range, const Me
   for (int b = 0; b < cells; ++b) lists.start[b + 1] += lists.start[b];
   lists.items.resize(lists.start[cells]);
   fill.assign(lists.start.begin(), lists.start.end() - 1);
-  for (int s = 0; s < slots; ++s) {
-    if (!member(s)) continue;
+  for (int s : members) {
     const BinRange& r = range(s);
     for (int by = r.y0; by <= r.y1; ++by) {
       for (int bx = r.x0; bx <= r.x1; ++bx) lists.items[fill[by * grid.n[0] + bx]++] = s;
@@ -332,30 +331,28 @@ void place_bins(const std::array<double, 2>& width, bool conservative, CameraSet
   }
 }
 
-/// One chunk's candidates: the slots of objects of its states (`object_states`), sorted into
-/// the bins, or in `everywhere`.
-void chunk_candidates(const CameraSetup& cam, const detail::StateMask* object_states,
-                      bool conservative, SetupWork& work, ChunkCandidates& out) {
-  const int slots = static_cast<int>(cam.slot_triangle.size());
-  auto member = [&](int s) {
-    return object_states[cam.slot_object[s]] != 0 && !std::isnan(work.bounds[s].x0);
-  };
+/// One chunk's candidates: the slots of its objects (`objects`, ascending: their slots are
+/// consecutive and ascending, cam.object_slots), sorted into the bins, or in `everywhere`. Only
+/// the chunk's own slots are visited: with many states, each chunk holds few of the objects.
+void chunk_candidates(const CameraSetup& cam, const std::vector<int>& objects, bool conservative,
+                      SetupWork& work, ChunkCandidates& out) {
+  work.members.clear();
+  out.everywhere.clear();
+  for (int o : objects) {
+    for (int s = cam.object_slots[o]; s < cam.object_slots[o + 1]; ++s) {
+      (std::isnan(work.bounds[s].x0) ? out.everywhere : work.members).push_back(s);
+    }
+  }
   sort_into_bins(
-      cam.coarse, slots, [&](int s) -> const BinRange& { return work.bounds[s].coarse; }, member,
+      cam.coarse, work.members, [&](int s) -> const BinRange& { return work.bounds[s].coarse; },
       work.fill, out.coarse);
   if (conservative) {
     sort_into_bins(
-        cam.wide, slots, [&](int s) -> const BinRange& { return work.bounds[s].wide; }, member,
+        cam.wide, work.members, [&](int s) -> const BinRange& { return work.bounds[s].wide; },
         work.fill, out.wide);
   } else {
     out.wide.start.assign(cam.wide.count() + 1, 0);
     out.wide.items.clear();
-  }
-  out.everywhere.clear();
-  for (int s = 0; s < slots; ++s) {
-    if (object_states[cam.slot_object[s]] != 0 && std::isnan(work.bounds[s].x0)) {
-      out.everywhere.push_back(s);
-    }
   }
 }
 
@@ -418,12 +415,15 @@ void VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera,
   cam.rect.clear();
   cam.lines.clear();
   work.bounds.clear();
+  cam.object_slots.assign(objects.size() + 1, 0);
   for (std::size_t o = 0; o < objects.size(); ++o) {
+    cam.object_slots[o] = static_cast<int>(cam.slot_triangle.size());
     view_vertices(*objects[o].mesh, cam, work.vertices);
     const bool cull = cull_back_faces(objects[o], cam.inside_object[o], triangles, cam.c, work);
     cam.culled[o] = cull;
     add_slots(static_cast<int>(o), objects[o], cull, conservative, cam, work);
   }
+  cam.object_slots[objects.size()] = static_cast<int>(cam.slot_triangle.size());
   if (conservative) {
     // The cones are made on first use (cone_of): a fine mesh has many slots that no box tests.
     const std::size_t slots = cam.slot_triangle.size();
@@ -443,7 +443,7 @@ void VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera,
   place_bins(width, conservative, cam, work);
   cam.chunks.resize(chunk_object_states.size());
   for (std::size_t ch = 0; ch < chunk_object_states.size(); ++ch) {
-    chunk_candidates(cam, chunk_object_states[ch].data(), conservative, work, cam.chunks[ch]);
+    chunk_candidates(cam, chunk_objects[ch], conservative, work, cam.chunks[ch]);
   }
 }
 

@@ -78,21 +78,63 @@ class ComponentTally {
   std::vector<Extent> extent_;
 };
 
-/// The model's runs and their union–find forest (parent[n]: run n's component is find(n)).
+/// The model's runs and their union–find forest (parent[n]: run n's component is find(n)), with
+/// run_forest's working memory (reused when the forest is).
 struct RunForest {
   std::vector<Run> runs;
   std::vector<int> parent;
+  std::vector<int> row_start;
+  std::vector<std::uint64_t> bits;
 };
 
-RunForest run_forest(const std::uint8_t* m, const Grid& grid) {
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+/// The row's nx ≤ 64 model bytes as bits (bit i: byte i is not 0), eight bytes at a time: the
+/// product gathers the low bit of each byte of nonzero_bytes into the top byte, byte k's at bit
+/// 56 + k (the partial products 8k + 7m, m = 1..8, are distinct bits: no carry). The last eight
+/// bytes, when fewer remain, overlap the ones before (same bits).
+inline std::uint64_t row_bits(const std::uint8_t* row, int nx) {
+  constexpr std::uint64_t gather = 0x0102040810204080ULL;
+  std::uint64_t bits = 0;
+  int i = 0;
+  for (; i + 8 <= nx; i += 8) bits |= (nonzero_bytes(row + i) * gather >> 56) << i;
+  if (i < nx && nx >= 8) {
+    bits |= (nonzero_bytes(row + nx - 8) * gather >> 56) << (nx - 8);
+  } else {
+    for (; i < nx; ++i) bits |= std::uint64_t{row[i] != 0} << i;
+  }
+  return bits;
+}
+constexpr bool kRowBits = true;
+#else
+inline std::uint64_t row_bits(const std::uint8_t*, int) { return 0; }
+constexpr bool kRowBits = false;
+#endif
+
+/// Into `forest` (its memory reused).
+void run_forest(const std::uint8_t* m, const Grid& grid, RunForest& forest) {
   const int nx = grid.n[0], ny = grid.n[1], nz = grid.n[2];
   const int rows = ny * nz;
-  RunForest forest;
   std::vector<Run>& runs = forest.runs;
-  std::vector<int> row_start(rows + 1, 0);
+  runs.clear();
+  std::vector<int>& row_start = forest.row_start;
+  row_start.assign(rows + 1, 0);
+  // Rows of at most 64 voxels as bit masks: runs start at a 1 bit with a 0 (or the row's start)
+  // before it and end at a 1 bit with a 0 after it; two rows share no x index when their masks
+  // do not meet (then connect has nothing to unite).
+  const bool masks = kRowBits && nx <= 64;
+  std::vector<std::uint64_t>& bits = forest.bits;
+  bits.resize(masks ? rows : 0);
   for (int r = 0; r < rows; ++r) {
     row_start[r] = static_cast<int>(runs.size());
     const std::uint8_t* row = m + static_cast<std::size_t>(r) * nx;
+    if (masks) {
+      const std::uint64_t b = bits[r] = row_bits(row, nx);
+      std::uint64_t starts = b & ~(b << 1), ends = b & ~(b >> 1);
+      for (; starts; starts &= starts - 1, ends &= ends - 1) {
+        runs.push_back({r, __builtin_ctzll(starts), __builtin_ctzll(ends)});
+      }
+      continue;
+    }
     // A run starts or ends where a byte differs from the one before (0 before the row). Eight
     // bytes at a time: byte k of w ^ (w << 8 | previous) is 1 where byte k differs from byte
     // k − 1; then byte by byte for the rest of the row.
@@ -126,6 +168,7 @@ RunForest run_forest(const std::uint8_t* m, const Grid& grid) {
   // Face neighbours only: voxels meeting at an edge or a corner do not connect (SPEC §4); so
   // runs connect only through a shared x index in the row before (j − 1) or below (k − 1).
   auto connect = [&](int r, int other) {
+    if (masks && !(bits[r] & bits[other])) return;
     int a = row_start[r], b = row_start[other];
     const int a_end = row_start[r + 1], b_end = row_start[other + 1];
     while (a < a_end && b < b_end) {
@@ -142,13 +185,13 @@ RunForest run_forest(const std::uint8_t* m, const Grid& grid) {
     if (j > 0) connect(r, r - 1);
     if (r >= ny) connect(r, r - ny);
   }
-  return forest;
 }
 
 }  // namespace
 
 std::vector<int> component_labels(const std::vector<std::uint8_t>& model, const Grid& grid) {
-  RunForest forest = run_forest(model.data(), grid);
+  RunForest forest;
+  run_forest(model.data(), grid, forest);
   std::vector<int> id(forest.runs.size(), -1);
   std::vector<int> labels(model.size(), -1);
   int next = 0;
@@ -166,7 +209,9 @@ ComponentCount filter_components(std::vector<std::uint8_t>& model, const Grid& g
                                  const core::Plausibility& plausibility) {
   const int nx = grid.n[0], ny = grid.n[1];
   std::uint8_t* m = model.data();
-  RunForest forest = run_forest(m, grid);
+  // Per thread, reused: the evaluator filters every state's model per evaluation.
+  thread_local RunForest forest;
+  run_forest(m, grid, forest);
   const std::vector<Run>& runs = forest.runs;
   std::vector<int>& parent = forest.parent;
   // Volume (voxel count) and z-extent per component, in order of their first run.

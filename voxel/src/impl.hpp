@@ -156,6 +156,9 @@ struct CameraSetup {
   // Per slot.
   std::vector<int> slot_triangle;
   std::vector<int> slot_object;
+  /// Per object o: its slots are object_slots[o] .. object_slots[o + 1] − 1 (objects.size() + 1
+  /// offsets; slots are numbered in object order).
+  std::vector<int> object_slots;
   /// The projection's bounding rectangle (x0, x1, y0, y1), padded; infinite for the slots not
   /// wholly in front of the camera.
   std::vector<std::array<double, 4>> rect;
@@ -286,7 +289,12 @@ struct SceneTables {
   /// Per chunk of 64 states: the states (bits) each object belongs to, and each time step's.
   std::vector<std::vector<detail::StateMask>> chunk_object_states;
   std::vector<std::vector<detail::StateMask>> chunk_step_states;
+  /// Per chunk: the objects (ascending) that belong to one of its states.
+  std::vector<std::vector<int>> chunk_objects;
   std::vector<std::vector<std::uint8_t>> removed_by_step;  ///< obstacle interiors per step
+  /// Per chunk of 64 states and voxel: the states whose time step removes the voxel as obstacle
+  /// interior (removed_by_step), so that raw_models drops them with one load, not one per step.
+  std::vector<std::vector<detail::StateMask>> chunk_removed;
   /// Conservative mode: per object, the voxels an occupying one reaches into (voxels_reached;
   /// empty for the others), and per chunk of 64 states and voxel the states where one of them
   /// does. No camera ever sees such a voxel free (docs/design/labelling.md L6): raw_models
@@ -493,9 +501,9 @@ struct VoxelEvaluator::Impl : detail::SceneTables,
                      const std::vector<ModelDistance>& distances) const;
 
  private:
-  /// The scan of model_distance over either view of M (distance.cpp).
+  /// The scan of model_distance over either view of M with `count` cells (distance.cpp).
   template <class Members>
-  ModelDistance nearest(const Members& members, int time_step) const;
+  ModelDistance nearest(const Members& members, long count, int time_step) const;
   /// min(best, distance² of the nearest cell of M in `slot` of `set`), by branch and bound.
   double nearest_cell(const detail::CellSet& set, int slot, int time_step, double best) const;
   void row_interval(const detail::CameraSetup& cam, int j, int k, int& lo, int& hi, int& in_lo,
@@ -513,7 +521,8 @@ struct VoxelEvaluator::Impl : detail::SceneTables,
   /// The states of `open` where every voxel of the block [lo, hi] is surely free for the camera
   /// (raw_models), for the states `open` of chunk `chunk`.
   detail::StateMask block_clear(const detail::CameraSetup& cam, const core::Vec3& lo,
-                                const core::Vec3& hi, detail::StateMask open, int chunk) const;
+                                const core::Vec3& hi, detail::StateMask open, int chunk,
+                                detail::Scratch& scratch) const;
   enum class Cone { meet, miss, near_miss };
   Cone cone_test(const detail::TriangleCone& tc, const core::Vec3& w,
                  const detail::CellSize& size) const;

@@ -328,7 +328,7 @@ VoxelEvaluator::Impl::Cone VoxelEvaluator::Impl::cone_test(const TriangleCone& t
 /// this camera, as judge_conservative() would label each of them: each test it or box_in_fov()
 /// makes per voxel, made on the whole block with a larger margin (docs/design/labelling.md L4).
 StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& lo, const Vec3& hi,
-                                            StateMask open, int chunk) const {
+                                            StateMask open, int chunk, Scratch& scratch) const {
   const StateMask* object_states = chunk_object_states[chunk].data();
   const detail::ChunkCandidates& cand = cam.chunks[chunk];
   const Vec3 center = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
@@ -385,10 +385,16 @@ StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& 
     return true;
   };
   StateMask clear = open;
+  // The coarse bins' lists repeat slots: a slot that did not decide the block once does not
+  // the next time (decides depends on the slot and the block only), and one that did has no
+  // state left in `clear`; so each is tested once.
+  ++scratch.visit;
   // True when no state is left.
   auto pass = [&](int s) {
     const StateMask m = object_states[cam.slot_object[s]] & clear;
-    if (m && decides(s)) clear &= ~m;
+    if (!m || scratch.stamp[s] == scratch.visit) return false;
+    scratch.stamp[s] = scratch.visit;
+    if (decides(s)) clear &= ~m;
     return !clear;
   };
   for (int s : cand.everywhere) {

@@ -29,7 +29,6 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
                                       std::vector<std::vector<std::uint8_t>>& models) const {
   const int nx = grid.n[0], ny = grid.n[1];
   const int state_count = static_cast<int>(states.size());
-  const int steps = static_cast<int>(removed_by_step.size());
   const std::size_t n_cam = cameras.size();
   Scratch scratch;
   scratch.stamp.assign(triangles.size(), 0);
@@ -46,11 +45,17 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
       }
     }
   }
+  // Per voxel of the slice: the camera that last freed a state of it, in an earlier chunk (or
+  // kNone); a camera that sees a voxel free in some states tends to in the others too.
+  constexpr std::uint8_t kNone = 0xff;
+  CAMPLACE_ASSERT(n_cam < kNone);
+  const int slice_first = nx * ny * k_begin;
+  std::vector<std::uint8_t> freed_by(static_cast<std::size_t>(nx) * ny * (k_end - k_begin), kNone);
   for (int chunk = 0; chunk * detail::kChunk < state_count; ++chunk) {
     const int first = chunk * detail::kChunk;
     const int count = std::min(detail::kChunk, state_count - first);
     const StateMask all = count == 64 ? ~StateMask(0) : (StateMask(1) << count) - 1;
-    const StateMask* step_states = chunk_step_states[chunk].data();
+    const StateMask* removed = chunk_removed[chunk].data();
     const StateMask* reached = conservative ? chunk_reached[chunk].data() : nullptr;
     const std::vector<StateMask> seeing = seeing_states(cameras, chunk);
     std::uint8_t* out[detail::kChunk];
@@ -60,19 +65,18 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
     auto label = [&](int i, int j, int k, StateMask clear) __attribute__((always_inline)) {
       auto* row = &rows[((k - k_begin) * ny + j) * n_cam];
       const int v = i + nx * (j + ny * k);
-      StateMask pending = all & ~clear;  // not removed, not yet seen free
-      for (int h = 0; h < steps && pending; ++h) {
-        if (removed_by_step[h][v]) pending &= ~step_states[h];
-      }
+      StateMask pending = all & ~clear & ~removed[v];  // not removed, not yet seen free
       // Conservative mode: the states where an occupying object reaches into the voxel stay in
       // M untested; no camera would see it free there (docs/design/labelling.md L6).
       const StateMask kept = reached ? pending & reached[v] : 0;
       pending &= ~kept;
       if (pending) {
         const Vec3 center(box_center[0][i], box_center[1][j], box_center[2][k]);
-        // Cameras from the one that last freed a voxel on: neighbours tend to be seen by the
-        // same camera (the order does not change the result).
-        const std::size_t first_cam = hint;
+        // Cameras from the one that last freed this voxel in an earlier chunk on, else from the
+        // one that last freed a voxel: neighbours tend to be seen by the same camera (the order
+        // does not change the result).
+        std::uint8_t& last = freed_by[v - slice_first];
+        const std::size_t first_cam = last != kNone ? last : hint;
         for (std::size_t step = 0; step < n_cam && pending; ++step) {
           const std::size_t c =
               first_cam + step < n_cam ? first_cam + step : first_cam + step - n_cam;
@@ -93,7 +97,10 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
                   ? judge_conservative(cam, w, d, cell_sizes[0], interest, chunk, scratch, true)
                   : judge_center(cam, w, d, interest, chunk, scratch, true);
           const StateMask freed = interest & ~(verdict.occupied | verdict.blocked);
-          if (freed) hint = c;
+          if (freed) {
+            hint = c;
+            last = static_cast<std::uint8_t>(c);
+          }
           pending &= ~freed;
         }
       }
@@ -125,7 +132,8 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
         for (std::size_t step = 0; step < n_cam && (clear | held) != all; ++step) {
           const std::size_t c = (block_hint + step) % n_cam;
           const StateMask open = seeing[c] & ~clear & ~held;
-          const StateMask cleared = open ? block_clear(cameras[c], lo, hi, open, chunk) : 0;
+          const StateMask cleared =
+              open ? block_clear(cameras[c], lo, hi, open, chunk, scratch) : 0;
           if (cleared) {
             clear |= cleared;
             block_hint = c;

@@ -121,8 +121,23 @@ void VoxelEvaluator::Impl::build() {
       for (int o : states[s].objects) by_object[o] |= bit;
       by_step[states[s].time_step] |= bit;
     }
+    // Only the steps with states in the chunk (a step's states are consecutive): the set-up
+    // reads each step's interiors once or twice, not once per chunk.
+    std::vector<detail::StateMask> removed(grid.count(), 0);
+    for (std::size_t h = 0; h < by_step.size(); ++h) {
+      if (!by_step[h]) continue;
+      for (int v = 0; v < grid.count(); ++v) {
+        if (removed_by_step[h][v]) removed[v] |= by_step[h];
+      }
+    }
+    std::vector<int> chunk_objects_here;
+    for (std::size_t o = 0; o < objects.size(); ++o) {
+      if (by_object[o]) chunk_objects_here.push_back(static_cast<int>(o));
+    }
+    chunk_objects.push_back(std::move(chunk_objects_here));
     chunk_object_states.push_back(std::move(by_object));
     chunk_step_states.push_back(std::move(by_step));
+    chunk_removed.push_back(std::move(removed));
   }
   if (conservative) {
     reached_by_object.assign(objects.size(), {});
