@@ -1,5 +1,6 @@
-// Reading JSON files (core::read_json_file): the document read is the one nlohmann::json::parse
-// gives, and a key twice in one object is refused at any depth.
+// Reading JSON files (core::read_json_file) and the messages of bad input: the document read is
+// the one nlohmann::json::parse gives, a key twice in one object is refused at any depth, and a
+// key, name or path holding control characters cannot cut or split an error line.
 #include "camplace/core/json_reader.hpp"
 
 #include <gtest/gtest.h>
@@ -9,6 +10,7 @@
 
 #include "camplace/core/error.hpp"
 #include "scene_builder.hpp"
+#include "scene_fixtures.hpp"
 
 namespace camplace::testing {
 namespace {
@@ -68,6 +70,54 @@ TEST(JsonReading, KeyTwiceInOneObjectIsRefusedAtEveryDepth) {
   EXPECT_EQ(reading_error(R"({"area": {"area": 1}, "b": [{"area": 1}, {"area": {"area": 2}}]})",
                           "siblings"),
             "");
+}
+
+TEST(ErrorMessages, ControlCharactersAreEscapedSoTheMessageStaysOneLine) {
+  const core::InputError e("dir/a\tb.json", std::string("/x\0y", 4), "key \"\n\r\b\f\x1f\x7f\"");
+  EXPECT_EQ(std::string(e.what()),
+            "dir/a\\tb.json: /x\\u0000y: key \"\\n\\r\\b\\f\\u001f\\u007f\"");
+  EXPECT_EQ(e.file(), "dir/a\\tb.json");
+  EXPECT_EQ(e.entry(), "/x\\u0000y");
+  EXPECT_EQ(e.reason(), "key \"\\n\\r\\b\\f\\u001f\\u007f\"");
+  // Printable text, backslashes and UTF-8 stay as they are.
+  EXPECT_STREQ(core::InputError("H\xc3\xa4nel.json", "/a~1b", "C:\\x \"q\"").what(),
+               "H\xc3\xa4nel.json: /a~1b: C:\\x \"q\"");
+  // An error made from another's reason is not escaped twice.
+  EXPECT_EQ(core::OptionError("o", e.reason()).reason(), e.reason());
+}
+
+TEST(ErrorMessages, KeysAndNamesWithControlCharactersAreEscapedInSceneErrors) {
+  json s = base_scene();
+  s[std::string("plaus\0ibility", 13)] = json::object();
+  std::string path = write_file(temp_dir("ctl-nul") + "/s.json", s.dump());
+  try {
+    core::load_scene(path);
+    ADD_FAILURE() << "accepted a key with a NUL";
+  } catch (const core::InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(path + ": /plaus\\u0000ibility: unknown field "
+                                                 "\"plaus\\u0000ibility\" (expected one of: ",
+                                          0),
+              0u)
+        << e.what();
+  }
+  s = base_scene();
+  s["x\nerror: forged"] = json::object();
+  expect_rejected(write_file(temp_dir("ctl-line") + "/s.json", s.dump()), "/x\\nerror: forged",
+                  "unknown field \"x\\nerror: forged\"");
+  s = base_scene();
+  s["time_steps"][0]["events"][0]["targets"][0]["name"] = "per\nson";
+  s["time_steps"][0]["events"][0]["targets"][0]["box"]["max"] = {2.4, 0.9, 3.5};
+  expect_rejected(write_file(temp_dir("ctl-name") + "/s.json", s.dump()),
+                  "/time_steps/0/events/0/targets/0", "target \"per\\nson\" leaves the area S");
+  path = temp_dir("ctl-path") + "/no\nfile.json";
+  try {
+    core::load_scene(path);
+    ADD_FAILURE() << "read a missing file";
+  } catch (const core::InputError& e) {
+    EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("no\\nfile.json: cannot open the file"), std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace

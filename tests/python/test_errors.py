@@ -111,3 +111,13 @@ def test_wrong_types_raise_type_errors(paper):
         camplace.evaluate("data/paper_basic.json", CORNERS)  # a path, not a Scene
     with pytest.raises(TypeError):
         camplace.optimize(paper, callback=42)
+
+
+def test_control_characters_in_keys_are_escaped_not_cut(tmp_path):
+    for name, key, shown in [("nul", "plaus\0ibility", "plaus\\u0000ibility"),
+                             ("line", "x\nerror: forged", "x\\nerror: forged")]:
+        path = write_json(tmp_path / f"{name}.json", dict(TINY_SCENE, **{key: {}}))
+        expected = message(camplace.load_scene, path)
+        assert expected.startswith(
+            f'{path}: /{shown}: unknown field "{shown}" (expected one of: area, '), expected
+        assert expected == cli_error("evaluate", path, "--cameras", CORNERS)
