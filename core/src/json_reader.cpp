@@ -7,9 +7,90 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <utility>
 #include <vector>
 
 namespace camplace::core {
+
+namespace {
+
+/// Builds the document from the parser's events, as nlohmann::json::parse does, and notes the
+/// first key given twice in one object (nlohmann would keep one of the two silently). A key is
+/// looked up in the object being built only, so reading takes O(n log n) for n values (a parse
+/// callback cannot do that: nlohmann's callback parser rescans the parent container at each end
+/// of an object, quadratic for a long array or object of objects). Iterative, like nlohmann's
+/// parser: nesting depth costs heap, not stack.
+class DocumentBuilder {
+ public:
+  using json = nlohmann::json;
+
+  explicit DocumentBuilder(json& root) : root_(root) {}
+
+  bool null() { return put(nullptr); }
+  bool boolean(bool value) { return put(value); }
+  bool number_integer(json::number_integer_t value) { return put(value); }
+  bool number_unsigned(json::number_unsigned_t value) { return put(value); }
+  bool number_float(json::number_float_t value, const json::string_t&) { return put(value); }
+  bool string(json::string_t& value) { return put(std::move(value)); }
+  bool binary(json::binary_t&) { return false; }  // only binary formats have these
+  bool start_object(std::size_t) { return open(json::object()); }
+  bool start_array(std::size_t) { return open(json::array()); }
+  bool end_object() { return close(); }
+  bool end_array() { return close(); }
+  bool key(json::string_t& name) {
+    auto [it, added] = open_.back()->get_ref<json::object_t&>().emplace(std::move(name), nullptr);
+    if (!added && duplicate_.empty()) duplicate_ = it->first;
+    member_ = &it->second;
+    return true;
+  }
+  bool parse_error(std::size_t, const std::string&, const json::exception& e) {
+    // parse errors, and numbers that overflow a double (e.g. 1e999, which would be inf)
+    error_ = e.what();
+    return false;
+  }
+
+  const std::string& error() const { return error_; }
+  const std::string& duplicate() const { return duplicate_; }
+
+ private:
+  /// Stores `value` where the parser is (the root, the end of an array or the member of the
+  /// last key) and returns it.
+  json* place(json&& value) {
+    if (open_.empty()) {
+      root_ = std::move(value);
+      return &root_;
+    }
+    json& parent = *open_.back();
+    if (parent.is_array()) {
+      parent.push_back(std::move(value));
+      return &parent.back();
+    }
+    *member_ = std::move(value);
+    return member_;
+  }
+  template <class Value>
+  bool put(Value&& value) {
+    place(json(std::forward<Value>(value)));
+    return true;
+  }
+  // Pointers to open containers stay valid: an array grows only at its end, after its open
+  // last element is closed, and std::map never moves its elements.
+  bool open(json&& container) {
+    open_.push_back(place(std::move(container)));
+    return true;
+  }
+  bool close() {
+    open_.pop_back();
+    return true;
+  }
+
+  json& root_;
+  std::vector<json*> open_;  ///< the containers being read, outermost first
+  json* member_ = nullptr;   ///< the value of the last key read
+  std::string error_, duplicate_;
+};
+
+}  // namespace
 
 nlohmann::json read_json_file(const std::string& path) {
   std::error_code ec;
@@ -19,29 +100,16 @@ nlohmann::json read_json_file(const std::string& path) {
   if (!in) throw InputError(path, "", "cannot open the file");
   std::stringstream buffer;
   buffer << in.rdbuf();
-  // A key given twice in one object is an error (nlohmann would keep the last silently).
-  std::vector<std::set<std::string>> keys;
-  std::string duplicate;
-  const auto check_keys = [&](int, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
-    if (event == nlohmann::json::parse_event_t::object_start) keys.emplace_back();
-    if (event == nlohmann::json::parse_event_t::object_end && !keys.empty()) keys.pop_back();
-    if (event == nlohmann::json::parse_event_t::key && !keys.empty() && duplicate.empty() &&
-        !keys.back().insert(parsed.get<std::string>()).second) {
-      duplicate = parsed.get<std::string>();
-    }
-    return true;
-  };
-  try {
-    nlohmann::json doc = nlohmann::json::parse(buffer.str(), check_keys);
-    if (!duplicate.empty()) {
-      throw InputError(path, "",
-                       "not valid JSON: the key \"" + duplicate + "\" appears twice in one object");
-    }
-    return doc;
-  } catch (const nlohmann::json::exception& e) {
-    // parse errors, and numbers that overflow a double (e.g. 1e999, which would be inf)
-    throw InputError(path, "", std::string("not valid JSON: ") + e.what());
+  nlohmann::json doc;
+  DocumentBuilder builder(doc);
+  nlohmann::json::sax_parse(buffer.str(), &builder);
+  if (!builder.error().empty()) throw InputError(path, "", "not valid JSON: " + builder.error());
+  if (!builder.duplicate().empty()) {
+    throw InputError(
+        path, "",
+        "not valid JSON: the key \"" + builder.duplicate() + "\" appears twice in one object");
   }
+  return doc;
 }
 
 std::string format_number(double v) {

@@ -377,8 +377,9 @@ PYBIND11_MODULE(camplace, m) {
           },
           "The states in Err's order: [{'time_step': h, 'event': l, 't': s, 'weight': ω}].")
       .def_property_readonly(
-          "json", [](const PyScene& s) { return to_python(s.json); },
-          "The scene file's content as dicts and lists (a fresh copy on each access).")
+          "json", [](const PyScene& s) { return to_python(s.json, s.scene->file); },
+          "The scene file's content as dicts and lists (a fresh copy on each access); ValueError\n"
+          "when it nests more than 1000 levels deep (an ignored \"description\" may).")
       .def("__repr__", [](const PyScene& s) {
         const auto& n = s.scene->voxels;
         return "<camplace.Scene '" + s.scene->file +

@@ -217,5 +217,29 @@ TEST(EvaluateCommand, BadInputsExitOneNamingFileEntryAndReason) {
   }
 }
 
+// A key holding a line break or a NUL: the message stays one `error:` line with the whole reason
+// (the control characters escaped), neither split into a forged second line nor cut short.
+TEST(EvaluateCommand, ControlCharactersInKeysStayEscapedOnTheOneErrorLine) {
+  const std::string dir = temp_dir("evalctl");
+  const std::string scene = read_text(kData + "paper_basic.json");
+  const std::string cameras = " --cameras " + kData + "paper_basic_corners.json";
+  const std::string line_break =
+      write_file(dir + "/line.json", replace_first(scene, "{", R"({"x\nerror: forged": 1,)"));
+  const std::string nul =
+      write_file(dir + "/nul.json", replace_first(scene, "{", R"({"plaus\u0000ibility": {},)"));
+  const std::string expected[] = {
+      "error: " + line_break + ": /x\\nerror: forged: unknown field \"x\\nerror: forged\" ",
+      "error: " + nul + ": /plaus\\u0000ibility: unknown field \"plaus\\u0000ibility\" ",
+  };
+  int i = 0;
+  for (const std::string& file : {line_break, nul}) {
+    const CommandResult r = run("evaluate " + file + cameras);
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_EQ(r.output.rfind(expected[i++], 0), 0u) << r.output;
+    EXPECT_EQ(r.output.find('\n'), r.output.size() - 1) << r.output;
+    EXPECT_NE(r.output.find("(expected one of: area, "), std::string::npos) << r.output;
+  }
+}
+
 }  // namespace
 }  // namespace camplace::testing

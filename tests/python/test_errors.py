@@ -5,7 +5,7 @@ import json
 import pytest
 
 import camplace
-from conftest import CORNERS, SCENE, TINY_SCENE, cli_error, write_json
+from conftest import CORNERS, SCENE, TINY_CAMERAS, TINY_SCENE, cli_error, run_cli, write_json
 
 
 def message(call, *args, **kwargs):
@@ -111,3 +111,68 @@ def test_wrong_types_raise_type_errors(paper):
         camplace.evaluate("data/paper_basic.json", CORNERS)  # a path, not a Scene
     with pytest.raises(TypeError):
         camplace.optimize(paper, callback=42)
+
+
+def nested(depth):
+    """A list nested `depth` levels deep: [[[...]]]."""
+    value = []
+    for _ in range(depth - 1):
+        value = [value]
+    return value
+
+
+def test_cameras_that_contain_themselves_or_nest_too_deep_raise_value_errors(paper):
+    loop = []
+    loop.append(loop)
+    assert message(camplace.evaluate, paper, loop) == "cameras/0: a list that contains itself"
+    run = {}
+    run["cameras"] = run
+    assert message(camplace.evaluate, paper, run) == "cameras/cameras: a dict that contains itself"
+    cameras = json.loads(open(CORNERS).read())["cameras"]
+    position = [1.0, 1.0]
+    position.append(position)
+    cameras[3] = dict(cameras[3], position=position)
+    assert message(camplace.evaluate, paper, cameras) == (
+        "cameras/3/position/2: a list that contains itself")
+    too_deep = "cameras: lists and dicts nested more than 1000 levels deep"
+    for call in [camplace.evaluate, camplace.voxel_model, camplace.labels]:
+        assert message(call, paper, nested(200_000)) == too_deep
+    assert message(camplace.evaluate, paper, nested(1001)) == too_deep
+    # Up to the limit the nesting is only a camera list of the wrong shape.
+    assert message(camplace.evaluate, paper, nested(1000)).startswith(
+        "cameras argument: /cameras: holds 1 cameras")
+    # One camera given many times is no cycle.
+    assert camplace.evaluate(paper, [cameras[0]] * 6)["err"] >= 0
+
+
+def test_scene_json_nested_too_deep_raises_value_error(tmp_path):
+    # The description is ignored: the scene loads and evaluates; only its content as dicts and
+    # lists is too deep to give.
+    deep = tmp_path / "deep.json"
+    deep.write_text(json.dumps(dict(TINY_SCENE, description="DEEP")).replace(
+        '"DEEP"', "[" * 100_000 + "]" * 100_000))
+    cameras = write_json(tmp_path / "cameras.json", {"cameras": TINY_CAMERAS})
+    assert run_cli("evaluate", deep, "--cameras", cameras).returncode == 0
+    scene = camplace.load_scene(str(deep))
+    assert camplace.evaluate(scene, TINY_CAMERAS)["err"] >= 0
+    with pytest.raises(ValueError) as raised:
+        scene.json
+    assert str(raised.value) == f"{deep}: arrays and objects nested more than 1000 levels deep"
+    # At the limit (the scene and 999 arrays) the content comes back whole.
+    at_limit = tmp_path / "limit.json"
+    at_limit.write_text(json.dumps(dict(TINY_SCENE, description="DEEP")).replace(
+        '"DEEP"', "[" * 999 + "]" * 999))
+    description = camplace.load_scene(str(at_limit)).json["description"]
+    for _ in range(998):
+        (description,) = description
+    assert description == []
+
+
+def test_control_characters_in_keys_are_escaped_not_cut(tmp_path):
+    for name, key, shown in [("nul", "plaus\0ibility", "plaus\\u0000ibility"),
+                             ("line", "x\nerror: forged", "x\\nerror: forged")]:
+        path = write_json(tmp_path / f"{name}.json", dict(TINY_SCENE, **{key: {}}))
+        expected = message(camplace.load_scene, path)
+        assert expected.startswith(
+            f'{path}: /{shown}: unknown field "{shown}" (expected one of: area, '), expected
+        assert expected == cli_error("evaluate", path, "--cameras", CORNERS)
