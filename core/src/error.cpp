@@ -9,13 +9,18 @@ namespace camplace::core {
 namespace {
 /// `text` with its control characters escaped as in JSON (\n, \t, \u0000), so that a message
 /// stays one whole line whatever the keys, names and paths in it hold: a NUL would end it early,
-/// a line break would start a line that looks like another error.
-std::string escape_controls(const std::string& text) {
+/// a line break would start a line that looks like another error. With `indented_lines`, a line
+/// break followed by a space stays: the indented continuation lines of a reason that lists
+/// several items (they cannot pass for an `error:` line).
+std::string escape_controls(const std::string& text, bool indented_lines = false) {
   std::string out;
   out.reserve(text.size());
-  for (const char c : text) {
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
     const auto byte = static_cast<unsigned char>(c);
-    if (byte >= 0x20 && byte != 0x7f) {
+    const bool indented_break =
+        indented_lines && c == '\n' && i + 1 < text.size() && text[i + 1] == ' ';
+    if ((byte >= 0x20 && byte != 0x7f) || indented_break) {
       out += c;
       continue;
     }
@@ -54,10 +59,10 @@ std::string compose(const std::string& file, const std::string& entry, const std
 
 InputError::InputError(const std::string& file, const std::string& entry, const std::string& reason)
     : std::runtime_error(
-          compose(escape_controls(file), escape_controls(entry), escape_controls(reason))),
+          compose(escape_controls(file), escape_controls(entry), escape_controls(reason, true))),
       file_(escape_controls(file)),
       entry_(escape_controls(entry)),
-      reason_(escape_controls(reason)) {}
+      reason_(escape_controls(reason, true)) {}
 
 void assertion_failed(const char* expr, const char* file, int line) {
   std::fprintf(stderr, "camplace: internal check failed: %s (%s:%d)\n", expr, file, line);

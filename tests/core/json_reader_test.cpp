@@ -82,6 +82,9 @@ TEST(ErrorMessages, ControlCharactersAreEscapedSoTheMessageStaysOneLine) {
   // Printable text, backslashes and UTF-8 stay as they are.
   EXPECT_STREQ(core::InputError("H\xc3\xa4nel.json", "/a~1b", "C:\\x \"q\"").what(),
                "H\xc3\xa4nel.json: /a~1b: C:\\x \"q\"");
+  // A reason's indented continuation lines stay lines; a break before anything else is escaped.
+  EXPECT_STREQ(core::InputError("f", "", "two settings differ:\n  a: 1 → 2\nerror: x").what(),
+               "f: two settings differ:\n  a: 1 → 2\\nerror: x");
   // An error made from another's reason is not escaped twice.
   EXPECT_EQ(core::OptionError("o", e.reason()).reason(), e.reason());
 }
