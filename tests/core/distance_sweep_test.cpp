@@ -123,14 +123,6 @@ void expect_all_pairs_minimum(const std::vector<const TriangleMesh*>& a,
   EXPECT_EQ(core::solids_squared_distance(b, a).fraction, d.fraction) << what;
 }
 
-Eigen::Matrix3d random_rotation(std::mt19937& rng) {
-  std::uniform_real_distribution<double> angle(-3.14, 3.14);
-  return (Eigen::AngleAxisd(angle(rng), Vec3::UnitZ()) *
-          Eigen::AngleAxisd(angle(rng), Vec3::UnitY()) *
-          Eigen::AngleAxisd(angle(rng), Vec3::UnitX()))
-      .toRotationMatrix();
-}
-
 Vec3 random_unit(std::mt19937& rng) {
   std::normal_distribution<double> g;
   return Vec3(g(rng), g(rng), g(rng)).normalized();

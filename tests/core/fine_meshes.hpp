@@ -4,11 +4,21 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <map>
+#include <random>
 #include <tuple>
 
 #include "camplace/core/geometry.hpp"
 
 namespace camplace::testing {
+
+/// A random rotation: about z, then y, then x by angles uniform in (−3.14, 3.14).
+inline Eigen::Matrix3d random_rotation(std::mt19937& rng) {
+  std::uniform_real_distribution<double> angle(-3.14, 3.14);
+  return (Eigen::AngleAxisd(angle(rng), core::Vec3::UnitZ()) *
+          Eigen::AngleAxisd(angle(rng), core::Vec3::UnitY()) *
+          Eigen::AngleAxisd(angle(rng), core::Vec3::UnitX()))
+      .toRotationMatrix();
+}
 
 /// Turns every triangle so that its normal points away from `inside` (a point of the solid's
 /// interior that sees every face, as the centre of a box or an ellipsoid).

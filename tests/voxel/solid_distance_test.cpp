@@ -19,14 +19,6 @@ using core::Box3;
 using core::TriangleMesh;
 using core::Vec3;
 
-Eigen::Matrix3d random_rotation(std::mt19937& rng) {
-  std::uniform_real_distribution<double> angle(-3.14, 3.14);
-  return (Eigen::AngleAxisd(angle(rng), Vec3::UnitZ()) *
-          Eigen::AngleAxisd(angle(rng), Vec3::UnitY()) *
-          Eigen::AngleAxisd(angle(rng), Vec3::UnitX()))
-      .toRotationMatrix();
-}
-
 /// Two to three solids: fine ellipsoids and fine boxes, turned at random, in [−1, 1]³.
 std::vector<TriangleMesh> random_solids(std::mt19937& rng) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
