@@ -79,6 +79,8 @@ int main(int argc, char** argv) {
   camplace::app::register_compare_optimizer_command(app);
   camplace::app::register_study_command(app);
   camplace::app::register_validate_command(app);
+  camplace::app::register_plan_command(app);
+  camplace::app::register_robustness_command(app);
   camplace::app::register_generate_command(app);
   if (argc == 1) {
     print_overview(app);

@@ -85,6 +85,17 @@ void register_study_command(CLI::App& app) {
                        "run a study of the paper's examinations (resumable), report in DIR",
                        missing_parts(true));
 }
+void register_plan_command(CLI::App& app) {
+  register_unavailable(app, "plan",
+                       "how many cameras: optimise each count, exact-check, recommend, report in "
+                       "DIR",
+                       missing_parts(true));
+}
+void register_robustness_command(CLI::App& app) {
+  register_unavailable(app, "robustness",
+                       "Err of a camera configuration under mounting errors, report in DIR",
+                       missing_parts(true));
+}
 void register_validate_command(CLI::App& app) {
   register_unavailable(app, "validate",
                        "check every run of an optimize or study folder against the exact pipeline",

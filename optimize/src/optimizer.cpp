@@ -47,9 +47,8 @@ core::CameraConfig json_round_trip(const core::CameraConfig& config, const core:
   return reread;
 }
 
-/// A start file's cameras must lie in their placement domains (on their mounts, within the
-/// mounts' ranges) and in no keep-out box: the optimizer would otherwise move them there
-/// without a word.
+}  // namespace
+
 void check_inside_domains(const core::CameraConfig& config, const core::Scene& scene,
                           const std::string& file) {
   constexpr double kSlack = 1e-9;  // rounding of written and re-read run files
@@ -116,6 +115,8 @@ void check_inside_domains(const core::CameraConfig& config, const core::Scene& s
     }
   }
 }
+
+namespace {
 
 /// Fills pop with its initial individuals: the start (if any) and random ones, evaluated as a
 /// batch when the solver evaluates batches.

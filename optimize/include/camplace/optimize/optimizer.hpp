@@ -135,6 +135,13 @@ std::string algorithm_help();
 /// core::InputError for a bad algorithm name or population size, as optimize() does.
 int population_size(const std::string& algorithm, int population, std::size_t dimension);
 
+/// Refuses a configuration whose cameras do not all lie in their placement domains (on their
+/// mounts, within the mounts' ranges, up to the rounding of camera files) and in no keep-out
+/// box: throws core::InputError naming `file` (the configuration's file), the camera's entry and
+/// the reason. What optimize() asks of a start file, and `robustness` of its cameras.
+void check_inside_domains(const core::CameraConfig& config, const core::Scene& scene,
+                          const std::string& file);
+
 /// Runs one optimisation of `objective` over the scene's camera domains. Results depend only on
 /// (scene, objective, options without time limit/interrupt, seed), not on the thread count.
 /// Throws core::InputError for a bad algorithm or objective name, start file or population size.
