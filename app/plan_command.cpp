@@ -175,8 +175,8 @@ void run_plan(const PlanArgs& args) {
   const std::string mode = args.mode;
   for (int n = first; n <= last; ++n) {
     const core::Scene count_scene = compare::scene_with_cameras(scene, n);
-    const std::string scene_file = (out / "scenes" / ("cameras-" + std::to_string(n) + ".json"))
-                                       .string();
+    const std::string scene_file =
+        (out / "scenes" / ("cameras-" + std::to_string(n) + ".json")).string();
     if (!args.report_only) {
       core::write_scene(count_scene, scene_file,
                         "The scene " + args.scene + " with " + std::to_string(n) +
@@ -349,15 +349,15 @@ void run_plan(const PlanArgs& args) {
                    std::to_string(args.max_evals) + " --time-limit " +
                    number_text(args.time_limit) + " --threads " + std::to_string(args.threads) +
                    (args.resolution.empty() ? "" : " --resolution " + args.resolution) +
-                   (args.refine > 0 ? " --refine " + std::to_string(args.refine) : "") +
-                   " --out " + args.out;
+                   (args.refine > 0 ? " --refine " + std::to_string(args.refine) : "") + " --out " +
+                   args.out;
   report.provenance = core::make_provenance(scene);
   report.settings = "Per count " + std::to_string(args.runs) + " runs of " + args.algorithm +
                     " (seeds " + std::to_string(args.seed) + ".." +
                     std::to_string(args.seed + static_cast<unsigned>(args.runs) - 1) + "), " +
                     args.mode + " mode" +
-                    (args.refine > 0 ? ", refine " + std::to_string(args.refine) : "") + ", at most " +
-                    std::to_string(args.max_evals) + " evaluations and " +
+                    (args.refine > 0 ? ", refine " + std::to_string(args.refine) : "") +
+                    ", at most " + std::to_string(args.max_evals) + " evaluations and " +
                     number_text(args.time_limit) + " s per run.";
   report.interrupted = interrupted;
   report.missing = missing;
@@ -402,8 +402,7 @@ void register_plan_command(CLI::App& app) {
       "ranks; --shard I/N runs a fixed part of them, then --report-only writes the report.");
   cmd->add_option("scene", args->scene, "scene JSON file")->required();
   cmd->add_option("--counts", args->counts, "camera counts A..B (or one count N)")->required();
-  cmd->add_option("--runs", args->runs, "optimisation runs per count")
-      ->check(in_range(1, 100000));
+  cmd->add_option("--runs", args->runs, "optimisation runs per count")->check(in_range(1, 100000));
   cmd->add_option("--seed", args->seed, "seed of the first run of each count; run i uses seed+i");
   cmd->add_option("--max-evals", args->max_evals, "objective evaluations per run, 0 = none")
       ->check(in_range(0LL, 1000000000000LL, "must lie in [0, 1e12] (0 = no limit)"));

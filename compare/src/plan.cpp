@@ -21,7 +21,7 @@ std::string num(double v, int digits = 4) {
 
 std::string g(double v) {
   char text[64];
-  std::snprintf(text, sizeof text, "%.9g", v);
+  std::snprintf(text, sizeof text, "%.17g", v);
   return text;
 }
 
@@ -62,9 +62,8 @@ void write_plan_report(const std::string& dir, const std::vector<PlanRow>& rows,
   for (const PlanRow& r : rows) {
     csv << r.cameras << "," << r.runs_planned << "," << r.runs_done << ","
         << (r.best_seed ? std::to_string(*r.best_seed) : "") << ","
-        << (r.best_seed ? g(r.voxel_err) : "") << ","
-        << (r.exact_err ? g(r.voxel_err_pyramid) : "") << ","
-        << (r.exact_err ? g(*r.exact_err) : "") << "," << g(r.err_lower_bound) << ","
+        << (r.best_seed ? g(r.voxel_err) : "") << "," << (r.exact_err ? g(r.voxel_err_pyramid) : "")
+        << "," << (r.exact_err ? g(*r.exact_err) : "") << "," << g(r.err_lower_bound) << ","
         << g(r.tolerance) << "," << (r.exact_err ? (r.reached_exact() ? "1" : "0") : "") << ","
         << (r.exact_err ? g(r.max_overestimate) : "") << ","
         << (r.runs_done > 0 ? g(r.median_voxel_err) : "") << ","

@@ -298,13 +298,13 @@ class Analyser {
       p.cameras_json = core::camera_config_json(config, 2, &scene_);
       p.cameras = core::camera_config_from_json(nlohmann::json::parse(p.cameras_json),
                                                 "perturbed cameras", &scene_);
-      if (attempt == 40 || within_tolerance(planned_, p.cameras, options_.position_tol,
-                                            options_.angle_tol)) {
+      if (attempt == 40 ||
+          within_tolerance(planned_, p.cameras, options_.position_tol, options_.angle_tol)) {
         CAMPLACE_ASSERT(attempt < 40 || !any);
         for (std::size_t i = 0; i < planned_.size(); ++i) {
           p.moved_m.push_back((p.cameras[i].position - planned_[i].position).norm());
-          p.turned.push_back(angle_between(core::view_direction(planned_[i]),
-                                           core::view_direction(p.cameras[i])));
+          p.turned.push_back(
+              angle_between(core::view_direction(planned_[i]), core::view_direction(p.cameras[i])));
           p.rolled.push_back(std::abs(p.cameras[i].roll - planned_[i].roll));
         }
         last_offsets_ = scaled;
@@ -405,8 +405,8 @@ bool within_tolerance(const core::CameraConfig& planned, const core::CameraConfi
   if (planned.size() != perturbed.size()) return false;
   for (std::size_t i = 0; i < planned.size(); ++i) {
     const double moved = (perturbed[i].position - planned[i].position).norm();
-    const double turned = angle_between(core::view_direction(planned[i]),
-                                        core::view_direction(perturbed[i]));
+    const double turned =
+        angle_between(core::view_direction(planned[i]), core::view_direction(perturbed[i]));
     const double rolled = std::abs(perturbed[i].roll - planned[i].roll);
     if (moved > position_tol * (1.0 + kSlack) + kSlack || turned > angle_tol + kSlack ||
         rolled > angle_tol + kSlack) {
@@ -419,9 +419,9 @@ bool within_tolerance(const core::CameraConfig& planned, const core::CameraConfi
 RobustnessResult analyse_robustness(const core::Scene& scene, const core::CameraConfig& planned,
                                     const RobustnessOptions& options) {
   if (planned.size() != static_cast<std::size_t>(scene.cameras.count)) {
-    throw core::InputError("cameras", "", "holds " + std::to_string(planned.size()) +
-                                              " cameras but the scene has " +
-                                              std::to_string(scene.cameras.count));
+    throw core::InputError("cameras", "",
+                           "holds " + std::to_string(planned.size()) +
+                               " cameras but the scene has " + std::to_string(scene.cameras.count));
   }
   if (!(options.position_tol >= 0.0) || !std::isfinite(options.position_tol)) {
     throw core::OptionError("position-tol", "must be a finite number >= 0 (m)");
@@ -445,9 +445,17 @@ std::string number(double v, int digits = 4) {
   return text;
 }
 
+/// Short, for texts ("0.03 m").
 std::string g(double v) {
   char text[64];
   std::snprintf(text, sizeof text, "%.6g", v);
+  return text;
+}
+
+/// Every bit, for data files (read back as the same double).
+std::string full(double v) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.17g", v);
   return text;
 }
 
@@ -494,8 +502,8 @@ std::string robustness_summary(const RobustnessOptions& options, const Robustnes
   if (!exact && r.nominal_exact_err) s += ", exact Err " + number(*r.nominal_exact_err) + " m²";
   s += "\n";
   s += std::to_string(r.samples.size()) + " random perturbations within " +
-       g(options.position_tol) + " m and " + g(options.angle_tol / core::kDegree) +
-       "° (seed " + std::to_string(options.seed) + "): median Err " + number(r.median_err) +
+       g(options.position_tol) + " m and " + g(options.angle_tol / core::kDegree) + "° (seed " +
+       std::to_string(options.seed) + "): median Err " + number(r.median_err) +
        " m², 95th percentile " + number(r.p95_err) + " m²\n";
   if (r.searched) {
     s += "worst-case search (coordinate ascent on the voxel Err, all cameras): voxel Err " +
@@ -559,9 +567,10 @@ void write_robustness_report(const std::string& dir, const RobustnessOptions& op
   std::string csv = "sample,err,voxel_err,exact_err,max_moved_m,max_turned_deg,max_rolled_deg\n";
   for (std::size_t k = 0; k < r.samples.size(); ++k) {
     const Perturbed& p = r.samples[k];
-    csv += std::to_string(k + 1) + "," + g(p.err) + "," + g(p.voxel_err) + "," +
-           (p.exact_err ? g(*p.exact_err) : "") + "," + g(max_of(p.moved_m)) + "," +
-           g(max_of(p.turned) / core::kDegree) + "," + g(max_of(p.rolled) / core::kDegree) + "\n";
+    csv += std::to_string(k + 1) + "," + full(p.err) + "," + full(p.voxel_err) + "," +
+           (p.exact_err ? full(*p.exact_err) : "") + "," + full(max_of(p.moved_m)) + "," +
+           full(max_of(p.turned) / core::kDegree) + "," + full(max_of(p.rolled) / core::kDegree) +
+           "\n";
   }
   core::write_file_atomically((out / "samples.csv").string(), csv);
 
@@ -638,19 +647,21 @@ void write_robustness_report(const std::string& dir, const RobustnessOptions& op
           std::to_string(c.evaluations) + " |\n";
   }
   if (!r.exact_checked.empty()) {
-    md += "\nExact check, worst first:\n\n| origin | voxel Err [m²] | exact Err [m²] |\n|---|---|---|\n";
+    md +=
+        "\nExact check, worst first:\n\n| origin | voxel Err [m²] | exact Err [m²] "
+        "|\n|---|---|---|\n";
     for (const Perturbed& p : r.exact_checked) {
       md += "| " + p.origin + " | " + number(p.voxel_err) + " | " + number(*p.exact_err) + " |\n";
     }
   }
-  md += "\nFiles: `worst-cameras.json` (the worst configuration found; `camplace evaluate SCENE "
-        "--cameras worst-cameras.json" +
-        std::string(exact ? " --pipeline exact" : "") +
-        "` with the same mode and resolution gives its Err), `samples.csv` (one row per random "
-        "sample), `robustness.json` (everything above). " +
-        std::to_string(r.voxel_evaluations) + " voxel and " +
-        std::to_string(r.exact_evaluations) + " exact evaluations, " + number(r.seconds, 1) +
-        " s.\n";
+  md +=
+      "\nFiles: `worst-cameras.json` (the worst configuration found; `camplace evaluate SCENE "
+      "--cameras worst-cameras.json" +
+      std::string(exact ? " --pipeline exact" : "") +
+      "` with the same mode and resolution gives its Err), `samples.csv` (one row per random "
+      "sample), `robustness.json` (everything above). " +
+      std::to_string(r.voxel_evaluations) + " voxel and " + std::to_string(r.exact_evaluations) +
+      " exact evaluations, " + number(r.seconds, 1) + " s.\n";
   core::write_file_atomically((out / "robustness.md").string(), md);
 }
 

@@ -21,8 +21,8 @@ core::Scene scene_with_cameras(const core::Scene& scene, int count);
 /// The runs of one camera count, as their run files and exact checks found them.
 struct PlanRow {
   int cameras = 0;
-  int runs_planned = 0;              ///< R
-  int runs_done = 0;                 ///< finished run files (not interrupted)
+  int runs_planned = 0;               ///< R
+  int runs_done = 0;                  ///< finished run files (not interrupted)
   std::optional<unsigned> best_seed;  ///< the run of least voxel Err (ties: the lowest seed)
   std::string best_run_file;          ///< its path
   double voxel_err = 0.0;             ///< m², the best run's (the scene's FOV)

@@ -46,12 +46,12 @@ struct RobustnessOptions {
 
 /// One perturbed configuration.
 struct Perturbed {
-  std::string origin;           ///< "sample 17", "search (all cameras)", "search (camera 2)"
-  core::CameraConfig cameras;   ///< as re-read from `cameras_json`
-  std::string cameras_json;     ///< the camera file's text (core::camera_config_json, named
-                                ///< models): `evaluate --cameras` of it reads `cameras` exactly
-  double err = 0.0;             ///< m², by the samples' pipeline
-  double voxel_err = 0.0;       ///< m², voxel pipeline (the scene's FOV)
+  std::string origin;               ///< "sample 17", "search (all cameras)", "search (camera 2)"
+  core::CameraConfig cameras;       ///< as re-read from `cameras_json`
+  std::string cameras_json;         ///< the camera file's text (core::camera_config_json, named
+                                    ///< models): `evaluate --cameras` of it reads `cameras` exactly
+  double err = 0.0;                 ///< m², by the samples' pipeline
+  double voxel_err = 0.0;           ///< m², voxel pipeline (the scene's FOV)
   std::optional<double> exact_err;  ///< m², exact pipeline, when checked
   std::vector<double> moved_m;      ///< per camera: |position − planned position| (m)
   std::vector<double> turned;       ///< per camera: angle between the directions (radians)
@@ -69,17 +69,17 @@ struct RobustnessResult {
   double nominal_err = 0.0;  ///< m², the planned configuration by the samples' pipeline
   double nominal_voxel_err = 0.0;
   std::optional<double> nominal_exact_err;
-  double tolerance = 0.0;        ///< m², the scene's default (½ voxel diagonal)²
-  double err_lower_bound = 0.0;  ///< m², conservative voxel lower bound (0 in center mode)
+  double tolerance = 0.0;          ///< m², the scene's default (½ voxel diagonal)²
+  double err_lower_bound = 0.0;    ///< m², conservative voxel lower bound (0 in center mode)
   std::vector<Perturbed> samples;  ///< in order (fewer than asked after an interrupt)
-  double p95_err = 0.0;     ///< m²: the 95th percentile of the samples' Err (nearest rank)
-  double median_err = 0.0;  ///< m²
+  double p95_err = 0.0;            ///< m²: the 95th percentile of the samples' Err (nearest rank)
+  double median_err = 0.0;         ///< m²
   /// The worst configuration found by the samples' pipeline (samples and, for voxel, the
   /// search); an exact-checked one when the pipeline is exact.
   Perturbed worst;
-  std::optional<Perturbed> searched;           ///< the search's result over all cameras
-  std::vector<CameraSensitivity> per_camera;   ///< one per camera, in order
-  std::vector<Perturbed> exact_checked;        ///< worst first by their pipeline's Err
+  std::optional<Perturbed> searched;          ///< the search's result over all cameras
+  std::vector<CameraSensitivity> per_camera;  ///< one per camera, in order
+  std::vector<Perturbed> exact_checked;       ///< worst first by their pipeline's Err
   int voxel_evaluations = 0, exact_evaluations = 0;
   double seconds = 0.0;
   bool interrupted = false;
