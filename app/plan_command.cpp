@@ -324,7 +324,8 @@ void run_plan(const PlanArgs& args) {
       row.median_voxel_err = core::median(errs);
       row.median_evaluations = core::median(evaluations);
       row.median_seconds = core::median(seconds);
-      if (!stop.load()) {
+      // After a Ctrl-C the checks wait for the rerun (they are cached per run file).
+      if (!interrupted && !stop.load()) {
         std::cerr << "plan: exact check of the best run with " << n << " cameras\n";
         const compare::RunValidation check = checker.check(best_file);
         if (check.error.empty()) {
@@ -365,18 +366,27 @@ void run_plan(const PlanArgs& args) {
 
   std::printf("%7s %6s %9s %11s %11s %11s %10s\n", "cameras", "runs", "best", "voxel Err",
               "exact Err", "lower bnd", "tolerance");
+  const auto value = [](bool known, double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.5f", v);
+    return known ? std::string(text) : std::string("-");
+  };
   for (const compare::PlanRow& r : rows) {
-    std::printf("%7d %3d/%-2d %9s %11.5f %11s %11.5f %10.5f%s\n", r.cameras, r.runs_done,
-                r.runs_planned,
-                r.best_seed ? ("seed " + std::to_string(*r.best_seed)).c_str() : "-", r.voxel_err,
-                r.exact_err ? std::to_string(*r.exact_err).c_str() : "-", r.err_lower_bound,
-                r.tolerance, r.reached_exact() ? "  reached (exact)" : "");
+    const bool ran = r.best_seed.has_value();
+    std::printf("%7d %3d/%-2d %9s %11s %11s %11s %10.5f%s\n", r.cameras, r.runs_done,
+                r.runs_planned, ran ? ("seed " + std::to_string(*r.best_seed)).c_str() : "-",
+                value(ran, r.voxel_err).c_str(),
+                value(r.exact_err.has_value(), r.exact_err.value_or(0.0)).c_str(),
+                value(ran, r.err_lower_bound).c_str(), r.tolerance,
+                r.reached_exact() ? "  reached (exact)" : "");
   }
   const std::optional<int> recommended = compare::recommended_count(rows);
   if (recommended) {
     std::cout << "recommendation: " << *recommended
               << " cameras (the smallest count whose best configuration reaches the tolerance by "
-                 "its exact Err)\n";
+                 "its exact Err)"
+              << (compare::recommendation_is_final(rows) ? "" : "; provisional: runs are missing")
+              << "\n";
   } else {
     std::cout << "no count up to " << last
               << " cameras reaches the tolerance by its exact Err (best configuration of each "

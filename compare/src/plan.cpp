@@ -51,6 +51,15 @@ std::optional<int> recommended_count(const std::vector<PlanRow>& rows) {
   return best;
 }
 
+bool recommendation_is_final(const std::vector<PlanRow>& rows) {
+  const std::optional<int> recommended = recommended_count(rows);
+  for (const PlanRow& r : rows) {
+    if (recommended && r.cameras > *recommended) continue;
+    if (r.runs_done < r.runs_planned || !r.exact_err) return false;
+  }
+  return true;
+}
+
 void write_plan_report(const std::string& dir, const std::vector<PlanRow>& rows,
                        const PlanReport& report) {
   const std::optional<int> recommended = recommended_count(rows);
@@ -80,6 +89,7 @@ void write_plan_report(const std::string& dir, const std::vector<PlanRow>& rows,
   j["settings"] = report.settings;
   j["recommended_cameras"] =
       recommended ? nlohmann::ordered_json(*recommended) : nlohmann::ordered_json();
+  j["recommendation_final"] = recommendation_is_final(rows);
   j["interrupted"] = report.interrupted;
   j["missing_runs"] = report.missing;
   nlohmann::ordered_json counts = nlohmann::ordered_json::array();
@@ -158,7 +168,10 @@ void write_plan_report(const std::string& dir, const std::vector<PlanRow>& rows,
   if (recommended) {
     md << "**Recommendation: " << *recommended
        << " cameras**, the smallest count whose best configuration reaches the tolerance by its "
-          "exact Err.\n\n";
+          "exact Err"
+       << (recommendation_is_final(rows) ? ".\n\n"
+                                         : " (provisional: some runs or exact checks of the counts "
+                                           "up to it are missing).\n\n");
   } else {
     md << "**No count up to " << (rows.empty() ? 0 : rows.back().cameras)
        << " cameras reaches the tolerance by its exact Err** (best configuration of each count, "

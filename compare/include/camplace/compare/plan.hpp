@@ -50,6 +50,10 @@ struct PlanReport {
 /// The smallest count whose best configuration reaches the tolerance by its exact Err, if any.
 std::optional<int> recommended_count(const std::vector<PlanRow>& rows);
 
+/// True when every count up to the recommended one (or every count, when none is recommended)
+/// has all its runs and its exact check; otherwise the recommendation is provisional.
+bool recommendation_is_final(const std::vector<PlanRow>& rows);
+
 /// Writes DIR/plan.md, DIR/plan.csv, DIR/plan.json (with the provenance) and DIR/plan.png
 /// (exact Err, voxel Err, the lower bound and the tolerance against the camera count; gnuplot,
 /// its data and script beside it), each atomically. Throws std::runtime_error when a file cannot
