@@ -160,7 +160,8 @@ void run_plan(const PlanArgs& args) {
     int removed = 0;
     for (const char* sub : {"runs", "scenes"}) removed += fs::remove_all(out / sub, ec) > 0;
     compare::discard_validation(args.out);
-    for (const char* f : {"plan.md", "plan.csv", "plan.json", "plan.png", "plan.dat", "plan.gp"}) {
+    for (const char* f : {"plan.md", "plan.csv", "plan.json", "plan.png", "plan.dat", "plan.gp",
+                          "plan_cost.png", "plan_cost.gp"}) {
       fs::remove(out / f, ec);
     }
     std::cout << "restart: discarded the runs, scenes, exact checks and report in " << args.out
@@ -293,6 +294,7 @@ void run_plan(const PlanArgs& args) {
   for (int n = first; n <= last; ++n) {
     compare::PlanRow row;
     row.cameras = n;
+    row.cost = compare::cameras_cost(compare::scene_with_cameras(scene, n));
     row.runs_planned = args.runs;
     std::vector<double> errs, evaluations, seconds;
     std::optional<optimize::RunFile> best;

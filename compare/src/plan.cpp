@@ -43,6 +43,15 @@ core::Scene scene_with_cameras(const core::Scene& scene, int count) {
   return out;
 }
 
+std::optional<double> cameras_cost(const core::Scene& scene) {
+  double total = 0.0;
+  for (const core::CameraModel& m : scene.cameras.models) {
+    if (!m.cost) return std::nullopt;
+    total += *m.cost;
+  }
+  return total;
+}
+
 std::optional<int> recommended_count(const std::vector<PlanRow>& rows) {
   std::optional<int> best;
   for (const PlanRow& r : rows) {
@@ -65,12 +74,12 @@ void write_plan_report(const std::string& dir, const std::vector<PlanRow>& rows,
   const std::optional<int> recommended = recommended_count(rows);
 
   std::ostringstream csv;
-  csv << "cameras,runs_planned,runs_done,best_seed,voxel_err,voxel_err_pyramid,exact_err,"
+  csv << "cameras,cost,runs_planned,runs_done,best_seed,voxel_err,voxel_err_pyramid,exact_err,"
          "err_lower_bound,tolerance,reached_exact,max_overestimate_m,median_voxel_err,"
          "median_evaluations,median_seconds,recommended\n";
   for (const PlanRow& r : rows) {
-    csv << r.cameras << "," << r.runs_planned << "," << r.runs_done << ","
-        << (r.best_seed ? std::to_string(*r.best_seed) : "") << ","
+    csv << r.cameras << "," << (r.cost ? g(*r.cost) : "") << "," << r.runs_planned << ","
+        << r.runs_done << "," << (r.best_seed ? std::to_string(*r.best_seed) : "") << ","
         << (r.best_seed ? g(r.voxel_err) : "") << "," << (r.exact_err ? g(r.voxel_err_pyramid) : "")
         << "," << (r.exact_err ? g(*r.exact_err) : "") << "," << g(r.err_lower_bound) << ","
         << g(r.tolerance) << "," << (r.exact_err ? (r.reached_exact() ? "1" : "0") : "") << ","
@@ -96,6 +105,7 @@ void write_plan_report(const std::string& dir, const std::vector<PlanRow>& rows,
   for (const PlanRow& r : rows) {
     nlohmann::ordered_json c;
     c["cameras"] = r.cameras;
+    c["cost"] = r.cost ? nlohmann::ordered_json(*r.cost) : nullptr;
     c["runs_planned"] = r.runs_planned;
     c["runs_done"] = r.runs_done;
     c["best_run"] = r.best_seed ? nlohmann::ordered_json(r.best_run_file) : nullptr;
@@ -114,14 +124,17 @@ void write_plan_report(const std::string& dir, const std::vector<PlanRow>& rows,
 
   // The plot: one block per series, count against Err (log scale).
   std::ostringstream dat;
-  dat << "# cameras exact_err voxel_err lower_bound tolerance (m²)\n";
+  dat << "# cameras exact_err voxel_err lower_bound tolerance (m²) cost\n";
+  bool costs = !rows.empty();
+  for (const PlanRow& r : rows) costs = costs && r.cost.has_value();
   bool any = false;
   double lo = 1e300, hi = 0.0;
   for (const PlanRow& r : rows) {
     if (!r.best_seed) continue;
     const double exact = r.exact_err ? *r.exact_err : std::nan("");
     dat << r.cameras << " " << (r.exact_err ? g(exact) : "NaN") << " " << g(r.voxel_err) << " "
-        << g(r.err_lower_bound) << " " << g(r.tolerance) << "\n";
+        << g(r.err_lower_bound) << " " << g(r.tolerance) << " " << (r.cost ? g(*r.cost) : "NaN")
+        << "\n";
     for (const double v : {exact, r.voxel_err, r.err_lower_bound, r.tolerance}) {
       if (std::isfinite(v) && v > 0.0) {
         lo = std::min(lo, v);
@@ -136,7 +149,8 @@ void write_plan_report(const std::string& dir, const std::vector<PlanRow>& rows,
     const std::string file = detail::gnuplot_string(dat_file);
     std::ostringstream cmd;
     cmd << "set title 'Best configuration per camera count'\n"
-        << "set xlabel 'cameras'\nset ylabel 'Err [m²] (log scale)'\nset logscale y\n"
+        << "set xlabel 'cameras'\nset ylabel 'Err [m²] (log scale)'\nset logscale y\nset format y "
+           "'%g'\n"
         << "set yrange [" << g(lo / 3) << ":" << g(hi * 3) << "]\nset xtics 1\nset grid\n"
         << "set key outside right top box\nset offsets 0.3, 0.3, 0, 0\n"
         << "plot " << file << " using 1:2 with linespoints pt 7 lw 2 title 'exact Err', " << file
@@ -153,6 +167,20 @@ void write_plan_report(const std::string& dir, const std::vector<PlanRow>& rows,
     }
     cmd << "\n";
     detail::gnuplot_png(dir + "/plan.png", cmd.str());
+    if (costs) {
+      std::ostringstream by_cost;
+      by_cost << "set title 'Best configuration per camera count, against its cost'\n"
+              << "set xlabel 'total cost of the cameras'\nset ylabel 'Err [m²] (log scale)'\n"
+              << "set logscale y\nset format y '%g'\nset yrange [" << g(lo / 3) << ":" << g(hi * 3)
+              << "]\nset grid\nset key outside right top box\nset offsets graph 0.05, graph "
+                 "0.05, 0, 0\n"
+              << "plot " << file
+              << " using 6:2 with linespoints pt 7 lw 2 title 'exact Err', '' using "
+                 "6:2:(sprintf('%d', $1)) with labels offset 0,1 notitle, "
+              << file << " using 6:3 with linespoints pt 5 title 'voxel Err', " << file
+              << " using 6:5 with lines dt 3 lw 2 title 'tolerance'\n";
+      detail::gnuplot_png(dir + "/plan_cost.png", by_cost.str());
+    }
   }
 
   std::ostringstream md;
@@ -177,12 +205,12 @@ void write_plan_report(const std::string& dir, const std::vector<PlanRow>& rows,
        << " cameras reaches the tolerance by its exact Err** (best configuration of each count, "
           "within the budget above).\n\n";
   }
-  md << "| cameras | runs | best run | voxel Err [m²] | exact Err [m²] | lower bound [m²] | "
+  md << "| cameras | cost | runs | best run | voxel Err [m²] | exact Err [m²] | lower bound [m²] | "
         "tolerance [m²] | reached (exact) | largest over-estimate [m] | median voxel Err [m²] | "
-        "median evaluations |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "median evaluations |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const PlanRow& r : rows) {
     md << "| " << r.cameras << (recommended && *recommended == r.cameras ? " ←" : "") << " | "
-       << r.runs_done << "/" << r.runs_planned << " | "
+       << (r.cost ? g(*r.cost) : "–") << " | " << r.runs_done << "/" << r.runs_planned << " | "
        << (r.best_seed ? "seed " + std::to_string(*r.best_seed) : "–") << " | "
        << (r.best_seed ? num(r.voxel_err) : "–") << " | "
        << (r.exact_err ? num(*r.exact_err)
@@ -200,6 +228,10 @@ void write_plan_report(const std::string& dir, const std::vector<PlanRow>& rows,
         "> 0 would mean the voxel model over-estimated a distance (never in conservative "
         "mode).\n\n";
   if (any) md << "![Err against the camera count](plan.png)\n\n";
+  if (any && costs) md << "![Err against the cameras' total cost](plan_cost.png)\n\n";
+  if (!costs) {
+    md << "Cost: not every camera model of the scene has a `cost`, so no cost is shown.\n\n";
+  }
   if (!report.missing.empty()) {
     md << "Missing runs (" << report.missing.size() << "):";
     for (const std::string& m : report.missing) md << " " << m << ";";

@@ -62,7 +62,8 @@ bool CameraSpec::one_model() const {
     if (m.name != models.front().name || m.fov != models.front().fov ||
         m.half_angle != models.front().half_angle || m.sides != models.front().sides ||
         m.horizontal != models.front().horizontal || m.vertical != models.front().vertical ||
-        m.near != models.front().near || m.range != models.front().range) {
+        m.near != models.front().near || m.range != models.front().range ||
+        m.cost != models.front().cost) {
       return false;
     }
   }

@@ -191,11 +191,17 @@ CameraModel SceneParser::parse_model(const JsonNode& node) {
     if (node.has("sides")) m.sides = node.at("sides").integer_in(3, 1024);
   }
   if (node.has("range")) parse_range(node.at("range"), m);
+  if (node.has("cost")) {
+    const JsonNode cost = node.at("cost");
+    m.cost = cost.number();
+    if (!(*m.cost >= 0.0) || !std::isfinite(*m.cost))
+      cost.fail("cost must be a finite number >= 0");
+  }
   return m;
 }
 
 void SceneParser::parse_cameras(const JsonNode& node) {
-  node.only_keys({"count", "half_angle_deg", "fov", "sides", "range", "horizontal_deg",
+  node.only_keys({"count", "half_angle_deg", "fov", "sides", "range", "cost", "horizontal_deg",
                   "vertical_deg", "models", "list", "domain", "camera_domains", "mounts", "mount",
                   "keep_out"});
   CameraSpec& c = scene_.cameras;
@@ -226,7 +232,7 @@ void SceneParser::parse_cameras(const JsonNode& node) {
     c.models.assign(c.count, parse_model(node));
   } else {
     for (const char* key :
-         {"half_angle_deg", "fov", "sides", "range", "horizontal_deg", "vertical_deg"}) {
+         {"half_angle_deg", "fov", "sides", "range", "cost", "horizontal_deg", "vertical_deg"}) {
       if (node.has(key)) {
         node.at(key).fail(std::string(key) +
                           " belongs in a model of \"models\" when \"models\" is given");
@@ -239,7 +245,7 @@ void SceneParser::parse_cameras(const JsonNode& node) {
     for (std::size_t i = 0; i < list.array_size(); ++i) {
       const JsonNode m = list.at(i);
       m.only_keys({"name", "fov", "half_angle_deg", "sides", "horizontal_deg", "vertical_deg",
-                   "range", "count"});
+                   "range", "cost", "count"});
       CameraModel model = parse_model(m);
       const JsonNode name = m.at("name");
       model.name = name.string();

@@ -115,6 +115,7 @@ void add_model_json(Json& j, const CameraModel& m) {
   } else if (m.range) {
     j["range"] = *m.range;
   }
+  if (m.cost) j["cost"] = *m.cost;
 }
 
 Json cameras_json(const Scene& scene) {

@@ -1,11 +1,15 @@
 // `camplace robustness` and `camplace plan` as a user runs them: bad input refused before any
 // work, zero tolerance, the perturbation bound, the worst case reproduced by `evaluate`, and a
 // plan's recommendation checked against separately run `optimize` and `evaluate`.
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -14,10 +18,13 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "camplace/compare/plan.hpp"
+#include "camplace/core/error.hpp"
 #include "camplace/core/scene.hpp"
+#include "camplace/core/scene_writer.hpp"
 #include "command.hpp"
 
 namespace camplace::testing {
@@ -259,6 +266,43 @@ TEST(PlanScenes, CamerasAreCycled) {
   }
 }
 
+/// The tutorial cell with `cost` in its camera block (the single-model form), as a file.
+fs::path cell_with_cost(const std::string& cost) {
+  nlohmann::json scene = read_json(kCell);
+  scene["cameras"]["cost"] = nlohmann::json::parse(cost);
+  const fs::path file =
+      fs::temp_directory_path() / ("camplace-cost-" + std::to_string(::getpid()) + ".json");
+  std::ofstream(file) << scene.dump(1);
+  return file;
+}
+
+// A camera model's optional cost: read, written back by the scene writer, refused when negative,
+// and summed per count by plan, which then plots Err against it.
+TEST(PlanScenes, CostIsReadWrittenAndSummed) {
+  const fs::path file = cell_with_cost("250.5");
+  const core::Scene scene = core::load_scene(file.string());
+  ASSERT_TRUE(scene.cameras.models.front().cost.has_value());
+  EXPECT_EQ(*scene.cameras.models.front().cost, 250.5);
+  EXPECT_EQ(*compare::cameras_cost(compare::scene_with_cameras(scene, 3)), 3 * 250.5);
+  EXPECT_EQ(nlohmann::json::parse(core::scene_text(scene))["cameras"]["cost"].get<double>(), 250.5);
+  const core::Scene without = core::load_scene(kCell);
+  EXPECT_FALSE(compare::cameras_cost(without).has_value());
+  for (const char* bad : {"-1", "\"cheap\""}) {
+    const fs::path b = cell_with_cost(bad);
+    EXPECT_THROW(core::load_scene(b.string()), core::InputError) << bad;
+  }
+  const fs::path out = fresh_dir("plan-cost");
+  const CommandResult r = run("plan " + file.string() + " --counts 1..2 --runs 1 --max-evals 100 " +
+                              "--threads 1 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto rows = read_csv(out / "plan.csv");
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(std::stod(rows[0].at("cost")), 250.5);
+  EXPECT_EQ(std::stod(rows[1].at("cost")), 501.0);
+  EXPECT_TRUE(fs::exists(out / "plan_cost.png"));
+  fs::remove(file);
+}
+
 // A tiny plan: 1..3 cameras of the tutorial cell, 2 runs of 1,500 evaluations each. Every
 // count's best run is what `optimize` gives on the written scene alone, its exact Err what
 // `evaluate --pipeline exact` gives, and the recommendation the smallest count whose exact Err
@@ -317,6 +361,57 @@ TEST(PlanCommand, RecommendsTheSmallestCountThatReachesTheToleranceByExactErr) {
   ASSERT_EQ(again.exit_code, 0) << again.output;
   EXPECT_EQ(again.output.find("plan: 1 cameras seed"), std::string::npos) << again.output;
   EXPECT_EQ(read_text(out / "plan.csv"), csv);
+}
+
+// Ctrl-C (SIGINT to the process group, as a terminal sends it) keeps the finished runs and ends
+// with exit status 130; the same command then runs only the missing ones.
+TEST(PlanCommand, InterruptedPlanResumesWithoutRepeatingRuns) {
+  const fs::path out = fresh_dir("plan-int");
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    setpgid(0, 0);
+    const int devnull = ::open("/dev/null", O_WRONLY);
+    ::dup2(devnull, STDOUT_FILENO);
+    ::dup2(devnull, STDERR_FILENO);
+    execl(CAMPLACE_BINARY, CAMPLACE_BINARY, "plan", kCell.c_str(), "--counts", "1..3", "--runs",
+          "2", "--max-evals", "4000", "--threads", "1", "--out", out.c_str(),
+          static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  setpgid(pid, pid);
+  const auto start = std::chrono::steady_clock::now();
+  while (!fs::exists(out / "runs/1/run-1.json") &&
+         std::chrono::steady_clock::now() - start < std::chrono::seconds(60)) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  kill(-pid, SIGINT);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  int finished = 0;
+  for (const auto& e : fs::recursive_directory_iterator(out / "runs")) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind("run-", 0) == 0 &&
+        read_json(e.path())["stop_reason"].get<std::string>() != "interrupted") {
+      ++finished;
+    }
+  }
+  ASSERT_GE(finished, 1);
+  ASSERT_LT(finished, 6) << "the plan finished before the interrupt; the test proves nothing";
+  const CommandResult resumed =
+      run("plan " + kCell + " --counts 1..3 --runs 2 --max-evals 4000 --threads 1 --out " +
+          out.string());
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_NE(resumed.output.find("(1 of " + std::to_string(6 - finished) + ")"), std::string::npos)
+      << resumed.output;
+  for (const auto& c : read_json(out / "plan.json")["counts"]) {
+    EXPECT_EQ(c["runs_done"].get<int>(), 2);
+    EXPECT_FALSE(c["exact_err"].is_null());
+  }
+  EXPECT_TRUE(read_json(out / "plan.json")["recommendation_final"].get<bool>());
 }
 
 }  // namespace

@@ -18,9 +18,15 @@ namespace camplace::compare {
 /// unchanged.
 core::Scene scene_with_cameras(const core::Scene& scene, int count);
 
+/// The total cost of the scene's cameras (Σ of their models' `cost`), none unless every model
+/// has one.
+std::optional<double> cameras_cost(const core::Scene& scene);
+
 /// The runs of one camera count, as their run files and exact checks found them.
 struct PlanRow {
   int cameras = 0;
+  /// The cameras' total cost (Σ of their models' `cost`), none unless every model has one.
+  std::optional<double> cost;
   int runs_planned = 0;               ///< R
   int runs_done = 0;                  ///< finished run files (not interrupted)
   std::optional<unsigned> best_seed;  ///< the run of least voxel Err (ties: the lowest seed)
@@ -56,7 +62,8 @@ bool recommendation_is_final(const std::vector<PlanRow>& rows);
 
 /// Writes DIR/plan.md, DIR/plan.csv, DIR/plan.json (with the provenance) and DIR/plan.png
 /// (exact Err, voxel Err, the lower bound and the tolerance against the camera count; gnuplot,
-/// its data and script beside it), each atomically. Throws std::runtime_error when a file cannot
+/// its data and script beside it) and, when every count has a cost, DIR/plan_cost.png (the same
+/// against the total cost), each atomically. Throws std::runtime_error when a file cannot
 /// be written or gnuplot fails.
 void write_plan_report(const std::string& dir, const std::vector<PlanRow>& rows,
                        const PlanReport& report);

@@ -90,6 +90,9 @@ struct CameraModel {
   double vertical = 0.0;        ///< frustum: full vertical opening angle, radians in (0, π)
   double near = 0.0;            ///< axial near plane in metres, 0 = none
   std::optional<double> range;  ///< axial far plane in metres, none = unlimited
+  /// Price of one camera of this model (`cost`, in any one unit: the scene's models share it),
+  /// none = not given. Only `camplace plan` uses it (Err against the cameras' total cost).
+  std::optional<double> cost;
   /// Half angle (radians, < π/2) of the narrowest circular cone about the axis that holds the
   /// FOV: α for a cone or pyramid, atan(√(tan²(H/2) + tan²(V/2))) for a frustum.
   double bounding_half_angle() const;
