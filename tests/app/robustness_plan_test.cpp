@@ -13,6 +13,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -270,8 +271,9 @@ TEST(PlanScenes, CamerasAreCycled) {
 fs::path cell_with_cost(const std::string& cost) {
   nlohmann::json scene = read_json(kCell);
   scene["cameras"]["cost"] = nlohmann::json::parse(cost);
-  const fs::path file =
-      fs::temp_directory_path() / ("camplace-cost-" + std::to_string(::getpid()) + ".json");
+  const fs::path file = fs::temp_directory_path() /
+                        ("camplace-cost-" + std::to_string(std::hash<std::string>{}(cost)) + "-" +
+                         std::to_string(::getpid()) + ".json");
   std::ofstream(file) << scene.dump(1);
   return file;
 }
@@ -290,6 +292,7 @@ TEST(PlanScenes, CostIsReadWrittenAndSummed) {
   for (const char* bad : {"-1", "\"cheap\""}) {
     const fs::path b = cell_with_cost(bad);
     EXPECT_THROW(core::load_scene(b.string()), core::InputError) << bad;
+    fs::remove(b);
   }
   const fs::path out = fresh_dir("plan-cost");
   const CommandResult r = run("plan " + file.string() + " --counts 1..2 --runs 1 --max-evals 100 " +
