@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <thread>
 
@@ -10,6 +11,7 @@
 #include "camplace/core/camera.hpp"
 #include "camplace/core/error.hpp"
 #include "camplace/core/files.hpp"
+#include "camplace/core/json_reader.hpp"
 #include "camplace/core/provenance.hpp"
 #include "camplace/core/scene.hpp"
 #include "camplace/jobs/interrupt.hpp"
@@ -55,6 +57,17 @@ void run_robustness(const RobustnessArgs& args) {
   // its domains, mounts and keep-out boxes (what the optimizer asks of a start file).
   const core::CameraConfig planned = core::load_camera_config(args.cameras, scene);
   optimize::check_inside_domains(planned, scene, args.cameras);
+  // A run file records the scene it was made for: another scene's run is refused (as validate
+  // refuses it), even with the same camera count.
+  const core::Provenance provenance = core::make_provenance(scene);
+  {
+    const nlohmann::json doc = core::read_json_file(args.cameras);
+    const core::JsonNode root(doc, args.cameras, "");
+    if (root.has("provenance")) {
+      core::check_same_scene(core::provenance_from_json(root.at("provenance")).scene,
+                             provenance.scene, args.scene, args.cameras);
+    }
+  }
 
   compare::RobustnessOptions options;
   options.position_tol = args.position_tol;
@@ -90,7 +103,7 @@ void run_robustness(const RobustnessArgs& args) {
   compare::RobustnessReport report;
   report.command = command_line(args);
   report.cameras_file = args.cameras;
-  report.provenance = core::make_provenance(scene);
+  report.provenance = provenance;
   const compare::RobustnessResult result = compare::analyse_robustness(scene, planned, options);
   progress.finish();
   if (result.samples.empty()) {

@@ -116,6 +116,17 @@ TEST(RobustnessCommand, BadTolerancesAndCameraFilesAreRefusedBeforeAnythingStart
                      " --position-tol 0.01 --angle-tol 1 --out " + out.string(),
                  out, "outside the placement domain");
   fs::remove(low);
+  // A run file made for another scene (paper_basic's), its cameras those of the tutorial cell.
+  const fs::path other = fresh_dir("robustness-other");
+  const CommandResult o = run("optimize " + kSource + "data/paper_basic.json --max-evals 50 " +
+                              "--quiet --threads 1 --out " + other.string());
+  ASSERT_EQ(o.exit_code, 0) << o.output;
+  nlohmann::json runfile = read_json(other / "run-1.json");
+  runfile["cameras"] = read_json(kCellCameras)["cameras"];
+  std::ofstream(other / "run-x.json") << runfile.dump(1);
+  expect_refused("robustness " + kCell + " --cameras " + (other / "run-x.json").string() +
+                     " --position-tol 0.01 --angle-tol 1 --out " + out.string(),
+                 out, "changed");
 }
 
 // Zero tolerance: every perturbed configuration is the planned one, so every sample, the search
