@@ -111,15 +111,28 @@ class Analyser {
     std::vector<const Perturbed*> candidates;
     for (const Perturbed& p : result.samples) candidates.push_back(&p);
 
-    // The worst-case search over all cameras, from the sample worst by the voxel Err.
+    // The worst-case search over all cameras, from the samples worst by the voxel Err (up to
+    // kStarts of them, worst first, sharing the budget): the voxel Err is piecewise constant,
+    // so one ascent often ends on its first plateau.
     if (options_.search_evaluations > 0 && !result.samples.empty() && !stopped()) {
-      std::size_t start = 0;
-      for (std::size_t k = 1; k < result.samples.size(); ++k) {
-        if (result.samples[k].voxel_err > result.samples[start].voxel_err) start = k;
-      }
+      constexpr std::size_t kStarts = 5;
+      std::vector<std::size_t> order(result.samples.size());
+      for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+      std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        return result.samples[a].voxel_err > result.samples[b].voxel_err;
+      });
       std::vector<bool> all(planned_.size(), true);
-      result.searched = search(sample_offsets_[start], result.samples[start], all,
-                               options_.search_evaluations, "search (all cameras)");
+      int remaining = options_.search_evaluations;
+      for (std::size_t k = 0; k < std::min(kStarts, order.size()) && remaining > 0 && !stopped();
+           ++k) {
+        int used = 0;
+        Perturbed found = search(sample_offsets_[order[k]], result.samples[order[k]], all,
+                                 remaining, "search (all cameras)", &used);
+        remaining -= used;
+        if (!result.searched || found.voxel_err > result.searched->voxel_err) {
+          result.searched = std::move(found);
+        }
+      }
       candidates.push_back(&*result.searched);
     }
 
@@ -147,8 +160,9 @@ class Analyser {
       if (camera_budget > 0 && !stopped()) {
         std::vector<bool> only(planned_.size(), false);
         only[j] = true;
+        int used = 0;
         Perturbed searched = search(worst_offsets, *worst, only, camera_budget,
-                                    "search (camera " + std::to_string(j) + ")");
+                                    "search (camera " + std::to_string(j) + ")", &used);
         if (searched.voxel_err > worst->voxel_err) worst = std::move(searched);
       }
       worst->origin = "worst with camera " + std::to_string(j) + " alone (" + worst->origin + ")";
@@ -337,9 +351,10 @@ class Analyser {
   /// Coordinate ascent on the voxel Err over the offsets of the cameras in `which`: each
   /// coordinate (dx, dy, dz, tilt a, tilt b, roll) in turn moves by ± a step (the tolerance,
   /// then half, then a quarter of it), projected onto the tolerance balls; a move is kept when
-  /// the Err strictly increases; sweeps repeat while one does, within `budget` evaluations.
+  /// the Err strictly increases; sweeps repeat while one does, within `budget` evaluations
+  /// (those used in `evaluations`).
   Perturbed search(Offsets current, Perturbed best, const std::vector<bool>& which, int budget,
-                   const std::string& origin) {
+                   const std::string& origin, int* evaluations) {
     int used = 0;
     const double p_tol = options_.position_tol, a_tol = options_.angle_tol;
     for (const double fraction : {1.0, 0.5, 0.25}) {
@@ -383,6 +398,7 @@ class Analyser {
       }
     }
     best.origin = origin;
+    *evaluations = used;
     return best;
   }
 
