@@ -258,6 +258,27 @@ TEST(RobustnessCommand, EvaluateReproducesTheWorstCase) {
   EXPECT_FALSE(j["provenance"]["scene_sha256"].get<std::string>().empty());
 }
 
+// --pipeline exact: every sample's Err is the exact one, and the worst is reproduced by
+// `evaluate --pipeline exact`.
+TEST(RobustnessCommand, ExactPipelineSamplesAreExactAndTheWorstIsReproduced) {
+  const fs::path out = fresh_dir("robustness-exact");
+  const CommandResult r = run("robustness " + kCell + " --cameras " + kCellCameras +
+                              " --position-tol 0.05 --angle-tol 3 --samples 4 --search-evals 20 "
+                              "--pipeline exact --out " +
+                              out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json j = read_json(out / "robustness.json");
+  for (const auto& row : read_csv(out / "samples.csv")) {
+    ASSERT_FALSE(row.at("exact_err").empty());
+    EXPECT_EQ(row.at("err"), row.at("exact_err"));
+  }
+  const CommandResult x = run("evaluate " + kCell + " --cameras " +
+                              (out / "worst-cameras.json").string() + " --pipeline exact --json");
+  ASSERT_EQ(x.exit_code, 0) << x.output;
+  EXPECT_EQ(nlohmann::json::parse(x.output)["err"].get<double>(), j["worst"]["err"].get<double>());
+  EXPECT_EQ(j["worst"]["err"].get<double>(), j["worst"]["exact_err"].get<double>());
+}
+
 // The cycled scenes: camera i of the catalogue cell with n cameras has the model and domain of
 // the cell's camera i mod 4.
 TEST(PlanScenes, CamerasAreCycled) {
