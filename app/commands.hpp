@@ -23,5 +23,6 @@ void register_compare_command(CLI::App& app);
 void register_compare_optimizer_command(CLI::App& app);
 void register_validate_command(CLI::App& app);
 void register_study_command(CLI::App& app);
+void register_serve_command(CLI::App& app);
 
 }  // namespace camplace::app
