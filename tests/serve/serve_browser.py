@@ -13,9 +13,12 @@ Chromium (Debian's `chromium`, software WebGL) through the DevTools protocol ove
      and printed;
   4. the configuration is saved from the page and `camplace evaluate --json` of the saved file
      gives exactly the Err the page shows (and the same 6-decimal text);
-  5. an optimisation is started from the page, streams progress, and is cancelled;
-  6. undo returns to the saved configuration;
-  7. SIGINT stops the server cleanly (exit 0, "no unsaved changes").
+  5. "check exactly" is cancelled after its first state, then run to the end: its exact Err
+     is that of `camplace evaluate --pipeline both`;
+  6. an optimisation is started from the page, streams progress, and is cancelled; the page
+     shows its result;
+  7. undo returns to the saved configuration;
+  8. SIGINT stops the server cleanly (exit 0, "no unsaved changes").
 Screenshots before and after the move are kept (--artifacts).
 """
 import argparse
@@ -247,9 +250,9 @@ def main():
         time.sleep(0.3)
         browser.screenshot(os.path.join(args.artifacts, "serve-before.png"))
 
-        # Move camera 0 by (+0.5, +0.25, -0.2) m with the fields, then time more moves.
-        target = [start["position"][0] + 0.5, start["position"][1] + 0.25,
-                  start["position"][2] - 0.2]
+        # Move camera 0 by (+2, 0, -0.5) m with the fields (Err changes), then time more moves.
+        start_err = s["err"]
+        target = [start["position"][0] + 2.0, start["position"][1], start["position"][2] - 0.5]
 
         def move(position):
             before = browser.status()["updates"]
@@ -264,6 +267,8 @@ def main():
             fail("camera 0 is at %s (snapped: %r), sent to %s" % (got, s["cameras"][0]["snapped"], target))
         moved_err = s["err"]
         print("moved camera 0 to %s: Err %s (%s)" % (target, moved_err, s["errText"]))
+        if moved_err == start_err:
+            fail("the move left Err at %s" % moved_err)
         times, splits = [], []
         for i in range(args.moves):
             step = [target[0] + 0.02 * ((i % 5) + 1), target[1], target[2]]
@@ -303,11 +308,44 @@ def main():
             fail("the saved file evaluates to Err %r (%s), the page shows %r (%s)"
                  % (evaluated, err_line, moved_err, s["errText"]))
 
-        # Optimise from here, then cancel.
+        # Check exactly: cancel the first, let the second finish; its exact Err is the one of
+        # `camplace evaluate --pipeline both` of the saved file.
+        browser.click("check-exact")
+        s = browser.wait("the first exact state",
+                         lambda s: s.get("job") and len(s["job"].get("states", [])) >= 1)
+        browser.click("cancel")
+        s = browser.wait("the cancelled exact check",
+                         lambda s: s["job"].get("state") not in (None, "running"), timeout=60)
+        if s["job"]["state"] != "cancelled" or len(s["job"]["result"]["states"]) >= 6:
+            fail("the exact check ended with %s after %d states, not cancelled"
+                 % (s["job"]["state"], len(s["job"]["result"]["states"])))
+        print("check exactly cancelled after %d of 6 states" % len(s["job"]["result"]["states"]))
+        browser.click("check-exact")
+        s = browser.wait("the exact check", lambda s: s["job"].get("state") == "finished"
+                         and s["job"]["kind"] == "check exactly", timeout=120)
+        exact = s["job"]["result"]
+        both = subprocess.run(
+            [args.camplace, "evaluate", args.scene, "--cameras", saved, "--resolution",
+             args.resolution, "--pipeline", "both", "--json"], stdout=subprocess.PIPE, text=True)
+        both = json.loads(both.stdout)
+        print("check exactly: exact Err %r, voxel Err %r (%.1f s); camplace evaluate --pipeline "
+              "both: exact %r, voxel %r" % (exact["exact_err"], exact["voxel_err"],
+                                            exact["seconds"], both["exact"]["err"],
+                                            both["voxel"]["err"]))
+        if abs(exact["exact_err"] - both["exact"]["err"]) > 1e-12 or \
+                exact["voxel_err"] != both["voxel"]["err"]:
+            fail("check exactly differs from camplace evaluate --pipeline both")
+        for mine, theirs in zip(exact["states"], both["exact"]["states"]):
+            if abs(mine["d_model_exact"] - theirs["d_model"]) > 1e-12:
+                fail("state %s: exact d_model %r, evaluate %r" % (mine, mine["d_model_exact"],
+                                                                  theirs["d_model"]))
+
+        # Optimise from here, follow it, then cancel.
         browser.type_into("opt-seconds", "60")
         browser.click("optimise")
         s = browser.wait("optimisation progress",
-                         lambda s: s.get("job") and s["job"].get("progress", {}).get("evaluations", 0) > 0)
+                         lambda s: s.get("job") and s["job"]["kind"] == "optimise" and
+                         s["job"].get("progress", {}).get("evaluations", 0) >= 100)
         print("optimising: %s" % json.dumps(s["job"]["progress"]))
         started = time.time()
         browser.click("cancel")
@@ -319,14 +357,15 @@ def main():
                  result["err"], time.time() - started))
         if result["status"] != "cancelled" or result["stop_reason"] != "interrupted":
             fail("the optimisation ended with %s (%s), not cancelled" % (result["status"], result["stop_reason"]))
+        if not result["err"] <= result["start_err"]:
+            fail("the optimisation made Err worse: %s -> %s" % (result["start_err"], result["err"]))
+        s = browser.wait("the page showing the optimiser's result",
+                         lambda s: s["err"] == result["err"])
         code, _ = request(base + "/api/view?state=0", token_header=token)
         if code != 200:
             fail("the server does not answer after the cancel (HTTP %d)" % code)
 
         # Undo goes back to the saved configuration.
-        before = browser.status()["updates"]
-        browser.wait("the view after the optimisation", lambda s: s["updates"] > before - 1)
-        time.sleep(0.3)
         before = browser.status()["updates"]
         browser.click("undo")
         s = browser.wait("the undo", lambda s: s["updates"] > before)
