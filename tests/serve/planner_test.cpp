@@ -140,6 +140,17 @@ TEST(Planner, AddedCamerasAreSavedWithTheirSceneAndEvaluateTheSame) {
   EXPECT_EQ(planner.view(0)["err"].get<double>(), seven["err"].get<double>());
   EXPECT_FALSE(planner.view(0)["dirty"].get<bool>());
   EXPECT_EQ(planner.save_unsaved(), "");
+  // A change after the save: written as unsaved-<time>.json (with its scene), Err as shown.
+  json cams = entries(planner.view(0));
+  cams[6]["position"] = {2.0, 1.5, 2.0};
+  const double shown = planner.update({{"cameras", cams}})["err"].get<double>();
+  const std::string unsaved = planner.save_unsaved();
+  ASSERT_EQ(unsaved.rfind(out + "/unsaved-", 0), 0u) << unsaved;
+  const std::string unsaved_scene = unsaved.substr(0, unsaved.size() - 5) + ".scene.json";
+  const core::Scene reread = core::load_scene(unsaved_scene);
+  EXPECT_EQ(
+      voxel::VoxelEvaluator(reread, o).evaluate(core::load_camera_config(unsaved, reread)).err,
+      shown);
 }
 
 TEST(Planner, BadRequestsAreInputErrorsNamingTheEntry) {

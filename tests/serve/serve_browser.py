@@ -10,7 +10,8 @@ Chromium (Debian's `chromium`, software WebGL) through the DevTools protocol ove
   2. camera 0 is moved by a known amount with the page's fields (typed with key events, applied
      with a mouse click); the update arrives with the camera where it was sent;
   3. the round trip (change sent → frame drawn with the answer) is measured over --moves moves
-     and printed;
+     and printed; then camera 0 is dragged along the x arrow of the TransformControls gizmo with
+     mouse events: only x changes;
   4. the configuration is saved from the page and `camplace evaluate --json` of the saved file
      gives exactly the Err the page shows (and the same 6-decimal text);
   5. "check exactly" is cancelled after its first state, then run to the end: its exact Err
@@ -284,6 +285,52 @@ def main():
                  ", ".join("%s %.1f ms" % (k, statistics.median(x[k] for x in splits))
                            for k in ("server", "transfer", "draw", "frame")),
                  open("/proc/loadavg").read().split()[0]))
+
+        # Drag camera 0 along the gizmo's x arrow with real mouse events: x changes, y, z and
+        # the angles stay, and each step of the drag is answered.
+        centre = browser.js("camplacePlanner.project(%s)" % json.dumps(target))
+        ahead = browser.js("camplacePlanner.project(%s)" % json.dumps([target[0] + 0.1] + target[1:]))
+        direction = [ahead[0] - centre[0], ahead[1] - centre[1]]
+        norm = (direction[0] ** 2 + direction[1] ** 2) ** 0.5
+        direction = [direction[0] / norm, direction[1] / norm]
+        handle = None
+        # The gizmo draws the x arrow on the side of +x or of -x (it flips arrows that point
+        # away from the viewer): look on both sides, nearest first.
+        for t in [sign * r for r in range(8, 200, 4) for sign in (1, -1)]:
+            point = [centre[0] + t * direction[0], centre[1] + t * direction[1]]
+            browser.call("Input.dispatchMouseEvent", {"type": "mouseMoved", "x": point[0], "y": point[1]})
+            if browser.status().get("hoverAxis") == "X":
+                handle = point
+                break
+        if handle is None:
+            fail("no x arrow of the gizmo found along the x axis from %s" % centre)
+        before = browser.status()["updates"]
+        browser.call("Input.dispatchMouseEvent", {"type": "mousePressed", "x": handle[0],
+                                                  "y": handle[1], "button": "left", "clickCount": 1})
+        for k in range(1, 11):
+            browser.call("Input.dispatchMouseEvent",
+                         {"type": "mouseMoved", "x": handle[0] - 6 * k * direction[0],
+                          "y": handle[1] - 6 * k * direction[1], "button": "left", "buttons": 1})
+            time.sleep(0.03)
+        end = [handle[0] - 60 * direction[0], handle[1] - 60 * direction[1]]
+        browser.call("Input.dispatchMouseEvent", {"type": "mouseReleased", "x": end[0], "y": end[1],
+                                                  "button": "left", "clickCount": 1})
+        # The release's answer comes last (a drag sends one pose at a time, the latest).
+        time.sleep(0.2)
+        s = browser.wait("the answer to the release",
+                         lambda s: s["updates"] > before + 1 and not s["pending"])
+        dragged = s["cameras"][0]
+        print("dragged camera 0 along x: %d answers, now at %s, Err %s"
+              % (s["updates"] - before, dragged["position"], s["err"]))
+        if not (dragged["position"][0] < target[0] - 0.05) or \
+                any(abs(dragged["position"][i] - target[i]) > 1e-6 for i in (1, 2)) or \
+                abs(dragged["yaw_deg"] - start["yaw_deg"]) > 1e-6 or \
+                abs(dragged["pitch_deg"] - start["pitch_deg"]) > 1e-6:
+            fail("the drag along the x arrow moved camera 0 from %s (yaw %s, pitch %s) to %s "
+                 "(yaw %s, pitch %s)" % (target, start["yaw_deg"], start["pitch_deg"],
+                                         dragged["position"], dragged["yaw_deg"],
+                                         dragged["pitch_deg"]))
+        moved_err = s["err"]
         time.sleep(0.3)
         browser.screenshot(os.path.join(args.artifacts, "serve-after.png"))
 
