@@ -2,6 +2,7 @@
 #include "camplace/serve/server.hpp"
 
 #include <httplib.h>
+#include <sys/socket.h>
 
 #include <array>
 #include <chrono>
@@ -23,11 +24,10 @@ namespace {
 using json = nlohmann::json;
 
 /// The three.js files the page loads: URL path → file under libjs-three's directory.
-const std::array<std::pair<const char*, const char*>, 4> kThreeFiles{{
+const std::array<std::pair<const char*, const char*>, 3> kThreeFiles{{
     {"/three/three.min.js", "three.min.js"},
     {"/three/OrbitControls.js", "examples/js/controls/OrbitControls.js"},
     {"/three/TransformControls.js", "examples/js/controls/TransformControls.js"},
-    {"/three/GLTFLoader.js", "examples/js/loaders/GLTFLoader.js"},
 }};
 
 std::string random_token() {
@@ -126,6 +126,13 @@ struct Server::Impl {
       return new httplib::ThreadPool(static_cast<std::size_t>(threads));
     };
     http.set_payload_max_length(options.max_request_bytes);
+    // SO_REUSEADDR (a restarted server gets its port back at once) but not cpp-httplib's
+    // default SO_REUSEPORT, with which a second `camplace serve` on the same port would start
+    // and share the requests with the first instead of failing.
+    http.set_socket_options([](socket_t sock) {
+      int yes = 1;
+      setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+    });
     // Headers and body go out as separate writes: without TCP_NODELAY, Nagle's algorithm and
     // the browser's delayed ACK hold the body back by up to 40 ms per answer.
     http.set_tcp_nodelay(true);

@@ -11,6 +11,7 @@
 #include "camplace/core/camera.hpp"
 #include "camplace/core/error.hpp"
 #include "camplace/core/scene.hpp"
+#include "command.hpp"
 #include "scene_builder.hpp"
 
 namespace camplace::serve {
@@ -138,6 +139,13 @@ TEST(Planner, AddedCamerasAreSavedWithTheirSceneAndEvaluateTheSame) {
   o.resolution = {16, 12, 12};
   EXPECT_EQ(voxel::VoxelEvaluator(written, o).evaluate(config).err, seven["err"].get<double>());
   EXPECT_EQ(planner.view(0)["err"].get<double>(), seven["err"].get<double>());
+  // The command the page shows, run: `camplace evaluate` reads the same Err.
+  std::string command = seven["command"].get<std::string>();
+  ASSERT_EQ(command.rfind("camplace evaluate ", 0), 0u);
+  const testing::CommandResult run =
+      testing::run_camplace(CAMPLACE_BINARY, command.substr(9) + " --json");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_EQ(json::parse(run.output)["err"].get<double>(), seven["err"].get<double>());
   EXPECT_FALSE(planner.view(0)["dirty"].get<bool>());
   EXPECT_EQ(planner.save_unsaved(), "");
   // A change after the save: written as unsaved-<time>.json (with its scene), Err as shown.
