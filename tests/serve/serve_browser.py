@@ -18,7 +18,7 @@ Chromium (Debian's `chromium`, software WebGL) through the DevTools protocol ove
      is that of `camplace evaluate --pipeline both`;
   6. an optimisation is started from the page, streams progress, and is cancelled; the page
      shows its result;
-  7. undo returns to the saved configuration;
+  7. undo returns to the saved configuration; a camera is added and removed again;
   8. SIGINT stops the server cleanly (exit 0, "no unsaved changes").
 Screenshots before and after the move are kept (--artifacts).
 """
@@ -428,6 +428,23 @@ def main():
         if s["errors"]:
             fail("errors in the page: %s" % s["errors"])
         print("undo: back to the saved configuration, Err %s" % s["err"])
+
+        # Add a camera of the scene's model, then remove it again.
+        before = s["updates"]
+        browser.click("add")
+        s = browser.wait("the added camera", lambda s: s["updates"] > before and not s["pending"])
+        if len(s["cameras"]) != 7:
+            fail("after add camera the page shows %d cameras" % len(s["cameras"]))
+        added_err = s["err"]
+        before = s["updates"]
+        browser.click("remove")
+        s = browser.wait("the removed camera", lambda s: s["updates"] > before and not s["pending"])
+        if len(s["cameras"]) != 6 or s["err"] != moved_err or s["dirty"]:
+            fail("after removing the added camera: %d cameras, Err %s, dirty %s"
+                 % (len(s["cameras"]), s["err"], s["dirty"]))
+        print("added camera 6 (Err %s), removed it (Err %s)" % (added_err, s["err"]))
+        if s["errors"]:
+            fail("errors in the page: %s" % s["errors"])
     finally:
         if browser:
             browser.close()
