@@ -11,7 +11,8 @@ Chromium (Debian's `chromium`, software WebGL) through the DevTools protocol ove
      with a mouse click); the update arrives with the camera where it was sent;
   3. the round trip (change sent → frame drawn with the answer) is measured over --moves moves
      and printed; then camera 0 is dragged along the x arrow of the TransformControls gizmo with
-     mouse events: only x changes;
+     mouse events: only x changes; then turned with the gizmo's rings: only the direction
+     changes;
   4. the configuration is saved from the page and `camplace evaluate --json` of the saved file
      gives exactly the Err the page shows (and the same 6-decimal text);
   5. "check exactly" is cancelled after its first state, then run to the end: its exact Err
@@ -26,6 +27,7 @@ import argparse
 import base64
 import fcntl
 import json
+import math
 import os
 import re
 import shutil
@@ -260,7 +262,8 @@ def main():
             for axis, value in zip("xyz", position):
                 browser.type_into("f-" + axis, repr(value))
             browser.click("apply")
-            return browser.wait("the update after the move", lambda s: s["updates"] > before)
+            return browser.wait("the update after the move",
+                                lambda s: s["updates"] > before and not s["pending"])
 
         s = move(target)
         got = s["cameras"][0]["position"]
@@ -330,6 +333,51 @@ def main():
                  "(yaw %s, pitch %s)" % (target, start["yaw_deg"], start["pitch_deg"],
                                          dragged["position"], dragged["yaw_deg"],
                                          dragged["pitch_deg"]))
+
+        # Turn it with the gizmo's rings: the position stays, the direction changes.
+        browser.click("mode-rotate")
+        position = dragged["position"]
+        centre = browser.js("camplacePlanner.project(%s)" % json.dumps(position))
+        handle = None
+        for radius in range(30, 220, 6):
+            for k in range(24):
+                angle = 2 * math.pi * k / 24
+                point = [centre[0] + radius * math.cos(angle), centre[1] + radius * math.sin(angle)]
+                browser.call("Input.dispatchMouseEvent",
+                             {"type": "mouseMoved", "x": point[0], "y": point[1]})
+                axis = browser.status().get("hoverAxis")
+                if axis in ("X", "Y", "Z"):
+                    handle = (point, angle, axis)
+                    break
+            if handle:
+                break
+        if handle is None:
+            fail("no ring of the rotation gizmo found around %s" % centre)
+        point, angle, axis = handle
+        before = browser.status()["updates"]
+        browser.call("Input.dispatchMouseEvent", {"type": "mousePressed", "x": point[0],
+                                                  "y": point[1], "button": "left", "clickCount": 1})
+        tangent = [-math.sin(angle), math.cos(angle)]
+        for k in range(1, 11):
+            browser.call("Input.dispatchMouseEvent",
+                         {"type": "mouseMoved", "x": point[0] + 5 * k * tangent[0],
+                          "y": point[1] + 5 * k * tangent[1], "button": "left", "buttons": 1})
+            time.sleep(0.03)
+        browser.call("Input.dispatchMouseEvent",
+                     {"type": "mouseReleased", "x": point[0] + 50 * tangent[0],
+                      "y": point[1] + 50 * tangent[1], "button": "left", "clickCount": 1})
+        time.sleep(0.2)
+        s = browser.wait("the answer to the turn's release",
+                         lambda s: s["updates"] > before + 1 and not s["pending"])
+        turned = s["cameras"][0]
+        print("turned camera 0 about the %s ring: yaw %.3f -> %.3f, pitch %.3f -> %.3f, at %s, Err %s"
+              % (axis, dragged["yaw_deg"], turned["yaw_deg"], dragged["pitch_deg"],
+                 turned["pitch_deg"], turned["position"], s["err"]))
+        if any(abs(a - b) > 1e-9 for a, b in zip(turned["position"], position)) or \
+                abs(turned["yaw_deg"] - dragged["yaw_deg"]) + \
+                abs(turned["pitch_deg"] - dragged["pitch_deg"]) < 1.0:
+            fail("the turn moved camera 0 or did not turn it: %s -> %s" % (dragged, turned))
+        browser.click("mode-translate")
         moved_err = s["err"]
         time.sleep(0.3)
         browser.screenshot(os.path.join(args.artifacts, "serve-after.png"))
@@ -415,7 +463,7 @@ def main():
         # Undo goes back to the saved configuration.
         before = browser.status()["updates"]
         browser.click("undo")
-        s = browser.wait("the undo", lambda s: s["updates"] > before)
+        s = browser.wait("the undo", lambda s: s["updates"] > before and not s["pending"])
         with open(saved) as f:
             saved_cameras = json.load(f)["cameras"]
         if s["err"] != moved_err or s["dirty"]:
@@ -436,6 +484,8 @@ def main():
         if len(s["cameras"]) != 7:
             fail("after add camera the page shows %d cameras" % len(s["cameras"]))
         added_err = s["err"]
+        if s["selected"] != 6:
+            fail("the added camera is not the selected one (camera %s is)" % s["selected"])
         before = s["updates"]
         browser.click("remove")
         s = browser.wait("the removed camera", lambda s: s["updates"] > before and not s["pending"])
