@@ -165,6 +165,13 @@ nlohmann::json voxel_diagnostics(const voxel::VoxelEvaluator& evaluator,
           {"volume", static_cast<double>(voxels) * grid.voxel_volume()},
           {"distance", distance},
           {"cameras_observing", std::count(observing.begin(), observing.end(), 1)}};
+      if (only >= 0) {  // one state (camplace serve): which cameras, too
+        nlohmann::json which = nlohmann::json::array();
+        for (std::size_t c2 = 0; c2 < config.size(); ++c2) {
+          if (observing[c2]) which.push_back(c2);
+        }
+        entry["nearest_component"]["observed_by"] = which;
+      }
     }
     states.push_back(entry);
   }

@@ -74,7 +74,8 @@ EvaluationJson evaluate_json(const core::Scene& scene, const core::CameraConfig&
 /// objects and how many cameras observe it, per camera the fraction of S in its FOV and of the
 /// targets it sees, and the warnings. For callers that keep an evaluator (camplace serve). With
 /// `state` ≥ 0 (an index of core::states()) only that state is examined: "states" holds its
-/// entry alone, the cameras' target fractions count its targets, and the warnings about all
+/// entry alone (its nearest component also lists the observing cameras' indices as
+/// "observed_by"), the cameras' target fractions count its targets, and the warnings about all
 /// states (d = 0 everywhere, empty models) are left out; a sixth of the work on 6 states.
 nlohmann::json voxel_diagnostics(const voxel::VoxelEvaluator& evaluator,
                                  const core::CameraConfig& config, int state = -1);
