@@ -110,6 +110,10 @@ class Browser:
                                  {"targetId": page["targetId"], "flatten": True},
                                  session=False)["sessionId"]
         self.call("Page.enable")
+        # The page's viewport itself (the window's size includes the browser's own frame).
+        self.call("Emulation.setDeviceMetricsOverride",
+                  {"width": WINDOW[0], "height": WINDOW[1], "deviceScaleFactor": 1,
+                   "mobile": False})
         self.call("Page.navigate", {"url": url})
 
     def js(self, expression):
@@ -333,6 +337,8 @@ def main():
                  "(yaw %s, pitch %s)" % (target, start["yaw_deg"], start["pitch_deg"],
                                          dragged["position"], dragged["yaw_deg"],
                                          dragged["pitch_deg"]))
+        time.sleep(0.3)
+        browser.screenshot(os.path.join(args.artifacts, "serve-after.png"))
 
         # Turn it with the gizmo's rings: the position stays, the direction changes.
         browser.click("mode-rotate")
@@ -379,8 +385,6 @@ def main():
             fail("the turn moved camera 0 or did not turn it: %s -> %s" % (dragged, turned))
         browser.click("mode-translate")
         moved_err = s["err"]
-        time.sleep(0.3)
-        browser.screenshot(os.path.join(args.artifacts, "serve-after.png"))
 
         # Save, and `camplace evaluate` of the saved file gives the Err shown.
         browser.type_into("save-name", "moved")
