@@ -131,6 +131,11 @@ struct Planner::Impl {
   }
 
   void push_undo(Setup next) {
+    // The same configuration again (a camera put back where it was) is no new undo step.
+    if (next.scene == committed.scene && same(next.config, committed.config)) {
+      current = std::move(next);
+      return;
+    }
     history.push_back(committed);
     if (history.size() > 200) history.erase(history.begin());
     committed = next;

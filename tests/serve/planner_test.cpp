@@ -119,6 +119,8 @@ TEST(Planner, UndoStepsBackThroughCommittedChangesAndDrops) {
   EXPECT_EQ(back["undo"], 0);
   EXPECT_FALSE(back["dirty"].get<bool>());
   EXPECT_EQ(planner.undo(0)["cameras"], first["cameras"]);  // nothing more to undo
+  // The same configuration sent again is no new undo step.
+  EXPECT_EQ(planner.update({{"cameras", entries(first)}})["undo"], 0);
 }
 
 TEST(Planner, AddedCamerasAreSavedWithTheirSceneAndEvaluateTheSame) {

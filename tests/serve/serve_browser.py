@@ -15,8 +15,8 @@ Chromium (Debian's `chromium`, software WebGL) through the DevTools protocol ove
      changes;
   4. the configuration is saved from the page and `camplace evaluate --json` of the saved file
      gives exactly the Err the page shows (and the same 6-decimal text);
-  5. "check exactly" is cancelled after its first state, then run to the end: its exact Err
-     is that of `camplace evaluate --pipeline both`;
+  5. "check exactly" is cancelled after its first state, then run to the end (a move made
+     meanwhile is answered at once): its exact Err is that of `camplace evaluate --pipeline both`;
   6. an optimisation is started from the page, streams progress, and is cancelled; the page
      shows its result;
   7. undo returns to the saved configuration; a camera is added and removed again;
@@ -420,6 +420,16 @@ def main():
                  % (s["job"]["state"], len(s["job"]["result"]["states"])))
         print("check exactly cancelled after %d of 6 states" % len(s["job"]["result"]["states"]))
         browser.click("check-exact")
+        browser.wait("the exact check to start", lambda s: s["job"].get("state") == "running")
+        # Meanwhile the planner answers: the same place again, while the check runs.
+        started = time.time()
+        s = move(browser.status()["cameras"][0]["position"])
+        answered = time.time() - started
+        print("a move while the exact check runs (%s): answered in %.0f ms"
+              % (s["job"].get("progress", {}).get("stage", "setting up"), 1000 * answered))
+        if s["job"]["state"] != "running" or answered > 2.0 or s["err"] != moved_err:
+            fail("a move during the exact check: job %s, answered in %.2f s, Err %s"
+                 % (s["job"]["state"], answered, s["err"]))
         s = browser.wait("the exact check", lambda s: s["job"].get("state") == "finished"
                          and s["job"]["kind"] == "check exactly", timeout=120)
         exact = s["job"]["result"]
@@ -464,10 +474,21 @@ def main():
         if code != 200:
             fail("the server does not answer after the cancel (HTTP %d)" % code)
 
-        # Undo goes back to the saved configuration.
-        before = browser.status()["updates"]
-        browser.click("undo")
-        s = browser.wait("the undo", lambda s: s["updates"] > before and not s["pending"])
+        # Undo goes back to the saved configuration: past the optimiser's result when it found a
+        # better one (an undo step), then past one more move.
+        def undo():
+            before = browser.status()["updates"]
+            browser.click("undo")
+            return browser.wait("the undo", lambda s: s["updates"] > before and not s["pending"])
+
+        if browser.status()["dirty"]:
+            print("the optimiser's result is an undo step")
+            undo()
+        elsewhere = browser.status()["cameras"][0]["position"]
+        s = move([elsewhere[0] - 0.3, elsewhere[1] + 0.2, elsewhere[2]])
+        if not s["dirty"] or s["undo"] < 1:
+            fail("a move after saving: dirty %s, %s undo steps" % (s["dirty"], s["undo"]))
+        s = undo()
         with open(saved) as f:
             saved_cameras = json.load(f)["cameras"]
         if s["err"] != moved_err or s["dirty"]:
