@@ -25,5 +25,6 @@ void register_validate_command(CLI::App& app);
 void register_study_command(CLI::App& app);
 void register_plan_command(CLI::App& app);
 void register_robustness_command(CLI::App& app);
+void register_serve_command(CLI::App& app);
 
 }  // namespace camplace::app

@@ -82,6 +82,7 @@ int main(int argc, char** argv) {
   camplace::app::register_plan_command(app);
   camplace::app::register_robustness_command(app);
   camplace::app::register_generate_command(app);
+  camplace::app::register_serve_command(app);
   if (argc == 1) {
     print_overview(app);
     return 0;

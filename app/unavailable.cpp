@@ -103,4 +103,18 @@ void register_validate_command(CLI::App& app) {
 }
 #endif
 
+#ifndef CAMPLACE_HAVE_SERVE
+void register_serve_command(CLI::App& app) {
+  std::string missing;
+#ifndef CAMPLACE_HAVE_COMPARE
+  missing = kCompare;
+#endif
+#ifndef CAMPLACE_HAVE_OPTIMIZE
+  missing += std::string(missing.empty() ? "" : " and ") + kOptimize;
+#endif
+  register_unavailable(app, "serve", "a local web planner: move cameras, see Err live",
+                       missing.empty() ? "cpp-httplib (install libcpp-httplib-dev)" : missing);
+}
+#endif
+
 }  // namespace camplace::app

@@ -10,18 +10,19 @@ set -euo pipefail
 # Nef polyhedra, mesh repair) with GMP/MPFR, Boost and Eigen; pagmo and TBB (optimize);
 # nlohmann-json and CLI11; OpenSSL (SHA-256 of scene files); assimp (mesh files) and urdfdom
 # (URDF robots); tinygltf (the glTF files of `export`) and libjs-three (the three.js that
-# `export` copies beside its viewer page); jemalloc (faster allocation in the exact pipeline);
-# gnuplot (the plots of the `compare` and `study` reports).
+# `export` copies beside its viewer page and `serve` sends to its page); cpp-httplib (the HTTP
+# server of `serve`); jemalloc (faster allocation in the exact pipeline); gnuplot (the plots of
+# the `compare` and `study` reports).
 run_packages=(
   build-essential cmake ninja-build pkg-config
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev libeigen3-dev
   libpagmo-dev libtbb-dev nlohmann-json3-dev libcli11-dev libssl-dev libjemalloc-dev
   libassimp-dev liburdfdom-dev
-  libtinygltf-dev libjs-three gnuplot-nox
+  libtinygltf-dev libjs-three libcpp-httplib-dev gnuplot-nox
 )
 # Section 2, tests, benchmarks and the optional parts: GoogleTest and Google Benchmark;
 # clang-format (the format check); clang and its sanitizer runtime (the libFuzzer targets); the
-# Python module (pybind11, numpy) and its tests (pytest, matplotlib); chromium (the viewer's browser test); Open MPI (`mpirun camplace
+# Python module (pybind11, numpy) and its tests (pytest, matplotlib); chromium (the browser tests of the viewer and of `serve`); Open MPI (`mpirun camplace
 # study|validate`, docs/cluster.md); Embree 3 (bench/scale_bench's ray-casting yardstick only,
 # optional: it builds without).
 test_packages=(

@@ -60,9 +60,10 @@ nlohmann::json voxel_json(const voxel::VoxelEvaluator& evaluator, const voxel::E
 /// voxels: 0 = no camera sees that region, the usual reason for d = 0), per camera the fraction
 /// of S's voxel centres inside its FOV and of the targets' voxel centres it labels occupied,
 /// and warnings for d(C, M) = 0 in every state and for empty models.
-nlohmann::json voxel_diagnostics(
-    const voxel::VoxelEvaluator& evaluator, const core::CameraConfig& config,
-    const std::function<void(const std::string&, int, int)>& progress) {
+nlohmann::json voxel_diagnostics(const voxel::VoxelEvaluator& evaluator,
+                                 const core::CameraConfig& config,
+                                 const std::function<void(const std::string&, int, int)>& progress,
+                                 int only = -1) {
   const core::Scene& scene = evaluator.scene();
   const voxel::Grid& grid = evaluator.grid();
   const bool boxes = evaluator.options().mode == core::LabelMode::conservative;
@@ -72,10 +73,14 @@ nlohmann::json voxel_diagnostics(
   nlohmann::json states = nlohmann::json::array();
   int zero_distance = 0, empty = 0;
   bool observed_at_zero = false;  // a nearest component at d = 0 that some camera observes
-  const std::vector<std::vector<std::uint8_t>> models = evaluator.models(config);
+  // One state (`only` ≥ 0): its model alone; else every state's from one labelling.
+  const std::vector<std::vector<std::uint8_t>> models =
+      only >= 0 ? std::vector<std::vector<std::uint8_t>>{evaluator.model(config, only)}
+                : evaluator.models(config);
   for (std::size_t s = 0; s < all.size(); ++s) {
+    if (only >= 0 && static_cast<int>(s) != only) continue;
     progress("voxel diagnostics", static_cast<int>(s), static_cast<int>(all.size()));
-    const std::vector<std::uint8_t>& model = models[s];
+    const std::vector<std::uint8_t>& model = models[only >= 0 ? 0 : s];
     const std::vector<int> component = voxel::component_labels(model, grid);
     std::vector<std::vector<voxel::Label>> labels;
     for (std::size_t c = 0; c < config.size(); ++c) {
@@ -160,6 +165,13 @@ nlohmann::json voxel_diagnostics(
           {"volume", static_cast<double>(voxels) * grid.voxel_volume()},
           {"distance", distance},
           {"cameras_observing", std::count(observing.begin(), observing.end(), 1)}};
+      if (only >= 0) {  // one state (camplace serve): which cameras, too
+        nlohmann::json which = nlohmann::json::array();
+        for (std::size_t c2 = 0; c2 < config.size(); ++c2) {
+          if (observing[c2]) which.push_back(c2);
+        }
+        entry["nearest_component"]["observed_by"] = which;
+      }
     }
     states.push_back(entry);
   }
@@ -180,7 +192,7 @@ nlohmann::json voxel_diagnostics(
                             : nlohmann::json(nullptr)}});
   }
   nlohmann::json warnings = nlohmann::json::array();
-  if (!all.empty() && zero_distance == static_cast<int>(all.size())) {
+  if (only < 0 && !all.empty() && zero_distance == static_cast<int>(all.size())) {
     std::string why =
         "d(C, M) = 0 in every state: the model touches the critical objects everywhere; a "
         "nearest component with cameras_observing 0 lies where no camera sees";
@@ -194,7 +206,7 @@ nlohmann::json voxel_diagnostics(
     }
     warnings.push_back(why);
   }
-  if (empty > 0) {
+  if (only < 0 && empty > 0) {
     warnings.push_back("the model is empty in " + std::to_string(empty) + " of " +
                        std::to_string(all.size()) +
                        " states (d(C, M) is then S's diagonal): the filter removed every "
@@ -284,6 +296,16 @@ nlohmann::json differences(const nlohmann::json&, const nlohmann::json&) { built
 #endif
 
 }  // namespace
+
+nlohmann::json voxel_diagnostics(const voxel::VoxelEvaluator& evaluator,
+                                 const core::CameraConfig& config, int state) {
+  const int states = static_cast<int>(core::states(evaluator.scene()).size());
+  if (state >= states) {
+    throw core::InputError("diagnostics", "state", "no state " + std::to_string(state));
+  }
+  return voxel_diagnostics(
+      evaluator, config, [](const std::string&, int, int) {}, state);
+}
 
 EvaluationJson evaluate_json(const core::Scene& scene, const core::CameraConfig& config,
                              const EvaluationOptions& options) {

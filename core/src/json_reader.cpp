@@ -100,13 +100,17 @@ nlohmann::json read_json_file(const std::string& path) {
   if (!in) throw InputError(path, "", "cannot open the file");
   std::stringstream buffer;
   buffer << in.rdbuf();
+  return parse_json_text(buffer.str(), path);
+}
+
+nlohmann::json parse_json_text(const std::string& text, const std::string& name) {
   nlohmann::json doc;
   DocumentBuilder builder(doc);
-  nlohmann::json::sax_parse(buffer.str(), &builder);
-  if (!builder.error().empty()) throw InputError(path, "", "not valid JSON: " + builder.error());
+  nlohmann::json::sax_parse(text, &builder);
+  if (!builder.error().empty()) throw InputError(name, "", "not valid JSON: " + builder.error());
   if (!builder.duplicate().empty()) {
     throw InputError(
-        path, "",
+        name, "",
         "not valid JSON: the key \"" + builder.duplicate() + "\" appears twice in one object");
   }
   return doc;

@@ -136,41 +136,6 @@ std::vector<const core::TriangleMesh*> meshes_of(const std::vector<core::SceneOb
   return out;
 }
 
-/// d(C, M) on voxels as the voxel pipeline measures it (SPEC §5): the nearest model voxel's box
-/// (conservative) or centre (center mode), with the closest points.
-core::ClosestPoints voxel_model_segment(const voxel::Grid& grid,
-                                        const std::vector<std::uint8_t>& model,
-                                        const std::vector<const core::TriangleMesh*>& critical,
-                                        core::LabelMode mode) {
-  std::vector<core::Box3> bounds;
-  for (const auto* m : critical) bounds.push_back(core::bounding_box(*m));
-  // Candidates in order of a lower bound (the gap to the nearest critical bounding box).
-  std::vector<std::pair<double, int>> candidates;
-  for (int v = 0; v < grid.count(); ++v) {
-    if (!model[v]) continue;
-    const core::Box3 box = mode == core::LabelMode::conservative
-                               ? grid.voxel_box(v)
-                               : core::Box3{grid.voxel_center(v), grid.voxel_center(v)};
-    double lb = std::numeric_limits<double>::infinity();
-    for (const auto& b : bounds) {
-      const Vec3 gap = (box.min - b.max).cwiseMax(b.min - box.max).cwiseMax(0.0);
-      lb = std::min(lb, gap.squaredNorm());
-    }
-    candidates.emplace_back(lb, v);
-  }
-  std::sort(candidates.begin(), candidates.end());
-  core::ClosestPoints best;
-  best.sq_distance = std::numeric_limits<double>::infinity();
-  for (const auto& [lb, v] : candidates) {
-    if (lb > best.sq_distance) break;
-    const core::ClosestPoints pair = mode == core::LabelMode::conservative
-                                         ? core::closest_points(critical, grid.voxel_box(v))
-                                         : core::closest_points(critical, grid.voxel_center(v));
-    if (pair.sq_distance < best.sq_distance) best = pair;
-  }
-  return best;
-}
-
 Evaluated evaluate_voxel(const core::Scene& scene, const core::CameraConfig& config,
                          const ExportOptions& options, const std::vector<int>& selected) {
   Evaluated out;
@@ -221,14 +186,6 @@ Evaluated evaluate_exact(const core::Scene& scene, const core::CameraConfig& con
   return out;
 }
 #endif
-
-json role_styles_json() {
-  json styles = json::object();
-  for (const RoleStyle& s : kStyles) {
-    styles[s.role] = {s.rgba[0], s.rgba[1], s.rgba[2], s.rgba[3]};
-  }
-  return styles;
-}
 
 /// One state's glTF file and what it holds.
 std::string state_glb(const core::Scene& scene, const core::CameraConfig& config,
@@ -416,6 +373,47 @@ std::string state_glb(const core::Scene& scene, const core::CameraConfig& config
 
 }  // namespace
 
+core::ClosestPoints voxel_model_segment(const voxel::Grid& grid,
+                                        const std::vector<std::uint8_t>& model,
+                                        const std::vector<const core::TriangleMesh*>& critical,
+                                        core::LabelMode mode) {
+  std::vector<core::Box3> bounds;
+  for (const auto* m : critical) bounds.push_back(core::bounding_box(*m));
+  // Candidates in order of a lower bound (the gap to the nearest critical bounding box).
+  std::vector<std::pair<double, int>> candidates;
+  for (int v = 0; v < grid.count(); ++v) {
+    if (!model[v]) continue;
+    const core::Box3 box = mode == core::LabelMode::conservative
+                               ? grid.voxel_box(v)
+                               : core::Box3{grid.voxel_center(v), grid.voxel_center(v)};
+    double lb = std::numeric_limits<double>::infinity();
+    for (const auto& b : bounds) {
+      const Vec3 gap = (box.min - b.max).cwiseMax(b.min - box.max).cwiseMax(0.0);
+      lb = std::min(lb, gap.squaredNorm());
+    }
+    candidates.emplace_back(lb, v);
+  }
+  std::sort(candidates.begin(), candidates.end());
+  core::ClosestPoints best;
+  best.sq_distance = std::numeric_limits<double>::infinity();
+  for (const auto& [lb, v] : candidates) {
+    if (lb > best.sq_distance) break;
+    const core::ClosestPoints pair = mode == core::LabelMode::conservative
+                                         ? core::closest_points(critical, grid.voxel_box(v))
+                                         : core::closest_points(critical, grid.voxel_center(v));
+    if (pair.sq_distance < best.sq_distance) best = pair;
+  }
+  return best;
+}
+
+nlohmann::ordered_json role_colors_json() {
+  json styles = json::object();
+  for (const RoleStyle& s : kStyles) {
+    styles[s.role] = {s.rgba[0], s.rgba[1], s.rgba[2], s.rgba[3]};
+  }
+  return styles;
+}
+
 void check_export_options(const core::Scene& scene, const ExportOptions& options) {
   if (options.pipeline == core::Pipeline::both) {
     throw core::OptionError("pipeline", "export takes voxel or exact (one model per file)");
@@ -511,7 +509,7 @@ ExportResult export_scene(const core::Scene& scene, const core::CameraConfig& co
                {"err", ev.evaluation.err},
                {"states_total", all.size()},
                {"area", {{"min", vec_json(scene.area.min)}, {"max", vec_json(scene.area.max)}}},
-               {"role_colors", role_styles_json()},
+               {"role_colors", role_colors_json()},
                {"camplace", core::build_info().version}};
   if (options.pipeline == core::Pipeline::voxel) {
     meta["mode"] = ev.mode;

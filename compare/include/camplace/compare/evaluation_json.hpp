@@ -12,6 +12,7 @@
 #include "camplace/core/camera.hpp"
 #include "camplace/core/names.hpp"
 #include "camplace/core/scene.hpp"
+#include "camplace/voxel/evaluator.hpp"
 #include "camplace/voxel/grid.hpp"
 
 namespace camplace::compare {
@@ -67,6 +68,17 @@ struct EvaluationJson {
 /// std::runtime_error when an export file cannot be written.
 EvaluationJson evaluate_json(const core::Scene& scene, const core::CameraConfig& config,
                              const EvaluationOptions& options);
+
+/// The "diagnostics" member of evaluate_json's voxel result for `config` on `evaluator`'s scene
+/// (docs/files.md, "evaluate --json"): per state the kept component nearest to the critical
+/// objects and how many cameras observe it, per camera the fraction of S in its FOV and of the
+/// targets it sees, and the warnings. For callers that keep an evaluator (camplace serve). With
+/// `state` ≥ 0 (an index of core::states()) only that state is examined: "states" holds its
+/// entry alone (its nearest component also lists the observing cameras' indices as
+/// "observed_by"), the cameras' target fractions count its targets, and the warnings about all
+/// states (d = 0 everywhere, empty models) are left out; a sixth of the work on 6 states.
+nlohmann::json voxel_diagnostics(const voxel::VoxelEvaluator& evaluator,
+                                 const core::CameraConfig& config, int state = -1);
 
 /// Why `npy_path` cannot receive the voxel models ("needs a file name ending in .npy, got ..."),
 /// or "" when it can (the check `evaluate --voxels-out` and the Python module make first).

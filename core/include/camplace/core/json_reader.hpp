@@ -12,6 +12,10 @@ namespace camplace::core {
 
 /// Reads and parses a JSON file; InputError when it cannot be read or is not JSON.
 nlohmann::json read_json_file(const std::string& path);
+/// Parses JSON text as read_json_file parses a file's content (a key given twice in one object
+/// is an error); InputError naming `name` (the text's source, e.g. "request") when it is not
+/// JSON.
+nlohmann::json parse_json_text(const std::string& text, const std::string& name);
 
 /// The shortest decimal text that reads back as exactly v (for messages: 180.0001 stays
 /// 180.0001, not 180).

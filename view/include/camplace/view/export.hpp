@@ -2,7 +2,9 @@
 /// `camplace export`: each state of a camera configuration as a binary glTF 2.0 file, a
 /// self-contained three.js viewer page, camera pose files and the voxel model (docs/export.md).
 #include <array>
+#include <cstdint>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -53,6 +55,18 @@ struct ExportResult {
   std::vector<ExportedState> states;
   std::vector<std::string> files;  ///< every file written, relative to the output directory
 };
+
+/// The colour of each role (kRoles; linear RGBA in [0, 1]) as the glTF materials and the viewer's
+/// legend use them: {"static_obstacle": [r, g, b, a], ...}.
+nlohmann::ordered_json role_colors_json();
+
+/// d(C, M) on voxels as the voxel pipeline measures it (SPEC §5), with its closest points: from
+/// the `critical` meshes (a) to the nearest model voxel's box (conservative) or centre (center
+/// mode) (b). `model`: one byte per cell of `grid` (1 = in M), not all 0; `critical` not empty.
+core::ClosestPoints voxel_model_segment(const voxel::Grid& grid,
+                                        const std::vector<std::uint8_t>& model,
+                                        const std::vector<const core::TriangleMesh*>& critical,
+                                        core::LabelMode mode);
 
 /// Checks the options against the scene before any work: pipeline voxel or exact and built,
 /// every state present, the three.js files readable. Throws core::OptionError naming "pipeline",
