@@ -7,7 +7,10 @@
 #include <CGAL/alpha_wrap_3.h>
 #include <CGAL/convex_hull_3.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 #include <vector>
 
 #include "camplace/core/error.hpp"
@@ -90,6 +93,95 @@ std::optional<TriangleMesh> alpha_wrap(const TriangleMesh& mesh, double alpha, d
   return from_surface_mesh(wrap);
 }
 
+namespace {
+
+std::size_t find_root(std::vector<std::size_t>& parent, std::size_t i) {
+  while (parent[i] != i) i = parent[i] = parent[parent[i]];
+  return i;
+}
+
+// Triangulates the convex polygon `ring` (points in the order of the face's outward
+// orientation, possibly with collinear runs) by clipping ears, always the lexicographically
+// smallest corner that is not collinear with its neighbours: the result depends on the
+// polygon alone, not on where its vertices were listed from.
+void clip_ears(std::vector<Mesh::Vertex_index> ring, const Mesh& hull,
+               std::vector<std::array<Mesh::Vertex_index, 3>>& out) {
+  while (ring.size() > 3) {
+    std::size_t best = ring.size();
+    for (std::size_t i = 0; i < ring.size(); ++i) {
+      const Point& prev = hull.point(ring[(i + ring.size() - 1) % ring.size()]);
+      const Point& next = hull.point(ring[(i + 1) % ring.size()]);
+      if (CGAL::collinear(prev, hull.point(ring[i]), next)) continue;
+      if (best == ring.size() || hull.point(ring[i]) < hull.point(ring[best])) best = i;
+    }
+    CAMPLACE_ASSERT(best < ring.size());  // a polygon of positive area has convex corners
+    out.push_back(
+        {ring[(best + ring.size() - 1) % ring.size()], ring[best], ring[(best + 1) % ring.size()]});
+    ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(best));
+  }
+  out.push_back({ring[0], ring[1], ring[2]});
+}
+
+// The hull as a TriangleMesh that depends on the hull's geometry alone. CGAL lists the hull's
+// vertices, and splits its flat faces (4 or more coplanar vertices, as in every box) into
+// triangles, in an order that follows memory addresses, which change with everything the
+// process allocated before; the split of a flat face decides conservative labels. So the
+// coplanar triangles of each face are merged into their polygon (exact coplanarity test), the
+// polygon is triangulated by clip_ears, the vertices are sorted lexicographically and the
+// triangles sorted.
+TriangleMesh canonical_hull(const Mesh& hull) {
+  std::vector<std::size_t> parent(hull.number_of_faces());
+  for (std::size_t i = 0; i < parent.size(); ++i) parent[i] = i;
+  for (const Mesh::Edge_index e : hull.edges()) {
+    const Mesh::Halfedge_index h = hull.halfedge(e, 0), o = hull.opposite(h);
+    if (CGAL::coplanar(hull.point(hull.source(h)), hull.point(hull.target(h)),
+                       hull.point(hull.target(hull.next(h))),
+                       hull.point(hull.target(hull.next(o))))) {
+      parent[find_root(parent, hull.face(h).idx())] = find_root(parent, hull.face(o).idx());
+    }
+  }
+  // Each merged face's boundary: its halfedges whose opposite lies in another face, chained
+  // from source to target.
+  std::vector<std::vector<Mesh::Halfedge_index>> boundary(parent.size());
+  for (const Mesh::Halfedge_index h : hull.halfedges()) {
+    const std::size_t f = find_root(parent, hull.face(h).idx());
+    if (f != find_root(parent, hull.face(hull.opposite(h)).idx())) boundary[f].push_back(h);
+  }
+  std::vector<std::array<Mesh::Vertex_index, 3>> triangles;
+  for (const std::vector<Mesh::Halfedge_index>& edges : boundary) {
+    if (edges.empty()) continue;
+    std::map<Mesh::Vertex_index, Mesh::Vertex_index> next;
+    for (const Mesh::Halfedge_index h : edges) next[hull.source(h)] = hull.target(h);
+    std::vector<Mesh::Vertex_index> ring{hull.source(edges.front())};
+    while (ring.size() < edges.size()) ring.push_back(next.at(ring.back()));
+    CAMPLACE_ASSERT(next.at(ring.back()) == ring.front());  // one convex polygon per face
+    clip_ears(std::move(ring), hull, triangles);
+  }
+  std::vector<Mesh::Vertex_index> used;
+  for (const auto& t : triangles) used.insert(used.end(), t.begin(), t.end());
+  std::sort(used.begin(), used.end(), [&](Mesh::Vertex_index a, Mesh::Vertex_index b) {
+    return hull.point(a) < hull.point(b);
+  });
+  used.erase(std::unique(used.begin(), used.end()), used.end());
+  std::map<Mesh::Vertex_index, int> index;
+  TriangleMesh out;
+  for (const Mesh::Vertex_index v : used) {
+    index[v] = static_cast<int>(out.vertices.size());
+    const Point& p = hull.point(v);
+    out.vertices.emplace_back(p.x(), p.y(), p.z());
+  }
+  for (const auto& t : triangles) {
+    std::array<int, 3> k{index.at(t[0]), index.at(t[1]), index.at(t[2])};
+    // Smallest index first, the orientation kept.
+    std::rotate(k.begin(), std::min_element(k.begin(), k.end()), k.end());
+    out.triangles.push_back(k);
+  }
+  std::sort(out.triangles.begin(), out.triangles.end());
+  return out;
+}
+
+}  // namespace
+
 std::optional<TriangleMesh> convex_hull(const TriangleMesh& mesh) {
   std::vector<Point> points;
   for (const Vec3& v : mesh.vertices) points.push_back(point(v));
@@ -107,7 +199,7 @@ std::optional<TriangleMesh> convex_hull(const TriangleMesh& mesh) {
   if (d >= points.size()) return std::nullopt;
   Mesh hull;
   CGAL::convex_hull_3(points.begin(), points.end(), hull);
-  return from_surface_mesh(hull);
+  return canonical_hull(hull);
 }
 
 RepairOptions parse_repair(const JsonNode& node) {

@@ -4,8 +4,10 @@
 // convex hull is convex, contains every input vertex and has the hand-computed volume.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <random>
 
 #include "camplace/core/error.hpp"
@@ -255,6 +257,44 @@ TEST(MeshRepair, HullOfOverlappingBoxesHasTheHandComputedVolume) {
       scene_with_obstacle("hull-selfx", with(overlapping_boxes(), "repair", "hull")));
   EXPECT_NEAR(core::signed_volume(scene.static_obstacles[0].mesh), 1.0 + 3 * 0.5, 1e-12);
   expect_passes_checks_alone("hull-selfx", scene.static_obstacles[0].mesh);
+}
+
+// The same input gives the same repaired mesh, vertex for vertex and triangle for triangle,
+// whatever the process did before: the hull's faces are triangulated from the input's geometry
+// alone (CGAL's hull orders its output by memory addresses, which differ with the heap's
+// history, and would otherwise change the triangulation of its flat faces and so the
+// conservative labels). The input is given in 6 vertex orders, each loaded after a different
+// pattern of live allocations.
+TEST(MeshRepair, HullDoesNotDependOnTheInputOrderOrTheProcessHistory) {
+  Vertices v;
+  Triangles t;
+  overlapping_boxes(&v, &t);
+  std::mt19937 rng(11);
+  std::vector<std::vector<char>> ballast;
+  std::optional<core::TriangleMesh> first;
+  for (int trial = 0; trial < 6; ++trial) {
+    std::vector<int> order(v.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+    if (trial > 0) std::shuffle(order.begin(), order.end(), rng);
+    Vertices pv(v.size());
+    std::vector<int> where(v.size());
+    for (std::size_t i = 0; i < order.size(); ++i) {
+      pv[i] = v[order[i]];
+      where[order[i]] = static_cast<int>(i);
+    }
+    Triangles pt;
+    for (const auto& tri : t) pt.push_back({where[tri[0]], where[tri[1]], where[tri[2]]});
+    for (int k = 0; k < 50 * trial; ++k) ballast.emplace_back(16 + 24 * (k % 7));
+    const core::Scene scene = core::load_scene(scene_with_obstacle(
+        "hull-order-" + std::to_string(trial), with(inline_mesh(pv, pt), "repair", "hull")));
+    const core::TriangleMesh& hull = scene.static_obstacles[0].mesh;
+    if (!first) {
+      first = hull;
+      continue;
+    }
+    EXPECT_EQ(hull.vertices, first->vertices) << "trial " << trial;
+    EXPECT_EQ(hull.triangles, first->triangles) << "trial " << trial;
+  }
 }
 
 TEST(MeshRepair, HullOfAFlatMeshIsRefusedAndWrapAccepted) {
