@@ -283,7 +283,8 @@ RunResult optimize(const core::Scene& scene, const Objective& objective,
     const std::uint64_t budget = std::max<std::uint64_t>(100, 50 * encoding.dimension());
     result.snapped = detail::snap_and_search(
         encoding, objective, state->best_x(), *options.snap, budget,
-        [&](const core::CameraConfig& config) { return json_round_trip(config, scene); });
+        [&](const core::CameraConfig& config) { return json_round_trip(config, scene); },
+        [&] { return state->external_stop().has_value(); });
   }
   result.memory = peak_memory();
   return result;
