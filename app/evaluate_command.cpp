@@ -2,6 +2,7 @@
 // exact pipeline.
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
@@ -142,6 +143,8 @@ void print_summary(const nlohmann::json& r, const nlohmann::json& exact) {
 void write_voxels(const compare::EvaluationJson& evaluation, const std::string& path) {
   try {
     compare::write_voxel_models(evaluation, path);
+  } catch (const core::WriteError&) {
+    throw;  // names the file and the system's reason: not a command-line problem
   } catch (const std::runtime_error& e) {
     throw core::InputError("command line", "--voxels-out", e.what());
   }
@@ -191,6 +194,10 @@ void run_evaluate(const EvaluateArgs& args) {
     const std::string problem = !want_voxel ? "needs --pipeline voxel or both"
                                             : compare::voxel_models_path_problem(args.voxels_out);
     if (!problem.empty()) throw core::InputError("command line", "--voxels-out", problem);
+    if (!args.voxels_out.empty()) {
+      const std::filesystem::path parent = std::filesystem::path(args.voxels_out).parent_path();
+      core::create_output_directory(parent.empty() ? "." : parent.string(), "--voxels-out");
+    }
   }
   if (args.export_given) core::create_output_directory(args.export_dir, "--export-mesh");
   options.export_dir = args.export_dir;
