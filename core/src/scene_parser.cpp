@@ -330,8 +330,7 @@ void SceneParser::parse_cameras(const JsonNode& node) {
   }
   // A camera needs somewhere to go: its domain (box or mount) must not lie wholly in the
   // keep-out boxes. Checked once per distinct domain (cameras mostly share one), against the
-  // boxes whose interior meets the domain's bounds: the others block none of its points, and
-  // the free point's existence does not depend on their planes.
+  // boxes whose interior meets the domain's bounds (the others block none of its points).
   std::vector<int> checked;  // cameras whose domain passed
   for (int i = 0; i < c.count; ++i) {
     if (c.keep_out.empty()) break;
