@@ -196,7 +196,7 @@ void run_evaluate(const EvaluateArgs& args) {
     if (!problem.empty()) throw core::InputError("command line", "--voxels-out", problem);
     if (!args.voxels_out.empty()) {
       const std::filesystem::path parent = std::filesystem::path(args.voxels_out).parent_path();
-      core::create_output_directory(parent.empty() ? "." : parent.string(), "--voxels-out");
+      core::probe_output_directory(parent.empty() ? "." : parent.string(), "--voxels-out");
     }
   }
   if (args.export_given) core::create_output_directory(args.export_dir, "--export-mesh");

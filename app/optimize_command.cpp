@@ -206,9 +206,9 @@ void run_optimize(const OptimizeArgs& args) {
                              " with " + std::to_string(work.cameras) + " cameras" +
                              (args.refine > 0 ? ", --refine " + std::to_string(args.refine) : ""));
   check_memory(work, resolution_option);
-  // The folder is made and probed before the set-up and the runs: a read-only or full one is
-  // found before the work, not when its result is written.
-  core::create_output_directory(args.out, "--out");
+  // The folder (or where it would be made) is probed before the set-up and the runs: a
+  // read-only or full one is found before the work, not when its result is written.
+  core::probe_output_directory(args.out, "--out");
   auto set_up_at_once = std::make_unique<jobs::StopAtOnce>(jobs::StopAtOnce::Options{});
   const optimize::VoxelObjective objective(scene, voxel_options);
   set_up_at_once.reset();
@@ -253,6 +253,7 @@ void run_optimize(const OptimizeArgs& args) {
     }
     check_run_cameras(args.out, optimize::runs_in_folder(args.out, {}), scene);
   }
+  core::create_output_directory(args.out, "--out");
 
   std::vector<optimize::RunResult> results;
   bool out_of_time = false;

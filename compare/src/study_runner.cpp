@@ -344,8 +344,9 @@ StudyOutcome run_study(const StudyOptions& options) {
     RunRow shape;
     const core::Scene group_scene = core::load_scene(g.scene_path);
     describe_scene(group_scene, shape);
-    // The runs found on disk are reported as they are: each one's recorded Err must be the Err
-    // of its recorded cameras (check_recorded_err), one evaluator per group and settings.
+    // --report-only reports the runs found on disk as they are: each one's recorded Err must be
+    // the Err of its recorded cameras (check_recorded_err), one evaluator per group and
+    // settings. (A study that runs checks nothing it did not make; validate checks every run.)
     std::map<std::string, std::unique_ptr<voxel::VoxelEvaluator>> evaluators;
     shape.examination = g.examination->name;
     shape.family = g.examination->family;
@@ -363,7 +364,8 @@ StudyOutcome run_study(const StudyOptions& options) {
       run.run_file = g.run_dir + "/run-" + std::to_string(run.row.seed) + ".json";
       run.cost = static_cast<double>(shape.voxels) * shape.cameras * std::max(1, shape.events);
       run.before = existing_run(run.run_file);
-      if (run.before && run.before->stop_reason != optimize::StopReason::interrupted) {
+      if (options.report_only && run.before &&
+          run.before->stop_reason != optimize::StopReason::interrupted) {
         const optimize::RunFile file = optimize::read_run_file(run.run_file);
         voxel::VoxelOptions voxel_options;
         const auto mode = core::from_name<core::LabelMode>(file.context.mode);

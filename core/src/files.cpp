@@ -74,6 +74,23 @@ void create_output_directory(const std::string& dir, const std::string& option) 
   probe_writable(dir, option);
 }
 
+void probe_output_directory(const std::string& dir, const std::string& option) {
+  namespace fs = std::filesystem;
+  // The folder, or the nearest folder above it that exists (where it would be made).
+  fs::path existing = fs::absolute(dir.empty() ? fs::path(".") : fs::path(dir));
+  std::error_code ec;
+  while (!fs::exists(existing, ec) && existing.has_parent_path() &&
+         existing.parent_path() != existing) {
+    existing = existing.parent_path();
+  }
+  if (fs::exists(existing, ec) && !fs::is_directory(existing, ec)) {
+    throw InputError("command line", option,
+                     "cannot create directory \"" + dir + "\": " + existing.string() +
+                         " is not a directory");
+  }
+  probe_writable(existing.string(), option);
+}
+
 void probe_writable(const std::string& dir, const std::string& option) {
   // A file created and removed again: a read-only or full folder is found before the work.
   const std::string probe =

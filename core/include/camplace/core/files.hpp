@@ -22,6 +22,11 @@ void write_file_atomically(const std::string& path, const std::string& text);
 /// so that its result is not lost at the end. Leaves nothing behind.
 void probe_writable(const std::string& dir, const std::string& option);
 
+/// probe_writable on the output directory `dir`, or, when it does not exist yet, on the nearest
+/// folder above it that does (where it would be made): nothing is created, so a command stopped
+/// before its work leaves no empty folder.
+void probe_output_directory(const std::string& dir, const std::string& option);
+
 /// Creates the output directory `dir` (and its parents) before any work is done and checks
 /// that files can be written into it (probe_writable); throws InputError naming the
 /// command-line `option` when it cannot.
