@@ -27,8 +27,8 @@ struct ExportArgs {
   std::string scene, cameras, out, mode = "conservative", resolution, pipeline = "voxel";
   std::vector<std::string> states;
   std::string three_dir = view::kDefaultThreeDir;
-  int threads = 0;  // 0 = one per core
-  int refine = 0;   // voxel::VoxelOptions::refine
+  int threads = 0;           // 0 = one per core
+  int refine = 0;            // voxel::VoxelOptions::refine
   double max_seconds = 0.0;  // the whole command's bound; 0 = none
 };
 

@@ -53,7 +53,7 @@ struct OptimizeArgs {
   bool quiet = false;
   bool restart = false;
   double max_seconds = 0.0;  ///< the whole command's bound; 0 = none
-  std::string snap;  ///< --snap POS_M,ANGLE_DEG ("" = none)
+  std::string snap;          ///< --snap POS_M,ANGLE_DEG ("" = none)
 };
 
 /// Parses --snap POS_M,ANGLE_DEG: two finite numbers > 0 (metres, degrees).
@@ -326,8 +326,10 @@ void run_optimize(const OptimizeArgs& args) {
     eval.refine = voxel_options.refine;
     eval.threads = 1;
     jobs::StopAtOnce::Options at_deadline;
-    at_deadline.kept = "the run files and summary.json (without the best configuration's "
-                       "diagnostics) are in " + args.out;
+    at_deadline.kept =
+        "the run files and summary.json (without the best configuration's "
+        "diagnostics) are in " +
+        args.out;
     at_deadline.temp_dirs.push_back(args.out);
     const jobs::StopAtOnce at_once(at_deadline);
     diagnostics = compare::evaluate_json(scene, best->best, eval).result.at("diagnostics");

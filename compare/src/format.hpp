@@ -55,8 +55,8 @@ inline std::string provenance_header(
             " more scene files (their SHA-256 in the details below) |\n";
       break;
     }
-    md += "| " + core::md_cell(s.role) + " | " + core::md_cell("`" + s.path + "`") +
-          ", SHA-256 " + short_hash(s.hashes.scene);
+    md += "| " + core::md_cell(s.role) + " | " + core::md_cell("`" + s.path + "`") + ", SHA-256 " +
+          short_hash(s.hashes.scene);
     for (const auto& [mesh, hash] : s.hashes.meshes) {
       md += "; mesh file " + core::md_cell("`" + mesh + "`") + ", SHA-256 " + short_hash(hash);
     }

@@ -17,10 +17,10 @@
 #include "camplace/core/error.hpp"
 #include "camplace/core/files.hpp"
 #include "camplace/core/json_reader.hpp"
-#include "camplace/core/table_text.hpp"
 #include "camplace/core/names.hpp"
 #include "camplace/core/provenance.hpp"
 #include "camplace/core/sensor_model.hpp"
+#include "camplace/core/table_text.hpp"
 #include "camplace/exact/evaluator.hpp"
 #include "camplace/optimize/report.hpp"
 #include "camplace/voxel/evaluator.hpp"
@@ -270,8 +270,8 @@ std::string csv_text(const std::vector<RunValidation>& rows) {
         << number(r.voxel_err) << ',' << number(r.voxel_err_same_fov) << ',' << number(r.exact_err)
         << ',' << number(r.tolerance) << ',' << flag(r.reached_voxel) << ','
         << flag(r.reached_exact) << ',' << number(r.max_overestimate) << ',' << number(r.seconds)
-        << ',' << number(r.err_lower_bound) << ',' << number(r.target) << ',' << core::csv_field(r.error)
-        << "\n";
+        << ',' << number(r.err_lower_bound) << ',' << number(r.target) << ','
+        << core::csv_field(r.error) << "\n";
   }
   return out.str();
 }
@@ -330,8 +330,8 @@ std::string markdown_text(const ValidateOptions& options, const ValidationOutcom
      << "|---|---|---|---|---|---|---|---|---|\n";
   for (const RunValidation& r : rows) {
     if (!r.error.empty()) continue;
-    md << "| " << core::md_cell(r.run) << " | " << r.mode << " | " << resolution_text(r.resolution) << " | "
-       << num(r.voxel_err, 5) << " | " << num(r.voxel_err_same_fov, 5) << " | "
+    md << "| " << core::md_cell(r.run) << " | " << r.mode << " | " << resolution_text(r.resolution)
+       << " | " << num(r.voxel_err, 5) << " | " << num(r.voxel_err_same_fov, 5) << " | "
        << num(r.exact_err, 5) << " | " << num(r.target, 5) << " | "
        << (r.reached_voxel ? "yes" : "no") << " / " << (r.reached_exact ? "yes" : "no") << " | "
        << num(r.max_overestimate, 4) << " |\n";
@@ -359,8 +359,7 @@ void check_run_cameras(const std::string& file, const optimize::RunFile& run,
   }
 }
 
-void check_recorded_err(const std::string& file, const optimize::RunFile& run,
-                        double recomputed) {
+void check_recorded_err(const std::string& file, const optimize::RunFile& run, double recomputed) {
   const double recorded = run.run.err;
   if (std::abs(recorded - recomputed) <= 1e-9 * std::max(1.0, std::abs(recomputed))) return;
   throw core::InputError(

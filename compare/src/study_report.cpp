@@ -495,13 +495,14 @@ void write_study_report(const StudySpec& spec, const std::vector<RunRow>& rows,
          "clustering_ms,distance_ms,total_ms\n";
   for (const RunRow& r : rows) {
     csv << core::csv_field(r.examination) << "," << core::csv_field(r.family) << "," << r.param
-        << "," << r.seed << "," << core::csv_field(r.resolution) << "," << r.voxels << "," << r.cameras << "," << r.static_objects << ","
-        << r.static_facets << "," << r.dynamic_objects << "," << r.dynamic_facets << ","
-        << r.time_steps << "," << r.target_objects << "," << r.target_facets << "," << r.events
-        << "," << num(r.err, 6) << "," << num(r.tolerance, 6) << "," << (r.reached ? 1 : 0) << ","
-        << r.evaluations << "," << r.stop_reason << "," << r.vm_peak_kb << "," << num(r.seconds, 2)
-        << "," << num(r.labelling_ms, 3) << "," << num(r.clustering_ms, 3) << ","
-        << num(r.distance_ms, 3) << "," << num(r.total_ms, 3) << "\n";
+        << "," << r.seed << "," << core::csv_field(r.resolution) << "," << r.voxels << ","
+        << r.cameras << "," << r.static_objects << "," << r.static_facets << ","
+        << r.dynamic_objects << "," << r.dynamic_facets << "," << r.time_steps << ","
+        << r.target_objects << "," << r.target_facets << "," << r.events << "," << num(r.err, 6)
+        << "," << num(r.tolerance, 6) << "," << (r.reached ? 1 : 0) << "," << r.evaluations << ","
+        << r.stop_reason << "," << r.vm_peak_kb << "," << num(r.seconds, 2) << ","
+        << num(r.labelling_ms, 3) << "," << num(r.clustering_ms, 3) << "," << num(r.distance_ms, 3)
+        << "," << num(r.total_ms, 3) << "\n";
   }
   core::write_file_atomically(dir + "/runs.csv", csv.str());
 
@@ -531,9 +532,9 @@ void write_study_report(const StudySpec& spec, const std::vector<RunRow>& rows,
         "median Err [m²] |\n|---|---|---|---|---|---|---|\n";
   for (const GroupStats& g : groups) {
     const RunRow& s = g.shape;
-    md << "| " << core::md_cell(g.examination) << " | " << g.param << " | " << s.resolution << ", " << s.cameras
-       << " cams, static " << s.static_objects << "/" << s.static_facets << ", dynamic "
-       << s.dynamic_objects << "/" << s.dynamic_facets << " in " << s.time_steps
+    md << "| " << core::md_cell(g.examination) << " | " << g.param << " | " << s.resolution << ", "
+       << s.cameras << " cams, static " << s.static_objects << "/" << s.static_facets
+       << ", dynamic " << s.dynamic_objects << "/" << s.dynamic_facets << " in " << s.time_steps
        << " steps, targets " << s.target_objects << "/" << s.target_facets << " in " << s.events
        << " events | " << g.runs << " | " << g.reached << " | " << num(g.median_evaluations, 0)
        << " | " << num(g.median_err, 4) << " |\n";
@@ -545,9 +546,8 @@ void write_study_report(const StudySpec& spec, const std::vector<RunRow>& rows,
      << "|---|---|---|---|---|---|---|---|\n";
   for (const GroupStats& g : groups) {
     md << "| " << core::md_cell(g.examination) << " | " << g.param << " | "
-       << num(g.labelling_ms, 3) << " | "
-       << num(g.clustering_ms, 3) << " | " << num(g.total_ms, 3) << " | "
-       << num(g.median_seconds, 1) << " | " << num(g.max_vm_peak_kb / 1024.0, 1) << " | "
+       << num(g.labelling_ms, 3) << " | " << num(g.clustering_ms, 3) << " | " << num(g.total_ms, 3)
+       << " | " << num(g.median_seconds, 1) << " | " << num(g.max_vm_peak_kb / 1024.0, 1) << " | "
        << num(g.max_vm_hwm_kb / 1024.0, 1) << " |\n";
   }
   md << exact_check_section(groups, rows, dir);

@@ -40,8 +40,8 @@ void write_file_atomically(const std::string& path, const std::string& text) {
   if (target.has_parent_path()) {
     fs::create_directories(target.parent_path(), ec);
     if (ec) {
-      throw WriteError(path + ": cannot create its folder " + target.parent_path().string() +
-                       ": " + ec.message());
+      throw WriteError(path + ": cannot create its folder " + target.parent_path().string() + ": " +
+                       ec.message());
     }
   }
   // Unique per process, so concurrent writers of different results never share a temp file.
@@ -84,9 +84,9 @@ void probe_output_directory(const std::string& dir, const std::string& option) {
     existing = existing.parent_path();
   }
   if (fs::exists(existing, ec) && !fs::is_directory(existing, ec)) {
-    throw InputError("command line", option,
-                     "cannot create directory \"" + dir + "\": " + existing.string() +
-                         " is not a directory");
+    throw InputError(
+        "command line", option,
+        "cannot create directory \"" + dir + "\": " + existing.string() + " is not a directory");
   }
   probe_writable(existing.string(), option);
 }
@@ -94,8 +94,7 @@ void probe_output_directory(const std::string& dir, const std::string& option) {
 void probe_writable(const std::string& dir, const std::string& option) {
   // A file created and removed again: a read-only or full folder is found before the work.
   const std::string probe =
-      (std::filesystem::path(dir) / (".camplace-probe.tmp" + std::to_string(::getpid())))
-          .string();
+      (std::filesystem::path(dir) / (".camplace-probe.tmp" + std::to_string(::getpid()))).string();
   const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
   int error = fd < 0 ? errno : 0;
   if (fd >= 0) {

@@ -120,8 +120,7 @@ SceneObject SceneParser::parse_object(const JsonNode& node, Role role) const {
 std::vector<SceneObject> SceneParser::parse_objects(const JsonNode& list, Role role) const {
   std::vector<SceneObject> objects;
   const std::size_t n = limited_size(list, kMaxObjects, "objects in one list");
-  for (std::size_t i = 0; i < n; ++i)
-    objects.push_back(parse_object(list.at(i), role));
+  for (std::size_t i = 0; i < n; ++i) objects.push_back(parse_object(list.at(i), role));
   return objects;
 }
 
@@ -200,7 +199,8 @@ void SceneParser::parse_time_steps(const JsonNode& root) {
   std::vector<std::string> step_entry;
   if (given) {
     const JsonNode list = root.at("time_steps");
-    if (limited_size(list, kMaxTimeSteps, "time steps") == 0) list.fail("a scene needs at least one time step");
+    if (limited_size(list, kMaxTimeSteps, "time steps") == 0)
+      list.fail("a scene needs at least one time step");
     if (!robots.empty() && list.array_size() != robots.front().times.size()) {
       list.fail("expected one time step per sample of the robots' trajectory (" +
                 std::to_string(robots.front().times.size()) + "), found " +

@@ -21,9 +21,9 @@ CommandResult camplace(const std::string& args) { return run_camplace(CAMPLACE_B
 
 /// A study of the given examinations, one run of 20 evaluations per group.
 std::string study_json(const json& examinations) {
-  json study = {{"algorithm", "gaco"},     {"mode", "center"},        {"runs_per_group", 1},
-                {"threads", 1},            {"first_seed", 1},         {"scene_seed", 1},
-                {"time_limit_s", 600},     {"max_evaluations", 20},   {"examinations", examinations}};
+  json study = {{"algorithm", "gaco"}, {"mode", "center"},      {"runs_per_group", 1},
+                {"threads", 1},        {"first_seed", 1},       {"scene_seed", 1},
+                {"time_limit_s", 600}, {"max_evaluations", 20}, {"examinations", examinations}};
   return study.dump(1);
 }
 
@@ -76,8 +76,8 @@ TEST(StudyHardening, AGroupGivenTwiceIsRefusedWhenTheStudyFileIsRead) {
        "/examinations/1/name: examination \"same\" is named twice (also /examinations/0)"}};
   int k = 0;
   for (const auto& [examinations, message] : cases) {
-    const std::string file = write_file(dir + "/s" + std::to_string(k) + ".json",
-                                        study_json(examinations));
+    const std::string file =
+        write_file(dir + "/s" + std::to_string(k) + ".json", study_json(examinations));
     const std::string out = dir + "/out" + std::to_string(k++);
     const CommandResult r = camplace("study " + file + " --out " + out);
     EXPECT_EQ(r.exit_code, 1) << r.output;
@@ -90,8 +90,8 @@ TEST(StudyHardening, NamesWithCommasQuotesBarsAndLineBreaksKeepTheTablesParseabl
   const std::string dir = temp_dir("study-names");
   const std::string name = "a,\"b\"|c\nd";
   const std::string file = write_file(
-      dir + "/names.json", study_json(json::array({{{"name", name}, {"family", "cameras"},
-                                                    {"params", {3}}}})));
+      dir + "/names.json",
+      study_json(json::array({{{"name", name}, {"family", "cameras"}, {"params", {3}}}})));
   const CommandResult r = camplace("study " + file + " --out " + dir + "/out");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const std::vector<std::vector<std::string>> rows = parse_csv(read_text(dir + "/out/runs.csv"));

@@ -131,14 +131,15 @@ TEST(OptimizeHardening, ASignalEndsTheScenesLoadingAtOnce) {
       }
     }
     const int last = 1 + (n - 1) * m;
-    for (int j = 0; j < m; ++j) off << "3 " << last << " " << idx(n - 1, j + 1) << " " << idx(n - 1, j) << "\n";
+    for (int j = 0; j < m; ++j)
+      off << "3 " << last << " " << idx(n - 1, j + 1) << " " << idx(n - 1, j) << "\n";
   }
   json scene = read_json(kScene);
   scene["static_obstacles"].push_back(
       {{"name", "ball"}, {"file", "ball.off"}, {"transform", {{"translate", {2, 1.5, 1.5}}}}});
   write_file(dir + "/scene.json", scene.dump());
-  const pid_t pid = start({"optimize", dir + "/scene.json", "--out", dir + "/out", "--quiet"},
-                          dir + "/log");
+  const pid_t pid =
+      start({"optimize", dir + "/scene.json", "--out", dir + "/out", "--quiet"}, dir + "/log");
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
   const auto signalled = std::chrono::steady_clock::now();
   ::kill(pid, SIGTERM);
@@ -180,8 +181,8 @@ TEST(OptimizeHardening, TheSummaryDescribesTheRunFilesWhenSeedsOverlap) {
   // A makes seeds 1 and 2, B (started 0.5 s later) seeds 2 and 3, each run 1 s: B writes its
   // run 2 first, A overwrites it, B writes the last summary. It used to describe B's own run 2.
   const std::string out = temp_dir("concurrent-seeds");
-  const std::vector<std::string> common{"--runs", "2",   "--time-limit", "1", "--tolerance",
-                                        "0",      "--threads", "1",     "--quiet"};
+  const std::vector<std::string> common{"--runs",    "2", "--time-limit", "1", "--tolerance", "0",
+                                        "--threads", "1", "--quiet"};
   std::vector<std::string> args_a{"optimize", kScene, "--out", out, "--seed", "1"};
   std::vector<std::string> args_b{"optimize", kScene, "--out", out, "--seed", "2"};
   args_a.insert(args_a.end(), common.begin(), common.end());
