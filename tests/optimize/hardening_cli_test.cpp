@@ -103,6 +103,23 @@ TEST(OptimizeHardening, MaxSecondsBoundsTheWholeCommandAndKeepsTheRunsMade) {
   EXPECT_EQ(bad.output.rfind("error: command line: --max-seconds", 0), 0u) << bad.output;
 }
 
+TEST(OptimizeHardening, ExportAndCompareHaveMaxSecondsToo) {
+  // The exact pipeline over paper_basic's 6 states takes over a second: cut at 0.3 s.
+  const std::string out = temp_dir("export-max-seconds");
+  const std::string cameras = std::string(CAMPLACE_SOURCE_DIR) + "/data/paper_basic_corners.json";
+  for (const std::string command : {"export", "compare"}) {
+    const auto begin = std::chrono::steady_clock::now();
+    const CommandResult r =
+        camplace(command + " " + kScene + " --cameras " + cameras + " --out " + out + "/" +
+                 command + (command == "export" ? " --pipeline exact" : "") + " --max-seconds 0.3");
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find("error: " + command + " stopped: --max-seconds 0.3 exceeded; "),
+              std::string::npos)
+        << r.output;
+    EXPECT_LT(seconds_since(begin), 3.0) << r.output;
+  }
+}
+
 TEST(OptimizeHardening, ASignalEndsTheScenesLoadingAtOnce) {
   // A scene whose static obstacle is a sphere of 360,000 triangles: its loading (reading,
   // checking) takes seconds. SIGTERM while it loads ends the process within a second, with
