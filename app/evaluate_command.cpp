@@ -194,6 +194,10 @@ void run_evaluate(const EvaluateArgs& args) {
     const std::string problem = !want_voxel ? "needs --pipeline voxel or both"
                                             : compare::voxel_models_path_problem(args.voxels_out);
     if (!problem.empty()) throw core::InputError("command line", "--voxels-out", problem);
+    if (std::filesystem::is_directory(args.voxels_out)) {
+      throw core::InputError("command line", "--voxels-out",
+                             args.voxels_out + ": is a directory, not a file");
+    }
     if (!args.voxels_out.empty()) {
       const std::filesystem::path parent = std::filesystem::path(args.voxels_out).parent_path();
       core::probe_output_directory(parent.empty() ? "." : parent.string(), "--voxels-out");

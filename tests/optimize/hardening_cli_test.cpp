@@ -174,15 +174,16 @@ TEST(OptimizeHardening, RunsOfOtherSettingsWrittenMeanwhileStopTheProcessBeforeI
   // and writes its run first. A finds it under the folder's lock and writes nothing: the folder
   // holds only conservative runs and a summary of them.
   const std::string out = temp_dir("concurrent-settings");
+  const std::string logs = temp_dir("concurrent-settings-logs");
   const pid_t a = start({"optimize", kScene, "--out", out, "--seed", "1", "--mode", "center",
                          "--time-limit", "3", "--tolerance", "0", "--threads", "1", "--quiet"},
-                        out + ".a.log");
+                        logs + "/a.log");
   std::this_thread::sleep_for(std::chrono::milliseconds(800));
   const CommandResult b = camplace("optimize " + kScene + " --out " + out +
                                    " --seed 5 --max-evals 30 --threads 1 --quiet");
   ASSERT_EQ(b.exit_code, 0) << b.output;
   const int status = wait_for(a, 30.0);
-  const std::string log = read_text(out + ".a.log");
+  const std::string log = read_text(logs + "/a.log");
   ASSERT_TRUE(status != -1 && WIFEXITED(status)) << log;
   EXPECT_EQ(WEXITSTATUS(status), 1) << log;
   EXPECT_NE(log.find("mode: conservative → center"), std::string::npos) << log;
@@ -198,18 +199,19 @@ TEST(OptimizeHardening, TheSummaryDescribesTheRunFilesWhenSeedsOverlap) {
   // A makes seeds 1 and 2, B (started 0.5 s later) seeds 2 and 3, each run 1 s: B writes its
   // run 2 first, A overwrites it, B writes the last summary. It used to describe B's own run 2.
   const std::string out = temp_dir("concurrent-seeds");
+  const std::string logs = temp_dir("concurrent-seeds-logs");
   const std::vector<std::string> common{"--runs",    "2", "--time-limit", "1", "--tolerance", "0",
                                         "--threads", "1", "--quiet"};
   std::vector<std::string> args_a{"optimize", kScene, "--out", out, "--seed", "1"};
   std::vector<std::string> args_b{"optimize", kScene, "--out", out, "--seed", "2"};
   args_a.insert(args_a.end(), common.begin(), common.end());
   args_b.insert(args_b.end(), common.begin(), common.end());
-  const pid_t a = start(args_a, out + ".a.log");
+  const pid_t a = start(args_a, logs + "/a.log");
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
-  const pid_t b = start(args_b, out + ".b.log");
+  const pid_t b = start(args_b, logs + "/b.log");
   const int status_a = wait_for(a, 30.0), status_b = wait_for(b, 30.0);
-  ASSERT_TRUE(WIFEXITED(status_a) && WEXITSTATUS(status_a) == 0) << read_text(out + ".a.log");
-  ASSERT_TRUE(WIFEXITED(status_b) && WEXITSTATUS(status_b) == 0) << read_text(out + ".b.log");
+  ASSERT_TRUE(WIFEXITED(status_a) && WEXITSTATUS(status_a) == 0) << read_text(logs + "/a.log");
+  ASSERT_TRUE(WIFEXITED(status_b) && WEXITSTATUS(status_b) == 0) << read_text(logs + "/b.log");
   EXPECT_EQ(run_files(out).size(), 3u);
   expect_summary_matches_files(out);
 }
