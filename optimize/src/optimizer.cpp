@@ -40,6 +40,13 @@ core::CameraConfig json_round_trip(const core::CameraConfig& config, const core:
   {
     std::ofstream out(path);
     out << core::camera_config_json(config) << '\n';
+    out.close();
+    if (!out) {
+      // A full temporary directory: keep the in-memory configuration, as without one.
+      std::error_code ignored;
+      fs::remove(path, ignored);
+      return config;
+    }
   }
   core::CameraConfig reread = core::load_camera_config(path, scene);
   std::error_code ignored;
