@@ -11,6 +11,7 @@
 #include "camplace/core/camera.hpp"
 #include "camplace/core/error.hpp"
 #include "camplace/core/files.hpp"
+#include "camplace/core/json_reader.hpp"
 #include "camplace/core/scene.hpp"
 #include "camplace/jobs/interrupt.hpp"
 #include "camplace/jobs/progress.hpp"
@@ -27,6 +28,7 @@ namespace {
 struct CompareArgs {
   std::string scene, cameras, resolutions, refine, out;
   bool resolutions_given = false, progress = false;
+  double max_seconds = 0.0;  // the whole command's bound; 0 = none
 };
 
 /// "16x12x12".
@@ -95,6 +97,8 @@ std::vector<std::array<int, 3>> parse_resolution_list(const std::string& text) {
 void run_compare(const CompareArgs& args, const std::string& command) {
   const jobs::InterruptSignals
       signals;  // a signal before the work starts: jobs::StopAtOnce ends it there
+  jobs::set_deadline(args.max_seconds, "compare stopped: --max-seconds " +
+                                           core::format_number(args.max_seconds) + " exceeded");
   const core::Scene scene = load_scene_and_report(args.scene);
   const core::CameraConfig config = core::load_camera_config(args.cameras, scene);
   compare::CompareOptions options;
@@ -162,6 +166,10 @@ void register_compare_command(CLI::App& app) {
       "comma-separated refinement levels of conservative mode at every resolution, e.g. "
       "0,1,2,3 (default: 0)");
   cmd->add_option("--out", args->out, "output directory")->required();
+  cmd->add_option("--max-seconds", args->max_seconds,
+                  "stop with exit status 1 when the command takes longer than S seconds (the "
+                  "report of the evaluations done is kept; default 0: no limit)")
+      ->check(in_range(0.0, 1e9, "must be a number of seconds in [0, 1e9] (0 = no limit)"));
   cmd->add_flag("--progress", args->progress,
                 "progress on stderr also when it is not a terminal (on a terminal: always)");
   cmd->footer(

@@ -2,6 +2,7 @@
 // exact pipeline.
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
@@ -142,6 +143,8 @@ void print_summary(const nlohmann::json& r, const nlohmann::json& exact) {
 void write_voxels(const compare::EvaluationJson& evaluation, const std::string& path) {
   try {
     compare::write_voxel_models(evaluation, path);
+  } catch (const core::WriteError&) {
+    throw;  // names the file and the system's reason: not a command-line problem
   } catch (const std::runtime_error& e) {
     throw core::InputError("command line", "--voxels-out", e.what());
   }
@@ -158,6 +161,9 @@ void run_evaluate(const EvaluateArgs& args) {
   // The first SIGINT, SIGTERM or SIGHUP ends the evaluation at once (nothing to keep yet), also
   // while the scene loads and an evaluator is set up (interrupt.hpp, jobs::StopAtOnce below).
   const jobs::InterruptSignals signals;
+  // --max-seconds bounds the whole command, from the scene's loading on.
+  jobs::set_deadline(args.max_seconds, "evaluate stopped: --max-seconds " +
+                                           max_seconds_text(args.max_seconds) + " exceeded");
   const core::Scene scene = load_scene_and_report(args.scene);
   const core::CameraConfig config = core::load_camera_config(args.cameras, scene);
   // Keep-out boxes bind the optimizer only (docs/scene-format.md): evaluate warns and goes on.
@@ -188,6 +194,14 @@ void run_evaluate(const EvaluateArgs& args) {
     const std::string problem = !want_voxel ? "needs --pipeline voxel or both"
                                             : compare::voxel_models_path_problem(args.voxels_out);
     if (!problem.empty()) throw core::InputError("command line", "--voxels-out", problem);
+    if (std::filesystem::is_directory(args.voxels_out)) {
+      throw core::InputError("command line", "--voxels-out",
+                             args.voxels_out + ": is a directory, not a file");
+    }
+    if (!args.voxels_out.empty()) {
+      const std::filesystem::path parent = std::filesystem::path(args.voxels_out).parent_path();
+      core::probe_output_directory(parent.empty() ? "." : parent.string(), "--voxels-out");
+    }
   }
   if (args.export_given) core::create_output_directory(args.export_dir, "--export-mesh");
   options.export_dir = args.export_dir;
@@ -225,9 +239,6 @@ void run_evaluate(const EvaluateArgs& args) {
     stop.kept = args.export_given ? "the mesh files in " + args.export_dir + " may be incomplete"
                                   : "nothing was written";
     if (args.export_given) stop.temp_dirs.push_back(args.export_dir);
-    stop.deadline_seconds = args.max_seconds;
-    stop.deadline_message =
-        "evaluate stopped: --max-seconds " + max_seconds_text(args.max_seconds) + " exceeded";
     const jobs::StopAtOnce at_once(stop);
     evaluation = compare::evaluate_json(scene, config, options);
   }
@@ -292,8 +303,8 @@ void register_evaluate_command(CLI::App& app) {
   cmd->add_flag("--progress", args->progress,
                 "progress on stderr also when it is not a terminal (on a terminal: always)");
   cmd->add_option("--max-seconds", args->max_seconds,
-                  "stop with exit status 1 when the evaluation takes longer than S seconds "
-                  "(default 0: no limit)")
+                  "stop with exit status 1 when the command (loading the scene, the "
+                  "evaluation) takes longer than S seconds (default 0: no limit)")
       ->check(in_range(1e-3, 1e9, "must be a number of seconds in [0.001, 1e9]"));
   cmd->add_flag("--exact-fractions", args->exact_fractions,
                 "exact pipeline: add squared distances as exact fractions \"p/q\"");

@@ -9,6 +9,7 @@
 #include "camplace/core/camera.hpp"
 #include "camplace/core/error.hpp"
 #include "camplace/core/files.hpp"
+#include "camplace/core/json_reader.hpp"
 #include "camplace/core/scene.hpp"
 #include "camplace/core/threads.hpp"
 #include "camplace/jobs/interrupt.hpp"
@@ -26,8 +27,9 @@ struct ExportArgs {
   std::string scene, cameras, out, mode = "conservative", resolution, pipeline = "voxel";
   std::vector<std::string> states;
   std::string three_dir = view::kDefaultThreeDir;
-  int threads = 0;  // 0 = one per core
-  int refine = 0;   // voxel::VoxelOptions::refine
+  int threads = 0;           // 0 = one per core
+  int refine = 0;            // voxel::VoxelOptions::refine
+  double max_seconds = 0.0;  // the whole command's bound; 0 = none
 };
 
 /// "H,L" → the state; InputError naming --state otherwise.
@@ -51,6 +53,9 @@ core::StateIndex parse_state(const std::string& text) {
 
 void run_export(const ExportArgs& args) {
   const jobs::InterruptSignals signals;
+  // --max-seconds bounds the whole command: loading, the evaluation and the writing.
+  jobs::set_deadline(args.max_seconds, "export stopped: --max-seconds " +
+                                           core::format_number(args.max_seconds) + " exceeded");
   const core::Scene scene = load_scene_and_report(args.scene);
   const core::CameraConfig config = core::load_camera_config(args.cameras, scene);
   view::ExportOptions options;
@@ -121,6 +126,10 @@ void register_export_command(CLI::App& app) {
       ->check(in_range(0, voxel::kMaxRefine));
   cmd->add_option("--state", args->states,
                   "export only state H,L (time step, event); repeatable (default: every state)");
+  cmd->add_option("--max-seconds", args->max_seconds,
+                  "stop with exit status 1 when the command takes longer than S seconds (the "
+                  "files written so far are kept; default 0: no limit)")
+      ->check(in_range(0.0, 1e9, "must be a number of seconds in [0, 1e9] (0 = no limit)"));
   cmd->add_option("--threads", args->threads, "threads (default: one per core)")
       ->check(in_range(1, core::kMaxThreads));
   cmd->add_option("--three-dir", args->three_dir,

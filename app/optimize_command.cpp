@@ -12,6 +12,8 @@
 #include <iostream>
 #include <limits>
 #include <memory>
+#include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -19,6 +21,7 @@
 #include "camplace/compare/evaluation_json.hpp"
 #include "camplace/core/error.hpp"
 #include "camplace/core/files.hpp"
+#include "camplace/core/json_reader.hpp"
 #include "camplace/core/provenance.hpp"
 #include "camplace/core/scene.hpp"
 #include "camplace/core/threads.hpp"
@@ -49,7 +52,8 @@ struct OptimizeArgs {
   bool tolerance_given = false;
   bool quiet = false;
   bool restart = false;
-  std::string snap;  ///< --snap POS_M,ANGLE_DEG ("" = none)
+  double max_seconds = 0.0;  ///< the whole command's bound; 0 = none
+  std::string snap;          ///< --snap POS_M,ANGLE_DEG ("" = none)
 };
 
 /// Parses --snap POS_M,ANGLE_DEG: two finite numbers > 0 (metres, degrees).
@@ -119,6 +123,21 @@ class ProgressPrinter {
   std::chrono::steady_clock::time_point last_;
 };
 
+/// Every run file of `dir` must hold the scene's number of cameras (its summary and diagnostics
+/// use their cameras): else an error naming the file.
+void check_run_cameras(const std::string& dir, const std::vector<optimize::RunResult>& runs,
+                       const core::Scene& scene) {
+  for (const optimize::RunResult& r : runs) {
+    if (r.best.size() == static_cast<std::size_t>(scene.cameras.count)) continue;
+    const std::string file =
+        (std::filesystem::path(dir) / ("run-" + std::to_string(r.seed) + ".json")).string();
+    throw core::InputError(file, "/cameras",
+                           "holds " + std::to_string(r.best.size()) + " cameras, the scene " +
+                               scene.file + " has " + std::to_string(scene.cameras.count) +
+                               " (a damaged run file?)");
+  }
+}
+
 /// Removes the runs of an earlier `optimize --out DIR` and what `validate DIR` made of them.
 /// Returns the number of run files removed.
 int discard_output(const std::string& dir) {
@@ -135,6 +154,12 @@ void run_optimize(const OptimizeArgs& args) {
   // (jobs::StopAtOnce below).
   const jobs::InterruptSignals signals;
   std::atomic<bool>& stop = jobs::InterruptSignals::flag();
+  // --max-seconds bounds everything from here: loading and set-up (which then end the process,
+  // nothing written), the runs and their snapping (cut at it, no further run starts) and the
+  // diagnostics (left out of the summary when no time is left).
+  const std::string over_time =
+      "optimize stopped: --max-seconds " + core::format_number(args.max_seconds) + " exceeded";
+  jobs::set_deadline(args.max_seconds, over_time);
 
   const core::Scene scene = load_scene_and_report(args.scene);
   voxel::VoxelOptions voxel_options;
@@ -181,6 +206,9 @@ void run_optimize(const OptimizeArgs& args) {
                              " with " + std::to_string(work.cameras) + " cameras" +
                              (args.refine > 0 ? ", --refine " + std::to_string(args.refine) : ""));
   check_memory(work, resolution_option);
+  // The folder (or where it would be made) is probed before the set-up and the runs: a
+  // read-only or full one is found before the work, not when its result is written.
+  core::probe_output_directory(args.out, "--out");
   auto set_up_at_once = std::make_unique<jobs::StopAtOnce>(jobs::StopAtOnce::Options{});
   const optimize::VoxelObjective objective(scene, voxel_options);
   set_up_at_once.reset();
@@ -196,61 +224,100 @@ void run_optimize(const OptimizeArgs& args) {
   context.camera_models = optimize::camera_models(scene);
 
   // Runs already in --out must have been made like these, or --restart discards them.
+  optimize::RunSettings now;
+  now.scene_file = args.scene;
+  now.scene = context.provenance->scene;
+  now.mode = context.mode;
+  now.resolution = context.resolution;
+  now.refine = context.refine;
+  now.algorithm = args.algorithm;
+  now.objective = args.objective;
+  now.start = args.start;
+  now.time_limit = args.time_limit;
+  now.max_evaluations = context.max_evaluations;
+  now.ceiling_pitch = core::has_ceiling_pitch(scene.cameras);
+  now.tolerance = options.tolerance.value_or(objective.default_tolerance());
+  const std::size_t dimension = optimize::Encoding(scene).dimension();
+  // No free variable: optimize() refuses the scene below.
+  if (dimension > 0) {
+    now.population = optimize::population_size(args.algorithm, args.population, dimension);
+  }
   if (args.restart) {
     const int discarded = discard_output(args.out);
     if (!args.quiet) std::fprintf(stderr, "restart: discarded %d run files\n", discarded);
   } else {
-    optimize::RunSettings now;
-    now.scene_file = args.scene;
-    now.scene = context.provenance->scene;
-    now.mode = context.mode;
-    now.resolution = context.resolution;
-    now.refine = context.refine;
-    now.algorithm = args.algorithm;
-    now.objective = args.objective;
-    now.start = args.start;
-    now.time_limit = args.time_limit;
-    now.max_evaluations = context.max_evaluations;
-    now.ceiling_pitch = core::has_ceiling_pitch(scene.cameras);
-    now.tolerance = options.tolerance.value_or(objective.default_tolerance());
-    const std::size_t dimension = optimize::Encoding(scene).dimension();
-    // No free variable: optimize() refuses the scene below.
-    if (dimension > 0) {
-      now.population = optimize::population_size(args.algorithm, args.population, dimension);
-    }
     try {
       optimize::check_resume(args.out, now);
     } catch (const optimize::SettingsChanged& e) {
       throw std::runtime_error(std::string(e.what()) + "\n" + restart_hint(args.out));
     }
+    check_run_cameras(args.out, optimize::runs_in_folder(args.out, {}), scene);
   }
   core::create_output_directory(args.out, "--out");
 
   std::vector<optimize::RunResult> results;
+  bool out_of_time = false;
   // The first run always starts (and stops at once after an early Ctrl-C); Ctrl-C ends the job.
   for (int i = 0; i < args.runs && (i == 0 || !stop.load()); ++i) {
+    const double left = jobs::seconds_left();
+    if (!(left > 0.0)) {
+      out_of_time = true;
+      break;
+    }
     options.seed = args.seed + static_cast<unsigned>(i);
+    // The run's own limit, cut to what --max-seconds leaves (the run files record --time-limit:
+    // a cut run stops with "time_limit").
+    options.time_limit = args.time_limit;
+    if (std::isfinite(left) && (args.time_limit <= 0.0 || left < args.time_limit)) {
+      options.time_limit = left;
+      out_of_time = true;  // unless the run ends before the cut (below)
+    }
     ProgressPrinter progress(args.quiet, i + 1, args.runs, options.seed);
     options.on_progress = [&progress](const optimize::Progress& p) { progress.update(p); };
     optimize::RunResult result = optimize::optimize(scene, objective, options);
     progress.finish(result);
+    if (out_of_time && result.stop_reason != optimize::StopReason::time_limit &&
+        jobs::seconds_left() > 0.0) {
+      out_of_time = false;
+    }
     const std::string file =
         (std::filesystem::path(args.out) / ("run-" + std::to_string(result.seed) + ".json"))
             .string();
-    core::write_file_atomically(file, optimize::run_json(result, context).dump(2) + "\n");
+    {
+      // Another process may have written runs into the folder since the check above: under the
+      // folder's lock, this run joins it only if every run there was made with these settings.
+      const optimize::FolderLock lock(args.out);
+      try {
+        optimize::check_resume(args.out, now);
+      } catch (const optimize::SettingsChanged& e) {
+        throw std::runtime_error(std::string(e.what()) +
+                                 "\n(written there by another process while this one ran; the "
+                                 "run of seed " +
+                                 std::to_string(result.seed) + " was not written)");
+      }
+      const std::lock_guard<std::mutex> writing(jobs::StopAtOnce::writing());
+      core::write_file_atomically(file, optimize::run_json(result, context).dump(2) + "\n");
+    }
     results.push_back(std::move(result));
+    if (out_of_time) break;
   }
   const bool interrupted = stop.load();
   const std::filesystem::path out(args.out);
-  // Other optimize processes may write runs into the same folder (a study on a cluster): the
-  // summary covers every run file there, rebuilt under the folder's lock.
+  // Other optimize processes may write runs into the same folder (a study on a cluster, or two
+  // jobs of overlapping seeds): the summary is built from the run files there, under the
+  // folder's lock, so that it describes exactly the files.
   const optimize::FolderLock lock(args.out);
-  const std::vector<optimize::RunResult> all_runs = optimize::runs_in_folder(args.out, results);
+  const std::vector<optimize::RunResult> all_runs = optimize::runs_in_folder(args.out, {});
+  check_run_cameras(args.out, all_runs, scene);
   auto summary = optimize::summary_json(all_runs, context, interrupted);
+  // First without the diagnostics, so that running out of time while they are computed keeps a
+  // summary of every run.
+  core::write_file_atomically((out / "summary.json").string(), summary.dump(2) + "\n");
+  core::write_file_atomically((out / "summary.csv").string(), optimize::summary_csv(all_runs));
   // The diagnostics of `evaluate` for the best configuration, in the summary and below
   // the table.
   nlohmann::json diagnostics;
-  if (summary.contains("best")) {
+  if (summary.contains("best") && !out_of_time) {
     const auto best = std::min_element(all_runs.begin(), all_runs.end(),
                                        [](const auto& a, const auto& b) { return a.err < b.err; });
     compare::EvaluationOptions eval;
@@ -258,11 +325,18 @@ void run_optimize(const OptimizeArgs& args) {
     eval.resolution = voxel_options.resolution;
     eval.refine = voxel_options.refine;
     eval.threads = 1;
+    jobs::StopAtOnce::Options at_deadline;
+    at_deadline.kept =
+        "the run files and summary.json (without the best configuration's "
+        "diagnostics) are in " +
+        args.out;
+    at_deadline.temp_dirs.push_back(args.out);
+    const jobs::StopAtOnce at_once(at_deadline);
     diagnostics = compare::evaluate_json(scene, best->best, eval).result.at("diagnostics");
     summary["best"]["diagnostics"] = diagnostics;
+    const std::lock_guard<std::mutex> writing(jobs::StopAtOnce::writing());
+    core::write_file_atomically((out / "summary.json").string(), summary.dump(2) + "\n");
   }
-  core::write_file_atomically((out / "summary.json").string(), summary.dump(2) + "\n");
-  core::write_file_atomically((out / "summary.csv").string(), optimize::summary_csv(all_runs));
   if (interrupted) {
     std::cout << "interrupted: the best result so far is in " << args.out << "\n\n";
   }
@@ -294,6 +368,14 @@ void run_optimize(const OptimizeArgs& args) {
   }
   std::cout << "\nrun files, summary.json and summary.csv in " << args.out << "\n";
   if (interrupted) throw jobs::Interrupted("the best result so far is in " + args.out);
+  if (out_of_time) {
+    throw std::runtime_error(over_time + "; " + std::to_string(results.size()) + " of " +
+                             std::to_string(args.runs) +
+                             " runs were made (the last one cut short); the run files and "
+                             "summary.json (without the best configuration's diagnostics) are "
+                             "in " +
+                             args.out);
+  }
 }
 
 }  // namespace
@@ -346,6 +428,11 @@ void register_optimize_command(CLI::App& app) {
                   "POS_M,ANGLE_DEG: snap each run's best to this grid (positions to multiples of "
                   "POS_M m, angles of ANGLE_DEG°) and search on the grid; both results are "
                   "reported");
+  cmd->add_option("--max-seconds", args->max_seconds,
+                  "bound the whole command to S seconds (loading, set-up, runs, snapping, "
+                  "diagnostics): runs are cut at it and no further run starts; the runs made are "
+                  "written, the exit status is 1 (default 0: no bound)")
+      ->check(in_range(0.0, 1e9, "must be a number of seconds in [0, 1e9] (0 = no bound)"));
   cmd->add_flag("--quiet", args->quiet, "no progress on stderr");
   cmd->add_flag("--restart", args->restart,
                 "discard the run files and summaries already in --out (and validate's results) "

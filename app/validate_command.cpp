@@ -6,6 +6,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -14,6 +15,7 @@
 #include <vector>
 
 #include "camplace/compare/run_validation.hpp"
+#include "camplace/core/files.hpp"
 #include "camplace/core/threads.hpp"
 #include "camplace/jobs/interrupt.hpp"
 #include "camplace/jobs/mpi_work.hpp"
@@ -106,6 +108,9 @@ void run_validate(ValidateArgs& args) {
     };
   }
   options.command = "camplace validate " + options.dir;
+  // validation.csv, validation.md and the cache go into the folder: a read-only or full one is
+  // found before the checks, not after them.
+  if (std::filesystem::is_directory(options.dir)) core::probe_writable(options.dir, "DIR");
   // Under mpirun with more than one rank: the checks are spread over the ranks and land in the
   // cache; rank 0 then writes the files from it as a serial validate does.
   std::unique_ptr<jobs::mpi::Session> session;

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "camplace/core/provenance.hpp"
+#include "camplace/core/table_text.hpp"
 
 namespace camplace::compare::detail {
 
@@ -54,9 +55,10 @@ inline std::string provenance_header(
             " more scene files (their SHA-256 in the details below) |\n";
       break;
     }
-    md += "| " + s.role + " | `" + s.path + "`, SHA-256 " + short_hash(s.hashes.scene);
+    md += "| " + core::md_cell(s.role) + " | " + core::md_cell("`" + s.path + "`") + ", SHA-256 " +
+          short_hash(s.hashes.scene);
     for (const auto& [mesh, hash] : s.hashes.meshes) {
-      md += "; mesh file `" + mesh + "`, SHA-256 " + short_hash(hash);
+      md += "; mesh file " + core::md_cell("`" + mesh + "`") + ", SHA-256 " + short_hash(hash);
     }
     md += " |\n";
   }
@@ -64,17 +66,21 @@ inline std::string provenance_header(
   for (const auto& [name, value] : options) {
     resolved += (resolved.empty() ? "" : ", ") + name + " " + value;
   }
-  md += "| options | " + resolved + " |\n| command | `" + command + "` |\n| host | " +
-        core::host_name() + " |\n| started | " + started + " |\n";
+  md += "| options | " + core::md_cell(resolved) + " |\n| command | " +
+        core::md_cell("`" + command + "`") + " |\n| host | " + core::md_cell(core::host_name()) +
+        " |\n| started | " + started + " |\n";
   if (!scenes.empty()) {
     md +=
         "\n<details><summary>Full SHA-256 of the scene and mesh files</summary>\n\n"
         "| file | SHA-256 |\n|---|---|\n";
     for (const HeaderScene& s : scenes) {
-      md += "| `" + s.path + "` | " + s.hashes.scene + " |\n";
-      for (const auto& [mesh, hash] : s.hashes.meshes) md += "| `" + mesh + "` | " + hash + " |\n";
+      md += "| " + core::md_cell("`" + s.path + "`") + " | " + s.hashes.scene + " |\n";
+      for (const auto& [mesh, hash] : s.hashes.meshes) {
+        md += "| " + core::md_cell("`" + mesh + "`") + " | " + hash + " |\n";
+      }
       if (!s.hashes.meshes.empty()) {
-        md += "| `" + s.path + "` with its mesh files (combined) | " + s.hashes.combined + " |\n";
+        md += "| " + core::md_cell("`" + s.path + "`") + " with its mesh files (combined) | " +
+              s.hashes.combined + " |\n";
       }
     }
     md += "\n</details>\n";

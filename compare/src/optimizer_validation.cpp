@@ -152,10 +152,10 @@ void validate_optimizer(const core::Scene& original, const OptimizerValidationOp
     const double voxel_err = conservative.err(config);
     const double exact_err = exact::evaluate_exact(scene, config).err;
     const std::string name = fs::path(file).filename().string();
-    runs_csv << name << "," << num(voxel_err, 9) << "," << num(exact_err, 9) << ","
+    runs_csv << core::csv_field(name) << "," << num(voxel_err, 9) << "," << num(exact_err, 9) << ","
              << num(exact_err - voxel_err, 9) << "\n";
-    md_runs << "| " << name << " | " << num(voxel_err) << " | " << num(exact_err) << " | "
-            << num(exact_err - voxel_err) << " |\n";
+    md_runs << "| " << core::md_cell(name) << " | " << num(voxel_err) << " | " << num(exact_err)
+            << " | " << num(exact_err - voxel_err) << " |\n";
     ++done;
   }
   write_locked([&] { core::write_file_atomically(dir + "/runs.csv", runs_csv.str()); },

@@ -20,6 +20,7 @@
 #include "camplace/core/names.hpp"
 #include "camplace/core/provenance.hpp"
 #include "camplace/core/sensor_model.hpp"
+#include "camplace/core/table_text.hpp"
 #include "camplace/exact/evaluator.hpp"
 #include "camplace/optimize/report.hpp"
 #include "camplace/voxel/evaluator.hpp"
@@ -34,7 +35,8 @@ using detail::resolution_text;
 namespace {
 
 /// Bump when the cached numbers change meaning (a cache entry of another version is ignored).
-constexpr int kCacheFormat = 2;  // 2: exact doubles correctly rounded from the exact values
+constexpr int kCacheFormat = 3;  // 2: exact doubles correctly rounded from the exact values;
+                                 // 3: the recorded voxel Err checked first
 constexpr const char* kCacheDir = "validation-cache";
 
 using Clock = std::chrono::steady_clock;
@@ -105,12 +107,14 @@ class SceneCache {
   }
 
   /// The voxel evaluator for (scene, mode, resolution, refinement) with the pyramid FOV.
+  /// With `own_fov`, the scene's own FOV (what the run was optimised with).
   std::shared_ptr<const voxel::VoxelEvaluator> evaluator(const std::string& path,
                                                          const LoadedScene& scene,
-                                                         const voxel::VoxelOptions& options) {
+                                                         const voxel::VoxelOptions& options,
+                                                         bool own_fov = false) {
     const std::string key = path + "|" + core::name_of(options.mode) + "|" +
                             resolution_text(options.resolution) + "|" +
-                            std::to_string(options.refine);
+                            std::to_string(options.refine) + (own_fov ? "|own" : "|pyramid");
     {
       std::lock_guard<std::mutex> lock(mutex_);
       auto found = evaluators_.find(key);
@@ -118,7 +122,8 @@ class SceneCache {
     }
     // Built outside the lock (it takes a while); a second thread may build the same one, and
     // the first stored wins — both are equal.
-    auto built = std::make_shared<const voxel::VoxelEvaluator>(scene.pyramid_scene, options);
+    auto built = std::make_shared<const voxel::VoxelEvaluator>(
+        own_fov ? scene.scene : scene.pyramid_scene, options);
     std::lock_guard<std::mutex> lock(mutex_);
     return evaluators_.emplace(key, built).first->second;
   }
@@ -205,7 +210,7 @@ bool check_run(const fs::path& dir, const fs::path& file, SceneCache& scenes, Ru
     if (context.provenance) {
       core::check_same_scene(context.provenance->scene, scene->hashes, *scene_path, file.string());
     }
-    core::check_configuration(scene->scene, run.run.best);
+    check_run_cameras(file.string(), run, scene->scene, *scene_path);
     row.target = core::success_target(*mode == core::LabelMode::conservative, row.tolerance,
                                       row.err_lower_bound);
     const fs::path cache_file = dir / kCacheDir /
@@ -219,6 +224,10 @@ bool check_run(const fs::path& dir, const fs::path& file, SceneCache& scenes, Ru
       options.mode = *mode;
       options.resolution = context.resolution;
       options.refine = context.refine;  // the run's model: refined as the run was
+      // The recorded Err must be the Err of the recorded cameras (a file changed by hand, or
+      // damaged, is not checked against the exact pipeline as if it were a run).
+      check_recorded_err(file.string(), run,
+                         scenes.evaluator(*scene_path, *scene, options, true)->err(run.run.best));
       const auto evaluator = scenes.evaluator(*scene_path, *scene, options);
       const core::Evaluation voxel = evaluator->evaluate(run.run.best);
       exact::ExactOptions exact_options;
@@ -249,14 +258,6 @@ const char* kCsvHeader =
     "run,scene,mode,resolution,voxel_err,voxel_err_same_fov,exact_err,tolerance,reached_voxel,"
     "reached_exact,max_overestimate,seconds,err_lower_bound,target,error";
 
-/// A CSV field: quoted when it holds a comma, a quote or a line break.
-std::string csv_field(const std::string& text) {
-  if (text.find_first_of(",\"\n") == std::string::npos) return text;
-  std::string out = "\"";
-  for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return out + "\"";
-}
-
 std::string csv_text(const std::vector<RunValidation>& rows) {
   std::ostringstream out;
   out << kCsvHeader << "\n";
@@ -264,13 +265,13 @@ std::string csv_text(const std::vector<RunValidation>& rows) {
     const bool ok = r.error.empty();
     auto number = [&](double v) { return ok ? core::format_number(v) : std::string(); };
     auto flag = [&](bool v) { return ok ? std::string(v ? "true" : "false") : std::string(); };
-    out << csv_field(r.run) << ',' << csv_field(r.scene) << ',' << r.mode << ','
+    out << core::csv_field(r.run) << ',' << core::csv_field(r.scene) << ',' << r.mode << ','
         << (r.resolution[0] > 0 ? resolution_text(r.resolution) : std::string()) << ','
         << number(r.voxel_err) << ',' << number(r.voxel_err_same_fov) << ',' << number(r.exact_err)
         << ',' << number(r.tolerance) << ',' << flag(r.reached_voxel) << ','
         << flag(r.reached_exact) << ',' << number(r.max_overestimate) << ',' << number(r.seconds)
-        << ',' << number(r.err_lower_bound) << ',' << number(r.target) << ',' << csv_field(r.error)
-        << "\n";
+        << ',' << number(r.err_lower_bound) << ',' << number(r.target) << ','
+        << core::csv_field(r.error) << "\n";
   }
   return out.str();
 }
@@ -320,7 +321,7 @@ std::string markdown_text(const ValidateOptions& options, const ValidationOutcom
   if (outcome.failed > 0) {
     md << "## Runs that could not be checked\n\n";
     for (const RunValidation& r : rows) {
-      if (!r.error.empty()) md << "- `" << r.run << "`: " << r.error << "\n";
+      if (!r.error.empty()) md << "- " << core::md_cell("`" + r.run + "`: " + r.error) << "\n";
     }
     md << "\n";
   }
@@ -329,8 +330,8 @@ std::string markdown_text(const ValidateOptions& options, const ValidationOutcom
      << "|---|---|---|---|---|---|---|---|---|\n";
   for (const RunValidation& r : rows) {
     if (!r.error.empty()) continue;
-    md << "| " << r.run << " | " << r.mode << " | " << resolution_text(r.resolution) << " | "
-       << num(r.voxel_err, 5) << " | " << num(r.voxel_err_same_fov, 5) << " | "
+    md << "| " << core::md_cell(r.run) << " | " << r.mode << " | " << resolution_text(r.resolution)
+       << " | " << num(r.voxel_err, 5) << " | " << num(r.voxel_err_same_fov, 5) << " | "
        << num(r.exact_err, 5) << " | " << num(r.target, 5) << " | "
        << (r.reached_voxel ? "yes" : "no") << " / " << (r.reached_exact ? "yes" : "no") << " | "
        << num(r.max_overestimate, 4) << " |\n";
@@ -340,6 +341,36 @@ std::string markdown_text(const ValidateOptions& options, const ValidationOutcom
 }
 
 }  // namespace
+
+void check_run_cameras(const std::string& file, const optimize::RunFile& run,
+                       const core::Scene& scene, const std::string& scene_path) {
+  const std::size_t count = static_cast<std::size_t>(scene.cameras.count);
+  if (run.run.best.size() != count) {
+    throw core::InputError(file, "/cameras",
+                           "holds " + std::to_string(run.run.best.size()) + " cameras, the scene " +
+                               scene_path + " has " + std::to_string(count) +
+                               " (a damaged run file, or one of another scene?)");
+  }
+  if (run.run.snapped && run.run.snapped->cameras.size() != count) {
+    throw core::InputError(file, "/snapped/cameras",
+                           "holds " + std::to_string(run.run.snapped->cameras.size()) +
+                               " cameras, the scene " + scene_path + " has " +
+                               std::to_string(count));
+  }
+}
+
+void check_recorded_err(const std::string& file, const optimize::RunFile& run, double recomputed) {
+  const double recorded = run.run.err;
+  if (std::abs(recorded - recomputed) <= 1e-9 * std::max(1.0, std::abs(recomputed))) return;
+  throw core::InputError(
+      file, "/err",
+      "the recorded Err " + core::format_number(recorded) +
+          " m² is not the Err of the recorded cameras, " + core::format_number(recomputed) +
+          " m² (recomputed in " + run.context.mode + " mode at " +
+          resolution_text(run.context.resolution) +
+          (run.context.refine > 0 ? ", refine " + std::to_string(run.context.refine) : "") +
+          "): the run file was changed after the run");
+}
 
 std::vector<std::string> find_validation_runs(const std::string& dir) {
   std::vector<std::string> out;

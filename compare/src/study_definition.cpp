@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "camplace/core/error.hpp"
@@ -70,18 +71,48 @@ StudySpec parse_study(const std::string& path) {
   s.max_evaluations = root.at("max_evaluations").integer_in(1, 2000000000);
   const core::JsonNode list = root.at("examinations");
   if (list.array_size() == 0) list.fail("a study needs at least one examination");
+  // Each group (family and parameter) is one folder of runs: two examinations naming the same
+  // group would run its seeds into the same files, and two of the same name would share a row
+  // of the report.
+  std::map<std::string, std::string> group_entry, name_entry;  // → the entry that gave it
+  constexpr std::size_t kMaxExaminations = 1000, kMaxParams = 1000;
+  if (list.array_size() > kMaxExaminations) {
+    list.fail("at most " + std::to_string(kMaxExaminations) + " examinations, found " +
+              std::to_string(list.array_size()));
+  }
   for (std::size_t i = 0; i < list.array_size(); ++i) {
     const core::JsonNode e = list.at(i);
     e.only_keys({"name", "family", "params"});
     Examination ex;
     ex.family = e.at("family").string();
     ex.name = e.has("name") ? e.at("name").string() : ex.family;
+    const auto [named, fresh_name] = name_entry.emplace(ex.name, e.pointer());
+    if (!fresh_name) {
+      (e.has("name") ? e.at("name") : e)
+          .fail("examination \"" + ex.name + "\" is named twice (also " + named->second +
+                "): give each examination its own \"name\"");
+    }
     if (e.has("params")) {
       const core::JsonNode p = e.at("params");
+      if (p.array_size() > kMaxParams) {
+        p.fail("at most " + std::to_string(kMaxParams) + " parameters, found " +
+               std::to_string(p.array_size()));
+      }
       for (std::size_t k = 0; k < p.array_size(); ++k)
         ex.params.push_back(p.at(k).integer_in(-1000, 1000));
     }
     if (ex.params.empty()) ex.params.push_back(std::nullopt);
+    for (std::size_t k = 0; k < ex.params.size(); ++k) {
+      const std::string group = group_name(ex, ex.params[k]);
+      const std::string entry = e.has("params") ? e.at("params").at(k).pointer() : e.pointer();
+      const auto [seen, fresh] = group_entry.emplace(group, entry);
+      if (!fresh) {
+        throw core::InputError(path, entry,
+                               "group \"" + group + "\" is given twice (also " + seen->second +
+                                   "): its runs would share one folder; list each family and "
+                                   "parameter once");
+      }
+    }
     for (const std::optional<int>& param : ex.params) {
       std::string text;
       try {

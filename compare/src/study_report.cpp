@@ -394,7 +394,7 @@ std::string exact_check_section(const std::vector<GroupStats>& groups,
     if (g.checked == 0) continue;
     int reached_checked = 0;
     for (const RunRow& r : rows) reached_checked += r.group == g.group && r.checked && r.reached;
-    md << "| " << g.examination << " | " << g.param << " | " << g.checked << " | "
+    md << "| " << core::md_cell(g.examination) << " | " << g.param << " | " << g.checked << " | "
        << reached_checked << " | " << g.reached_exact << " | " << g.false_successes << " | "
        << g.overestimates << " | " << num(g.median_exact_err, 4) << " | " << num(g.max_exact_err, 4)
        << " |\n";
@@ -494,14 +494,15 @@ void write_study_report(const StudySpec& spec, const std::vector<RunRow>& rows,
          "tolerance_m2,reached_tolerance,evaluations,stop_reason,vm_peak_kb,seconds,labelling_ms,"
          "clustering_ms,distance_ms,total_ms\n";
   for (const RunRow& r : rows) {
-    csv << r.examination << "," << r.family << "," << r.param << "," << r.seed << ","
-        << r.resolution << "," << r.voxels << "," << r.cameras << "," << r.static_objects << ","
-        << r.static_facets << "," << r.dynamic_objects << "," << r.dynamic_facets << ","
-        << r.time_steps << "," << r.target_objects << "," << r.target_facets << "," << r.events
-        << "," << num(r.err, 6) << "," << num(r.tolerance, 6) << "," << (r.reached ? 1 : 0) << ","
-        << r.evaluations << "," << r.stop_reason << "," << r.vm_peak_kb << "," << num(r.seconds, 2)
-        << "," << num(r.labelling_ms, 3) << "," << num(r.clustering_ms, 3) << ","
-        << num(r.distance_ms, 3) << "," << num(r.total_ms, 3) << "\n";
+    csv << core::csv_field(r.examination) << "," << core::csv_field(r.family) << "," << r.param
+        << "," << r.seed << "," << core::csv_field(r.resolution) << "," << r.voxels << ","
+        << r.cameras << "," << r.static_objects << "," << r.static_facets << ","
+        << r.dynamic_objects << "," << r.dynamic_facets << "," << r.time_steps << ","
+        << r.target_objects << "," << r.target_facets << "," << r.events << "," << num(r.err, 6)
+        << "," << num(r.tolerance, 6) << "," << (r.reached ? 1 : 0) << "," << r.evaluations << ","
+        << r.stop_reason << "," << r.vm_peak_kb << "," << num(r.seconds, 2) << ","
+        << num(r.labelling_ms, 3) << "," << num(r.clustering_ms, 3) << "," << num(r.distance_ms, 3)
+        << "," << num(r.total_ms, 3) << "\n";
   }
   core::write_file_atomically(dir + "/runs.csv", csv.str());
 
@@ -531,9 +532,9 @@ void write_study_report(const StudySpec& spec, const std::vector<RunRow>& rows,
         "median Err [m²] |\n|---|---|---|---|---|---|---|\n";
   for (const GroupStats& g : groups) {
     const RunRow& s = g.shape;
-    md << "| " << g.examination << " | " << g.param << " | " << s.resolution << ", " << s.cameras
-       << " cams, static " << s.static_objects << "/" << s.static_facets << ", dynamic "
-       << s.dynamic_objects << "/" << s.dynamic_facets << " in " << s.time_steps
+    md << "| " << core::md_cell(g.examination) << " | " << g.param << " | " << s.resolution << ", "
+       << s.cameras << " cams, static " << s.static_objects << "/" << s.static_facets
+       << ", dynamic " << s.dynamic_objects << "/" << s.dynamic_facets << " in " << s.time_steps
        << " steps, targets " << s.target_objects << "/" << s.target_facets << " in " << s.events
        << " events | " << g.runs << " | " << g.reached << " | " << num(g.median_evaluations, 0)
        << " | " << num(g.median_err, 4) << " |\n";
@@ -544,9 +545,9 @@ void write_study_report(const StudySpec& spec, const std::vector<RunRow>& rows,
         "seconds per run | peak VM [MiB] | peak resident [MiB] |\n"
      << "|---|---|---|---|---|---|---|---|\n";
   for (const GroupStats& g : groups) {
-    md << "| " << g.examination << " | " << g.param << " | " << num(g.labelling_ms, 3) << " | "
-       << num(g.clustering_ms, 3) << " | " << num(g.total_ms, 3) << " | "
-       << num(g.median_seconds, 1) << " | " << num(g.max_vm_peak_kb / 1024.0, 1) << " | "
+    md << "| " << core::md_cell(g.examination) << " | " << g.param << " | "
+       << num(g.labelling_ms, 3) << " | " << num(g.clustering_ms, 3) << " | " << num(g.total_ms, 3)
+       << " | " << num(g.median_seconds, 1) << " | " << num(g.max_vm_peak_kb / 1024.0, 1) << " | "
        << num(g.max_vm_hwm_kb / 1024.0, 1) << " |\n";
   }
   md << exact_check_section(groups, rows, dir);

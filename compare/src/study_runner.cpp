@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -14,10 +15,12 @@
 #include "camplace/compare/study.hpp"
 #include "camplace/core/err.hpp"
 #include "camplace/core/files.hpp"
+#include "camplace/core/names.hpp"
 #include "camplace/core/provenance.hpp"
 #include "camplace/core/scene.hpp"
 #include "camplace/optimize/report.hpp"
 #include "camplace/scenes/generator.hpp"
+#include "camplace/voxel/evaluator.hpp"
 #include "format.hpp"
 #include "study_definition.hpp"
 #include "study_report.hpp"
@@ -339,7 +342,12 @@ StudyOutcome run_study(const StudyOptions& options) {
       core::write_file_atomically(g.scene_path, g.scene_text);
     }
     RunRow shape;
-    describe_scene(core::load_scene(g.scene_path), shape);
+    const core::Scene group_scene = core::load_scene(g.scene_path);
+    describe_scene(group_scene, shape);
+    // --report-only reports the runs found on disk as they are: each one's recorded Err must be
+    // the Err of its recorded cameras (check_recorded_err), one evaluator per group and
+    // settings. (A study that runs checks nothing it did not make; validate checks every run.)
+    std::map<std::string, std::unique_ptr<voxel::VoxelEvaluator>> evaluators;
     shape.examination = g.examination->name;
     shape.family = g.examination->family;
     shape.group = g.name;
@@ -356,6 +364,28 @@ StudyOutcome run_study(const StudyOptions& options) {
       run.run_file = g.run_dir + "/run-" + std::to_string(run.row.seed) + ".json";
       run.cost = static_cast<double>(shape.voxels) * shape.cameras * std::max(1, shape.events);
       run.before = existing_run(run.run_file);
+      if (options.report_only && run.before &&
+          run.before->stop_reason != optimize::StopReason::interrupted) {
+        const optimize::RunFile file = optimize::read_run_file(run.run_file);
+        voxel::VoxelOptions voxel_options;
+        const auto mode = core::from_name<core::LabelMode>(file.context.mode);
+        if (!mode) {
+          throw core::InputError(run.run_file, "/context/mode",
+                                 "unknown mode \"" + file.context.mode + "\"");
+        }
+        voxel_options.mode = *mode;
+        voxel_options.resolution = file.context.resolution;
+        voxel_options.refine = file.context.refine;
+        const std::string key = file.context.mode + "|" +
+                                detail::resolution_text(file.context.resolution) + "|" +
+                                std::to_string(file.context.refine);
+        std::unique_ptr<voxel::VoxelEvaluator>& evaluator = evaluators[key];
+        if (!evaluator) {
+          evaluator = std::make_unique<voxel::VoxelEvaluator>(group_scene, voxel_options);
+        }
+        check_run_cameras(run.run_file, file, group_scene, g.scene_path);
+        check_recorded_err(run.run_file, file, evaluator->err(file.run.best));
+      }
       runs.push_back(std::move(run));
     }
   }

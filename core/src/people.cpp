@@ -13,6 +13,7 @@
 #include "camplace/core/error.hpp"
 #include "mesh_checks.hpp"
 #include "scene_format.hpp"
+#include "scene_limits.hpp"
 
 namespace camplace::core::detail {
 
@@ -334,8 +335,9 @@ PeopleZone parse_people_zone(const JsonNode& node, const Box3& area, int index) 
   }
   if (zn.has("polygon")) {
     const JsonNode poly = zn.at("polygon");
-    if (poly.array_size() < 3) poly.fail("a polygon needs at least 3 points");
-    for (std::size_t i = 0; i < poly.array_size(); ++i) zone.polygon.push_back(vec2(poly.at(i)));
+    const std::size_t n = limited_size(poly, kMaxSmallList, "points of a polygon");
+    if (n < 3) poly.fail("a polygon needs at least 3 points");
+    for (std::size_t i = 0; i < n; ++i) zone.polygon.push_back(vec2(poly.at(i)));
     const double a = signed_area(zone.polygon);
     if (!(std::abs(a) > 1e-12)) poly.fail("polygon is degenerate: it encloses no area");
     const std::vector<Point2> pts = cgal_points(zone.polygon);

@@ -18,6 +18,7 @@
 #include "people.hpp"
 #include "robot.hpp"
 #include "scene_format.hpp"
+#include "scene_limits.hpp"
 
 namespace camplace::core {
 
@@ -239,7 +240,9 @@ void SceneParser::parse_cameras(const JsonNode& node) {
       }
     }
     const JsonNode list = node.at("models");
-    if (list.array_size() == 0) list.fail("expected at least one model");
+    if (limited_size(list, kMaxCameraModels, "camera models") == 0) {
+      list.fail("expected at least one model");
+    }
     std::vector<CameraModel> models;
     std::vector<std::optional<int>> counts;
     for (std::size_t i = 0; i < list.array_size(); ++i) {
@@ -332,14 +335,43 @@ void SceneParser::parse_cameras(const JsonNode& node) {
     }
   }
   // A camera needs somewhere to go: its domain (box or mount) must not lie wholly in the
-  // keep-out boxes.
+  // keep-out boxes. Checked once per distinct domain (cameras mostly share one), against the
+  // boxes whose interior meets the domain's bounds (the others block none of its points).
+  std::vector<int> checked;  // cameras whose domain passed
   for (int i = 0; i < c.count; ++i) {
     if (c.keep_out.empty()) break;
     const CameraDomain& d = c.domains[i];
+    const auto same_position_domain = [&](int j) {
+      const CameraDomain& e = c.domains[j];
+      if (d.mount.has_value() != e.mount.has_value()) return false;
+      if (d.mount) return d.mount->name == e.mount->name;
+      return d.x.lo == e.x.lo && d.x.hi == e.x.hi && d.y.lo == e.y.lo && d.y.hi == e.y.hi &&
+             d.z.lo == e.z.lo && d.z.hi == e.z.hi;
+    };
+    if (std::any_of(checked.begin(), checked.end(), same_position_domain)) continue;
+    Vec3 lo(d.x.lo, d.y.lo, d.z.lo), hi(d.x.hi, d.y.hi, d.z.hi);
+    if (d.mount) {
+      lo = hi = d.mount->corner;
+      for (double a : {0.0, 1.0}) {
+        for (double b : {0.0, 1.0}) {
+          lo = lo.cwiseMin(d.mount->point(a, b));
+          hi = hi.cwiseMax(d.mount->point(a, b));
+        }
+      }
+    }
+    std::vector<KeepOut> meeting;
+    for (const KeepOut& k : c.keep_out) {
+      if ((k.box.min.array() + kKeepOutSlack < hi.array()).all() &&
+          (k.box.max.array() - kKeepOutSlack > lo.array()).all()) {
+        meeting.push_back(k);
+      }
+    }
     const Vec3 middle =
         d.mount ? d.mount->point(0.5, 0.5)
                 : Vec3(0.5 * (d.x.lo + d.x.hi), 0.5 * (d.y.lo + d.y.hi), 0.5 * (d.z.lo + d.z.hi));
-    if (!keep_out_repair(d, c.keep_out, middle)) {
+    checked.push_back(i);
+    if (meeting.empty()) continue;
+    if (!keep_out_repair(d, meeting, middle)) {
       const std::string what =
           d.mount ? "mount \"" + d.mount->name + "\"" : std::string("placement domain");
       throw InputError(path_, origin[i],
@@ -351,7 +383,8 @@ void SceneParser::parse_cameras(const JsonNode& node) {
 
 void SceneParser::parse_mounts(const JsonNode& list) {
   const Box3& s = scene_.area;
-  for (std::size_t i = 0; i < list.array_size(); ++i) {
+  const std::size_t n = limited_size(list, kMaxMounts, "mounts");
+  for (std::size_t i = 0; i < n; ++i) {
     const JsonNode node = list.at(i);
     node.only_keys({"name", "corner", "edges", "yaw_deg", "pitch_deg", "roll_deg"});
     Mount m;
@@ -392,7 +425,8 @@ void SceneParser::parse_mounts(const JsonNode& list) {
 }
 
 void SceneParser::parse_keep_out(const JsonNode& list) {
-  for (std::size_t i = 0; i < list.array_size(); ++i) {
+  const std::size_t n = limited_size(list, kMaxKeepOut, "keep-out boxes");
+  for (std::size_t i = 0; i < n; ++i) {
     const JsonNode node = list.at(i);
     node.only_keys({"name", "min", "max"});
     KeepOut k;

@@ -16,6 +16,7 @@
 #include "people.hpp"
 #include "robot.hpp"
 #include "scene_format.hpp"
+#include "scene_limits.hpp"
 #include "scene_parser.hpp"
 
 namespace camplace::core {
@@ -84,9 +85,10 @@ SceneObject SceneParser::parse_object(const JsonNode& node, Role role) const {
     const JsonNode m = node.at("mesh");
     m.only_keys({"vertices", "triangles"});
     const JsonNode verts = m.at("vertices"), tris = m.at("triangles");
-    for (std::size_t i = 0; i < verts.array_size(); ++i)
-      object.mesh.vertices.push_back(verts.at(i).vec3());
-    for (std::size_t i = 0; i < tris.array_size(); ++i) {
+    const std::size_t n_verts = limited_size(verts, kMaxInlineMesh, "vertices of a mesh");
+    const std::size_t n_tris = limited_size(tris, kMaxInlineMesh, "triangles of a mesh");
+    for (std::size_t i = 0; i < n_verts; ++i) object.mesh.vertices.push_back(verts.at(i).vec3());
+    for (std::size_t i = 0; i < n_tris; ++i) {
       const JsonNode t = tris.at(i);
       if (t.array_size() != 3) t.fail("a triangle needs exactly 3 vertex indices");
       std::array<int, 3> tri{};
@@ -117,14 +119,15 @@ SceneObject SceneParser::parse_object(const JsonNode& node, Role role) const {
 
 std::vector<SceneObject> SceneParser::parse_objects(const JsonNode& list, Role role) const {
   std::vector<SceneObject> objects;
-  for (std::size_t i = 0; i < list.array_size(); ++i)
-    objects.push_back(parse_object(list.at(i), role));
+  const std::size_t n = limited_size(list, kMaxObjects, "objects in one list");
+  for (std::size_t i = 0; i < n; ++i) objects.push_back(parse_object(list.at(i), role));
   return objects;
 }
 
 std::vector<SceneParser::ParsedEvent> SceneParser::parse_events(const JsonNode& events) const {
   std::vector<ParsedEvent> out;
-  for (std::size_t l = 0; l < events.array_size(); ++l) {
+  const std::size_t n = limited_size(events, kMaxEvents, "events");
+  for (std::size_t l = 0; l < n; ++l) {
     const JsonNode e = events.at(l);
     e.only_keys({"weight", "targets", "name"});
     ParsedEvent parsed;
@@ -146,7 +149,8 @@ std::vector<detail::RobotSteps> SceneParser::parse_robots(const JsonNode& list) 
                                                  const std::string& name) {
     finish_object_mesh(mesh, default_repair_, entry, name, role_name(Role::dynamic_obstacle));
   };
-  for (std::size_t i = 0; i < list.array_size(); ++i) {
+  const std::size_t n = limited_size(list, kMaxRobots, "robots");
+  for (std::size_t i = 0; i < n; ++i) {
     const JsonNode node = list.at(i);
     detail::RobotSteps robot = detail::expand_robot(node, dir_, path_, finish);
     for (const std::string& f : robot.files) note_file(f);
@@ -195,7 +199,8 @@ void SceneParser::parse_time_steps(const JsonNode& root) {
   std::vector<std::string> step_entry;
   if (given) {
     const JsonNode list = root.at("time_steps");
-    if (list.array_size() == 0) list.fail("a scene needs at least one time step");
+    if (limited_size(list, kMaxTimeSteps, "time steps") == 0)
+      list.fail("a scene needs at least one time step");
     if (!robots.empty() && list.array_size() != robots.front().times.size()) {
       list.fail("expected one time step per sample of the robots' trajectory (" +
                 std::to_string(robots.front().times.size()) + "), found " +
@@ -260,7 +265,8 @@ void SceneParser::parse_time_steps(const JsonNode& root) {
     // Generated people over all steps (each a dozen meshes checked against the obstacles).
     constexpr double kMaxPeople = 100000;
     double total_people = 0;
-    for (std::size_t i = 0; i < list.array_size(); ++i) {
+    const std::size_t zones = limited_size(list, kMaxPeopleZones, "people zones");
+    for (std::size_t i = 0; i < zones; ++i) {
       const detail::PeopleZone zone =
           detail::parse_people_zone(list.at(i), scene_.area, static_cast<int>(i));
       if (std::find(names.begin(), names.end(), zone.name) != names.end()) {

@@ -8,6 +8,7 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <thread>
 
 namespace camplace::jobs {
@@ -33,6 +34,16 @@ extern "C" void on_interrupt(int sig) {
 std::string& description() {
   static std::string text;
   return text;
+}
+
+struct GlobalDeadline {
+  bool set = false;
+  std::chrono::steady_clock::time_point at;
+  std::string message;
+};
+GlobalDeadline& global_deadline() {
+  static GlobalDeadline deadline;
+  return deadline;
 }
 
 }  // namespace
@@ -110,10 +121,17 @@ struct StopAtOnce::State {
   void watch() {
     using Clock = std::chrono::steady_clock;
     const Clock::time_point start = Clock::now();
-    const bool has_deadline = options.deadline_seconds > 0.0;
-    const Clock::time_point deadline =
+    bool has_deadline = options.deadline_seconds > 0.0;
+    Clock::time_point deadline =
         start + std::chrono::duration_cast<Clock::duration>(
                     std::chrono::duration<double>(has_deadline ? options.deadline_seconds : 0.0));
+    const GlobalDeadline& global = global_deadline();
+    if (global.set && (!has_deadline || global.at < deadline)) {
+      has_deadline = true;
+      deadline = global.at;
+      const std::lock_guard<std::mutex> guard(mutex);
+      options.deadline_message = global.message;
+    }
     std::unique_lock<std::mutex> lock(mutex);
     while (!stop) {
       if (g_flag.load()) {
@@ -157,6 +175,25 @@ std::mutex& StopAtOnce::writing() {
   static std::mutex mutex;
   return mutex;
 }
+
+bool StopAtOnce::active() { return State::current() != nullptr; }
+
+void set_deadline(double seconds, const std::string& message) {
+  GlobalDeadline& deadline = global_deadline();
+  deadline.set = seconds > 0.0;
+  deadline.message = message;
+  deadline.at = std::chrono::steady_clock::now() +
+                std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                    std::chrono::duration<double>(seconds > 0.0 ? seconds : 0.0));
+}
+
+double seconds_left() {
+  const GlobalDeadline& deadline = global_deadline();
+  if (!deadline.set) return std::numeric_limits<double>::infinity();
+  return std::chrono::duration<double>(deadline.at - std::chrono::steady_clock::now()).count();
+}
+
+const std::string& deadline_message() { return global_deadline().message; }
 
 void set_work_description(const std::string& text) { description() = text; }
 const std::string& work_description() { return description(); }

@@ -40,6 +40,13 @@ core::CameraConfig json_round_trip(const core::CameraConfig& config, const core:
   {
     std::ofstream out(path);
     out << core::camera_config_json(config) << '\n';
+    out.close();
+    if (!out) {
+      // A full temporary directory: keep the in-memory configuration, as without one.
+      std::error_code ignored;
+      fs::remove(path, ignored);
+      return config;
+    }
   }
   core::CameraConfig reread = core::load_camera_config(path, scene);
   std::error_code ignored;
@@ -284,7 +291,8 @@ RunResult optimize(const core::Scene& scene, const Objective& objective,
     const std::uint64_t budget = std::max<std::uint64_t>(100, 50 * encoding.dimension());
     result.snapped = detail::snap_and_search(
         encoding, objective, state->best_x(), *options.snap, budget,
-        [&](const core::CameraConfig& config) { return json_round_trip(config, scene); });
+        [&](const core::CameraConfig& config) { return json_round_trip(config, scene); },
+        [&] { return state->external_stop().has_value(); });
   }
   result.memory = peak_memory();
   return result;

@@ -65,7 +65,8 @@ std::vector<double> round_to_grid(const Encoding& encoding, const std::vector<do
 SnappedResult snap_and_search(
     const Encoding& encoding, const Objective& objective, const std::vector<double>& x,
     const SnapGrid& grid, std::uint64_t max_evaluations,
-    const std::function<core::CameraConfig(const core::CameraConfig&)>& round_trip) {
+    const std::function<core::CameraConfig(const core::CameraConfig&)>& round_trip,
+    const std::function<bool()>& should_stop) {
   SnappedResult result;
   result.grid = grid;
   const std::vector<Variable>& vars = encoding.variables();
@@ -79,14 +80,20 @@ SnappedResult snap_and_search(
   double current_err = err_of(current);
   result.rounded_err = current_err;
   bool improved = true;
-  while (improved && result.evaluations < max_evaluations) {
+  bool stopped = false;
+  while (improved && !stopped && result.evaluations < max_evaluations) {
     improved = false;
-    for (std::size_t k = 0; k < vars.size() && result.evaluations < max_evaluations; ++k) {
+    for (std::size_t k = 0; k < vars.size() && !stopped && result.evaluations < max_evaluations;
+         ++k) {
       for (const double direction : {1.0, -1.0}) {
         std::vector<double> trial = current;
         trial[k] = std::clamp(current[k] + direction * steps[k], vars[k].lo, vars[k].hi);
         if (trial[k] == current[k] || !encoding.keeps_out(trial, vars[k].camera)) continue;
         if (result.evaluations >= max_evaluations) break;
+        if (should_stop()) {
+          stopped = true;
+          break;
+        }
         const double err = err_of(trial);
         if (err < current_err) {
           current = std::move(trial);

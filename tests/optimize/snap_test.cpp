@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -132,6 +133,36 @@ TEST(Snap, SnappedCamerasLieOnTheGridAndTheirErrIsIndependentlyRecomputed) {
   EXPECT_EQ(back.run.snapped->evaluations, snap.evaluations);
   EXPECT_NEAR(back.run.snapped->grid.angle, 5 * kDeg, 1e-15);
   EXPECT_EQ(back.run.snapped->cameras.size(), snap.cameras.size());
+}
+
+TEST(Snap, TheGridSearchStopsOnASignalOrAtTheRunsTimeLimit) {
+  // The interrupt raised before the run: the run makes its one evaluation, and snapping only
+  // rounds (one evaluation on the grid) instead of searching the grid for up to 50 evaluations
+  // per variable past the run's end.
+  const core::Scene scene = snap_scene();
+  voxel::VoxelOptions voxel_options;
+  voxel_options.mode = voxel::LabelMode::center;
+  const VoxelObjective objective(scene, voxel_options);
+  std::atomic<bool> stop{true};
+  OptimizeOptions o;
+  o.algorithm = "pso";
+  o.seed = 4;
+  o.threads = 1;
+  o.tolerance = 0.0;
+  o.interrupt = &stop;
+  o.snap = SnapGrid{0.1, 5 * kDeg};
+  const RunResult interrupted = optimize(scene, objective, o);
+  EXPECT_EQ(interrupted.stop_reason, StopReason::interrupted);
+  ASSERT_TRUE(interrupted.snapped);
+  EXPECT_EQ(interrupted.snapped->evaluations, 1u);
+  EXPECT_EQ(interrupted.snapped->err, interrupted.snapped->rounded_err);
+  // A time limit that has passed when the search ends: the same.
+  o.interrupt = nullptr;
+  o.time_limit = 1e-9;
+  const RunResult timed = optimize(scene, objective, o);
+  EXPECT_EQ(timed.stop_reason, StopReason::time_limit);
+  ASSERT_TRUE(timed.snapped);
+  EXPECT_EQ(timed.snapped->evaluations, 1u);
 }
 
 }  // namespace

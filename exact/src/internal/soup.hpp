@@ -10,12 +10,14 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
 #include <vector>
 
 #include "camplace/core/error.hpp"
+#include "camplace/core/files.hpp"
 #include "camplace/core/geometry.hpp"
 #include "internal/kernel.hpp"
 
@@ -166,20 +168,16 @@ inline TriangleSoup nef_soup(const Nef& nef) {
   return soup;
 }
 
-/// Writes a triangle mesh as an OFF file via a temporary file and a rename.
+/// Writes a triangle mesh as an OFF file (core::write_file_atomically).
 inline void write_off(const std::string& path, const std::vector<core::Vec3>& vertices,
                       const std::vector<std::array<std::size_t, 3>>& triangles) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp);
-    if (!out) throw std::runtime_error(path + ": cannot write the exported mesh");
-    out << "OFF\n" << vertices.size() << " " << triangles.size() << " 0\n";
-    out << std::setprecision(17);
-    for (const auto& v : vertices) out << v.x() << " " << v.y() << " " << v.z() << "\n";
-    for (const auto& t : triangles) out << "3 " << t[0] << " " << t[1] << " " << t[2] << "\n";
-    if (!out) throw std::runtime_error(path + ": cannot write the exported mesh");
-  }
-  std::filesystem::rename(tmp, path);
+  std::ostringstream out;
+  out << "OFF\n" << vertices.size() << " " << triangles.size() << " 0\n";
+  out << std::setprecision(17);
+  for (const auto& v : vertices) out << v.x() << " " << v.y() << " " << v.z() << "\n";
+  for (const auto& t : triangles) out << "3 " << t[0] << " " << t[1] << " " << t[2] << "\n";
+  // Atomically, every write checked: a full disk is an error naming the file, not an empty file.
+  core::write_file_atomically(path, out.str());
 }
 
 /// Writes an exact soup rounded to double as an OFF file (atomically).

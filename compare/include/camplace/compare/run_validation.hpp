@@ -11,6 +11,9 @@
 #include <string>
 #include <vector>
 
+#include "camplace/core/scene.hpp"
+#include "camplace/optimize/report.hpp"
+
 namespace camplace::compare {
 
 /// One run's exact check. Err in m², distances in m.
@@ -93,6 +96,18 @@ class RunChecker {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+/// Throws core::InputError naming `file` and its "/cameras" when the run file `run` holds
+/// another number of cameras than `scene` (loaded from `scene_path`) has.
+void check_run_cameras(const std::string& file, const optimize::RunFile& run,
+                       const core::Scene& scene, const std::string& scene_path);
+
+/// Throws core::InputError naming `file` and its "/err" when the Err the run file `run`
+/// records differs from `recomputed`, the voxel Err of its recorded cameras recomputed with the
+/// settings it records (the scene's own FOV, mode, resolution, refinement): a run file changed
+/// after the run. validate_runs makes such a run an error row; a study reading runs from disk
+/// refuses it.
+void check_recorded_err(const std::string& file, const optimize::RunFile& run, double recomputed);
 
 /// The rows of DIR/validation.csv (for reports); empty when the file does not exist.
 std::vector<RunValidation> read_validation_csv(const std::string& dir);

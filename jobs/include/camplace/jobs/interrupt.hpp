@@ -46,9 +46,10 @@ int interrupted_exit_status();
 /// While one lives (inside an InterruptSignals), a signal, or the deadline, ends the process
 /// within a second: a watcher thread waits until no write is under way (writing()), removes
 /// the files `<name>.tmp<pid>` that core::write_file_atomically leaves in `temp_dirs`, prints
-/// "interrupted: <kept>" (exit status 128 + the signal) or, at the deadline, "error:
-/// <deadline_message>" (exit status 1) on stderr and calls _exit. A signal that came before
-/// the scope began ends the process when it begins. Nest none.
+/// "interrupted: <kept>" (exit status 128 + the signal) or, at the deadline (its own or
+/// set_deadline's, whichever comes first), "error: <deadline_message>; <kept>" (exit status 1)
+/// on stderr and calls _exit. A signal that came before the scope began ends the process when it
+/// begins. Nest none (active() tells whether one lives).
 class StopAtOnce {
  public:
   struct Options {
@@ -70,11 +71,22 @@ class StopAtOnce {
   /// Hold this lock while writing files that must not be cut short: the watcher ends the
   /// process only between writes.
   static std::mutex& writing();
+  /// True while a StopAtOnce lives (nest none: callers that may run inside one ask first).
+  static bool active();
 
  private:
   struct State;
   State* state_;
 };
+
+/// The whole command's bound (`--max-seconds S`), from this call on: every StopAtOnce scope
+/// also ends the process when it passes (with its deadline_message, else this `message`), and
+/// long loops ask seconds_left() to end their work in time. S ≤ 0: none.
+void set_deadline(double seconds, const std::string& message);
+/// Seconds until the deadline of set_deadline (≤ 0 once it passed); infinity without one.
+double seconds_left();
+/// set_deadline's message ("" without a deadline).
+const std::string& deadline_message();
 
 /// What the command is doing, with the options that size the work ("evaluate --resolution
 /// 100x100x100 (the scene's), 256 cameras, --refine 0"): main names it when memory runs out.

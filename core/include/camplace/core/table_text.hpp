@@ -1,0 +1,44 @@
+#pragma once
+/// Text fields of the tables camplace writes: CSV fields as RFC 4180 quotes them and Markdown
+/// table cells that cannot end the cell or the row early, so that a name holding a comma, a
+/// quote, a `|` or a line break keeps its file parseable.
+#include <string>
+
+namespace camplace::core {
+
+/// `text` as one CSV field (RFC 4180): unchanged unless it holds a comma, a double quote, a
+/// carriage return or a line feed (or begins or ends with a space); then in double quotes, each
+/// double quote doubled.
+inline std::string csv_field(const std::string& text) {
+  const bool padded = !text.empty() && (text.front() == ' ' || text.back() == ' ');
+  if (text.find_first_of(",\"\r\n") == std::string::npos && !padded) return text;
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '"') out += '"';
+    out += c;
+  }
+  return out + "\"";
+}
+
+/// `text` as one cell of a Markdown (GitHub) table: `|` and `\` escaped with a backslash, line
+/// breaks (CR, LF, CR LF) as `<br>`, other control characters as a space.
+inline std::string md_cell(const std::string& text) {
+  std::string out;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '|' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (c == '\r' || c == '\n') {
+      if (c == '\r' && i + 1 < text.size() && text[i + 1] == '\n') ++i;
+      out += "<br>";
+    } else if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+      out += ' ';
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+}  // namespace camplace::core
