@@ -389,17 +389,15 @@ void VoxelEvaluator::Impl::make_cone(int t, const Vec3& c, TriangleCone& tc) con
   tc.normal[0] = (sign * a.cross(b)).normalized();
   tc.normal[1] = (sign * b.cross(e)).normalized();
   tc.normal[2] = (sign * e.cross(a)).normalized();
-  for (int i = 0; i < 3; ++i) tc.abs_normal[i] = tc.normal[i].cwiseAbs();
   // The voxel-independent part of the separating-axis test (the edges' projections), once per
-  // camera.
+  // camera: the axes on one side of which the cone lies, turned toward it.
   tc.axis_count = 0;
   auto add_axis = [&](const Vec3& axis) {
     const double pa = axis.dot(edge[0]), pb = axis.dot(edge[1]), pc = axis.dot(edge[2]);
-    const double radius = axis.cwiseAbs().dot(half_step);
     if (pa >= 0.0 && pb >= 0.0 && pc >= 0.0) {
-      tc.axes[tc.axis_count++] = {axis, radius, 1.0, axis.norm()};
+      tc.axes[tc.axis_count++] = axis;
     } else if (pa <= 0.0 && pb <= 0.0 && pc <= 0.0) {
-      tc.axes[tc.axis_count++] = {axis, radius, -1.0, axis.norm()};
+      tc.axes[tc.axis_count++] = -axis;
     }
   };
   for (int i = 0; i < 3; ++i) add_axis(Vec3::Unit(i));
