@@ -190,6 +190,23 @@ core::Scene random_scene(std::mt19937& rng, std::array<int, 3> voxels) {
   return s;
 }
 
+core::Scene with_fine_meshes(core::Scene scene, int triangles) {
+  auto refine = [&](std::vector<core::SceneObject>& objects) {
+    for (core::SceneObject& o : objects) {
+      const std::string entry = o.entry;
+      o = ellipsoid_object(o.name, o.bounds, triangles);
+      o.entry = entry;
+    }
+  };
+  refine(scene.static_obstacles);
+  for (core::TimeStep& step : scene.time_steps) {
+    refine(step.dynamic_obstacles);
+    refine(step.critical);
+    for (core::Event& event : step.events) refine(event.targets);
+  }
+  return scene;
+}
+
 core::CameraConfig random_config(std::mt19937& rng, const core::Scene& scene) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   core::CameraConfig config;

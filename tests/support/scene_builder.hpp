@@ -37,6 +37,9 @@ core::CameraSetting camera_at(const core::Vec3& position, double yaw_deg, double
 /// cells (so targets never meet obstacles), 2 time steps × 2 events, random FOV shape, range and
 /// dynamic mode.
 core::Scene random_scene(std::mt19937& rng, std::array<int, 3> voxels);
+/// `scene` with every object's mesh (static and dynamic obstacles, critical objects, targets)
+/// replaced by ellipsoid_mesh(its bounding box, `triangles`): the same layout with fine meshes.
+core::Scene with_fine_meshes(core::Scene scene, int triangles);
 /// Random camera configuration inside the scene's area.
 core::CameraConfig random_config(std::mt19937& rng, const core::Scene& scene);
 /// Gives the scene's cameras a mix of models: camera i is a frustum when i % 3 is

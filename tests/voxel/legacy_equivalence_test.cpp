@@ -303,6 +303,13 @@ TEST(LegacyEquivalence, ModelsEqualThePerVoxelLabelsOfTheirCameras) {
     expect_models_equal_per_voxel_labels(scene, config, resolution, 1 + s % 3,
                                          "scene " + std::to_string(s));
   }
+  // Fine meshes: the bins get finer than the grid's resolution gives (camera_setup).
+  for (int s = 0; s < 3 && !HasFatalFailure(); ++s) {
+    core::Scene fine = with_fine_meshes(random_scene(rng, {9, 7, 6}), 400);
+    fine.plausibility = {};
+    expect_models_equal_per_voxel_labels(fine, random_config(rng, fine), {9, 7, 6}, 1 + s % 2,
+                                         "fine scene " + std::to_string(s));
+  }
   // More than 64 states: several chunks.
   core::Scene scene = random_scene(rng, {10, 8, 8});
   scene.plausibility = {};

@@ -118,6 +118,25 @@ TEST(Oracle, ConservativeLabelsEqualBoxReference) {
   for (long n : t.by_label) EXPECT_GT(n, 500);  // every label occurs often: not vacuous
 }
 
+// Fine meshes: a chunk of states holds far more slots than a few per bin of the grid's
+// resolution (at most 8 × 8 bins here, 12 objects of 400 triangles), so the labeller's bins get
+// finer (camera_setup); every label still equals the reference's. One scene per mode: the
+// reference is slow on 4,800 triangles under the sanitizers.
+core::Scene fine_random_scene(std::mt19937& rng) {
+  return with_fine_meshes(random_scene(rng, {8, 6, 6}), 400);
+}
+
+TEST(Oracle, FineMeshLabelsEqualReferenceInBothModes) {
+  for (LabelMode mode : {LabelMode::center, LabelMode::conservative}) {
+    std::mt19937 rng(20261203);
+    LabelTally t;
+    compare_labels_with_reference(rng, 1, mode, fine_random_scene, random_config, t);
+    EXPECT_GT(t.compared, 100 * t.ties);
+    EXPECT_GT(t.by_label[static_cast<int>(Label::free)], 50);  // not vacuous
+    EXPECT_GT(t.by_label[static_cast<int>(Label::undetectable)], 50);
+  }
+}
+
 TEST(Oracle, ConservativeModelContainsCenterModel) {
   std::mt19937 rng(99);
   for (int s = 0; s < kScenes; ++s) {

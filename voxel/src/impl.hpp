@@ -71,20 +71,14 @@ struct ObjectInfo {
 
 /// Per camera and candidate triangle (conservative mode): the infinite cone from the camera over
 /// the triangle, as the inward unit normals of its three planes, the separating-axis candidates,
-/// and the triangle's nearest distance.
+/// and the triangle's nearest distance. 376 bytes; what the tests derive from these (|normal|,
+/// an axis's box radius and length) is computed where used, from the same numbers.
 struct TriangleCone {
   core::Vec3 normal[3];
-  core::Vec3 abs_normal[3];
   /// The separating-axis candidates beyond the 3 planes (3 box normals, then the 9 products of
-  /// cone edges and box axes) that can separate: the cone lies on one side of them (`side`
-  /// +1: axis·x ≥ 0 on the cone, −1: ≤ 0); `radius` = Σ|axis_i|·h_i of the voxel box.
-  struct Axis {
-    core::Vec3 axis;
-    double radius;
-    double side;
-    double norm;  ///< |axis|
-  };
-  std::array<Axis, 12> axes;
+  /// cone edges and box axes) that can separate: the cone lies on one side of them, each turned
+  /// (negated, which is exact) so that axis·x ≥ 0 on the cone.
+  std::array<core::Vec3, 12> axes;
   int axis_count;  // (no initialisers: an array of cones is allocated untouched)
   double near_distance;
 };

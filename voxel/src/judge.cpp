@@ -242,7 +242,7 @@ Verdict VoxelEvaluator::Impl::judge_conservative(const CameraSetup& cam, const V
       const double margin = kMargin * (d + size.radius);
       bool holds = occupying || tc.near_distance < (d - size.radius) * (1.0 - 1e-9) - 1e-12;
       for (int i = 0; i < 3 && holds; ++i) {
-        holds = tc.normal[i].dot(wc) - tc.abs_normal[i].dot(size.half) > margin;
+        holds = tc.normal[i].dot(wc) - tc.normal[i].cwiseAbs().dot(size.half) > margin;
       }
       if (holds) witnesses->sure |= m;
     }
@@ -291,7 +291,7 @@ VoxelEvaluator::Impl::Cone VoxelEvaluator::Impl::cone_test(const TriangleCone& t
   double s[3];
   for (int i = 0; i < 3; ++i) {
     s[i] = tc.normal[i].dot(w);
-    const double gap = s[i] + tc.abs_normal[i].dot(h);
+    const double gap = s[i] + tc.normal[i].cwiseAbs().dot(h);
     if (gap < -scale) return Cone::miss;
     near_miss = near_miss || gap < 0.0;
   }
@@ -310,16 +310,18 @@ VoxelEvaluator::Impl::Cone VoxelEvaluator::Impl::cone_test(const TriangleCone& t
       tc.normal[2].dot(corner) > inside) {
     return Cone::meet;
   }
-  // Axis L: the cone projects to [0, ∞) or (−∞, 0] (relative to the camera) when its edges
-  // all project to one side, else to the whole line (such axes were dropped); the box to
-  // L·w ± Σ|L_i|·h_i.
+  // Axis L: the cone projects to [0, ∞) (relative to the camera; L is turned so, when its
+  // edges all project to one side, else it was dropped); the box to L·w ± Σ|L_i|·h_i, with the
+  // base voxel's h_i times the cell's factor (a power of two: exact).
   for (int a = 0; a < tc.axis_count; ++a) {
-    const TriangleCone::Axis& axis = tc.axes[a];
-    const double mid = axis.axis.dot(w);
-    const double radius = axis.radius * size.factor;
-    const double gap = axis.side > 0 ? -(mid + radius) : mid - radius;  // > 0: apart
-    if (gap > scale * axis.norm) return Cone::miss;
-    near_miss = near_miss || gap > 0.0;
+    const Vec3& axis = tc.axes[a];
+    const double mid = axis.dot(w);
+    const double radius = axis.cwiseAbs().dot(half_step) * size.factor;
+    const double gap = -(mid + radius);  // > 0: apart
+    if (gap > 0.0) {
+      if (gap > scale * axis.norm()) return Cone::miss;
+      near_miss = true;
+    }
   }
   return near_miss ? Cone::near_miss : Cone::meet;
 }
@@ -373,14 +375,12 @@ StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& 
     const TriangleCone& tc = cone_of(cam, s);
     if (!objects[cam.slot_object[s]].occupying && tc.near_distance >= far) return false;
     for (int i = 0; i < 3; ++i) {
-      if (tc.normal[i].dot(w) + tc.abs_normal[i].dot(half) < -scale) return false;
+      if (tc.normal[i].dot(w) + tc.normal[i].cwiseAbs().dot(half) < -scale) return false;
     }
     for (int a = 0; a < tc.axis_count; ++a) {
-      const TriangleCone::Axis& axis = tc.axes[a];
-      const double mid = axis.axis.dot(w);
-      const double radius = axis.axis.cwiseAbs().dot(half);
-      const double gap = axis.side > 0 ? -(mid + radius) : mid - radius;
-      if (gap > scale * axis.norm) return false;
+      const Vec3& axis = tc.axes[a];
+      const double gap = -(axis.dot(w) + axis.cwiseAbs().dot(half));
+      if (gap > 0.0 && gap > scale * axis.norm()) return false;
     }
     return true;
   };

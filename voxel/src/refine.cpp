@@ -337,7 +337,7 @@ StateMask VoxelEvaluator::Impl::contained(const CameraSetup& cam, int slot, cons
   // too).
   const double margin = 1e-9 * (d + size.radius);
   for (int i = 0; i < 3; ++i) {
-    if (!(tc.normal[i].dot(w) - tc.abs_normal[i].dot(size.half) > margin)) return 0;
+    if (!(tc.normal[i].dot(w) - tc.normal[i].cwiseAbs().dot(size.half) > margin)) return 0;
   }
   return states;
 }
