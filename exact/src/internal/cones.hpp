@@ -16,6 +16,7 @@
 #include "camplace/core/error.hpp"
 #include "camplace/core/scene.hpp"
 #include "internal/kernel.hpp"
+#include "internal/outline.hpp"
 #include "internal/solids.hpp"
 
 namespace camplace::exact::internal {
@@ -89,10 +90,7 @@ inline FT scale_for(const ViewPoint& cam, double h) {
 
 /// The faces of the solid whose outer side holds c.
 inline std::vector<int> front_faces(const ViewPoint& cam, const Solid& solid) {
-  std::vector<int> out;
-  for (int i = 0; i < int(solid.planes.size()); ++i)
-    if (solid.planes[i].oriented_side(cam.position) == CGAL::ON_POSITIVE_SIDE) out.push_back(i);
-  return out;
+  return solid.front_faces(cam.position);
 }
 
 inline double plane_distance_lower(const ViewPoint& cam, const Plane& plane) {
@@ -212,6 +210,44 @@ inline Nef occupied_cone(const ViewPoint& cam, const Solid& solid,
     cones.push_back(std::move(cone));
   }
   return union_all(std::move(cones));
+}
+
+/// The cone {c + t(q − c) : q in the cycle's closed interior, 0 ≤ t ≤ T} over a simple cycle of
+/// the image plane: a closed polyhedron (triangles c, q'_{i+1}, q'_i on the sides, the cycle's
+/// triangulation scaled by T as the far cap, all outward: the cycle turns counter-clockwise about
+/// the viewing direction).
+inline Nef cycle_cone(const ViewPoint& cam, const OutlineCycle& cycle, const FT& t) {
+  const auto far = scaled(cam, cycle.points, t);
+  std::vector<Point> pts{cam.position};
+  pts.insert(pts.end(), far.begin(), far.end());
+  const std::size_t n = cycle.points.size();
+  std::vector<std::vector<std::size_t>> faces;
+  for (std::size_t i = 0; i < n; ++i) faces.push_back({0, 1 + (i + 1) % n, 1 + i});
+  for (const auto& tri : cycle.triangles)
+    faces.push_back({1 + std::size_t(tri[0]), 1 + std::size_t(tri[1]), 1 + std::size_t(tri[2])});
+  SurfaceMesh sm;
+  CGAL::Polygon_mesh_processing::polygon_soup_to_polygon_mesh(pts, faces, sm);
+  return Nef(sm);
+}
+
+/// The silhouette cones of occupying solids from their outline (occupied_outline), cut beyond the
+/// clip box: for each region, the cones over its outer cycles minus those over its holes. The
+/// same point set as the union of occupied_cone over the solids within the FOV, up to boundaries,
+/// so the regularised model is the same.
+inline Nef outline_cone(const ViewPoint& cam, const std::vector<OutlineRegion>& regions) {
+  // Every image point lies at distance ≥ 1/|d| ≈ 1 from c.
+  const FT t = scale_for(cam, 0.5);
+  std::vector<Nef> parts;
+  for (const auto& region : regions) {
+    std::vector<Nef> outer, holes;
+    for (const auto& cycle : region.outer) outer.push_back(cycle_cone(cam, cycle, t));
+    for (const auto& cycle : region.holes) holes.push_back(cycle_cone(cam, cycle, t));
+    Nef cone = union_all(std::move(outer));
+    const Nef removed = union_all(std::move(holes));
+    if (!removed.is_empty()) cone -= removed;
+    parts.push_back(std::move(cone));
+  }
+  return union_all(std::move(parts));
 }
 
 /// True when c lies in one of the closed solids (such a camera sees nothing, SPEC §3.3).
