@@ -14,6 +14,7 @@
 #include <benchmark/benchmark.h>
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -108,20 +109,13 @@ void run(benchmark::State& state, const core::Scene& scene, const core::CameraCo
     const exact::ExactEvaluation e = exact::evaluate_exact(scene, config, options);
     benchmark::DoNotOptimize(e.err);
     state.counters["err_m2"] = e.err;
+    state.counters["labelling_ms"] = e.timing.labelling_ms;
+    state.counters["clustering_ms"] = e.timing.clustering_ms;
+    state.counters["distance_ms"] = e.timing.distance_ms;
   }
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   state.counters["peak_rss_mb"] = double(usage.ru_maxrss) / 1024.0;  // of the process so far
-}
-
-void BM_Triangles(benchmark::State& state) {
-  const core::Scene scene = fine_person_scene(int(state.range(0)), int(state.range(1)));
-  run(state, scene, corners(), state.range(2) != 0);
-}
-
-void BM_Cameras(benchmark::State& state) {
-  const auto [scene, config] = camera_scene(int(state.range(0)));
-  run(state, scene, config, state.range(1) != 0);
 }
 
 // Registered by hand so that the names carry the construction; the per-face construction only
@@ -132,12 +126,12 @@ void register_families() {
     for (const int states : {1, 6}) {
       for (const int n : {48, 200, 800, 3200}) {
         if (faces && states == 6 && n > 800) continue;
-        benchmark::RegisterBenchmark(
-            ("triangles/" + std::string(method) + "/states:" + std::to_string(states) +
-             "/n:" + std::to_string(n))
-                .c_str(),
-            BM_Triangles)
-            ->Args({n, states, faces})
+        benchmark::RegisterBenchmark(("triangles/" + std::string(method) + "/states:" +
+                                      std::to_string(states) + "/n:" + std::to_string(n))
+                                         .c_str(),
+                                     [=](benchmark::State& state) {
+                                       run(state, fine_person_scene(n, states), corners(), faces);
+                                     })
             ->Iterations(1)
             ->Unit(benchmark::kMillisecond)
             ->MeasureProcessCPUTime()
@@ -146,8 +140,11 @@ void register_families() {
     }
     for (const int n : {3, 6, 12}) {
       benchmark::RegisterBenchmark(
-          ("cameras/" + std::string(method) + "/n:" + std::to_string(n)).c_str(), BM_Cameras)
-          ->Args({n, faces})
+          ("cameras/" + std::string(method) + "/n:" + std::to_string(n)).c_str(),
+          [=](benchmark::State& state) {
+            const auto [scene, config] = camera_scene(n);
+            run(state, scene, config, faces);
+          })
           ->Iterations(1)
           ->Unit(benchmark::kMillisecond)
           ->MeasureProcessCPUTime()
@@ -186,12 +183,13 @@ void print_exponents(const FigureReporter& reporter, const std::string& family) 
   std::map<std::string, std::vector<std::pair<double, double>>> series;  // prefix → (n, CPU ms)
   for (const auto& [name, t] : reporter.times_) {
     if (name.rfind(family + "/", 0) != 0) continue;
-    const auto at = name.rfind("/n:");
+    const auto at = name.find("/n:");
     if (at == std::string::npos) continue;
     series[name.substr(0, at)].push_back({std::stod(name.substr(at + 3)), t.second});
   }
-  for (const auto& [prefix, points] : series) {
+  for (auto& [prefix, points] : series) {
     if (points.size() < 2) continue;
+    std::sort(points.begin(), points.end());
     double sx = 0, sy = 0, sxx = 0, sxy = 0;
     for (const auto& [n, ms] : points) {
       const double x = std::log(n), y = std::log(ms);

@@ -4,20 +4,26 @@
 // result split into simple cycles and triangulated for the cones of cones.hpp. No Nef code here.
 #include "internal/outline.hpp"
 
+#include <CGAL/Arr_curve_data_traits_2.h>
+#include <CGAL/Arr_extended_dcel.h>
+#include <CGAL/Arr_segment_traits_2.h>
+#include <CGAL/Arrangement_2.h>
 #include <CGAL/Boolean_set_operations_2.h>
 #include <CGAL/Constrained_triangulation_2.h>
 #include <CGAL/Polygon_set_2.h>
 #include <CGAL/Triangulation_face_base_with_info_2.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
-#include <CGAL/convex_hull_2.h>
 #include <CGAL/intersections.h>
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
+#include <functional>
 #include <iterator>
 #include <map>
 #include <optional>
 #include <stdexcept>
+#include <tuple>
 
 #include "camplace/core/error.hpp"
 
@@ -29,6 +35,12 @@ using Polygon2 = CGAL::Polygon_2<Kernel>;
 using PolygonWithHoles = CGAL::Polygon_with_holes_2<Kernel>;
 using PolygonSet = CGAL::Polygon_set_2<Kernel>;
 using Tetrahedron = Kernel::Tetrahedron_3;
+// Segments carrying their multiplicity in a boundary chain, counted in the direction of
+// increasing (x, y); overlapping pieces add up. Faces carry their winding number.
+using SegmentTraits = CGAL::Arr_segment_traits_2<Kernel>;
+using ChainTraits = CGAL::Arr_curve_data_traits_2<SegmentTraits, int, std::plus<int>>;
+using ChainArrangement =
+    CGAL::Arrangement_2<ChainTraits, CGAL::Arr_face_extended_dcel<ChainTraits, int>>;
 
 /// The part of a convex polygon where the affine function phi is ≥ 0 (Sutherland–Hodgman).
 template <class Phi>
@@ -99,6 +111,95 @@ class Projector {
  private:
   const ImagePlane& p_;
   Vector d_, a_, b_;
+};
+
+/// The union of triangles of the image plane given as a boundary chain: each triangle's
+/// counter-clockwise boundary added up, an edge shared by two triangles cancelling out (their
+/// images run along it in opposite directions). The union is where the chain's winding number
+/// (the number of triangles covering a point) is at least 1, so only the chain's edges — the
+/// silhouette edges of a mesh, few against its faces — enter the arrangement.
+class Chain {
+ public:
+  /// Adds the directed edge p → q (vertex keys, images) of a counter-clockwise triangle.
+  void add(const std::pair<int, int>& p, const std::pair<int, int>& q, const Point2& pp,
+           const Point2& qp) {
+    const bool forward = p < q;
+    Edge& e = edges_[forward ? std::make_pair(p, q) : std::make_pair(q, p)];
+    e.count += forward ? 1 : -1;
+    e.from = forward ? pp : qp;
+    e.to = forward ? qp : pp;
+  }
+
+  /// The union as polygons with holes (counter-clockwise outer boundaries, clockwise holes).
+  std::vector<PolygonWithHoles> regions() const {
+    std::vector<ChainTraits::Curve_2> curves;
+    for (const auto& [key, e] : edges_) {
+      if (e.count == 0) continue;
+      const bool rightward = CGAL::compare_xy(e.from, e.to) == CGAL::SMALLER;
+      curves.emplace_back(SegmentTraits::Curve_2(e.from, e.to), rightward ? e.count : -e.count);
+    }
+    std::vector<PolygonWithHoles> out;
+    if (curves.empty()) return out;
+    ChainArrangement arr;
+    CGAL::insert(arr, curves.begin(), curves.end());
+    // Winding numbers: 0 in the unbounded face; crossing h from its right (its twin's face) to
+    // its left (its face) adds shift(h).
+    for (auto f = arr.faces_begin(); f != arr.faces_end(); ++f) f->set_data(INT_MIN);
+    std::vector<ChainArrangement::Face_handle> stack{arr.unbounded_face()};
+    arr.unbounded_face()->set_data(0);
+    auto visit = [&](ChainArrangement::Face_handle f,
+                     ChainArrangement::Ccb_halfedge_circulator first) {
+      auto h = first;
+      do {
+        const auto nb = h->twin()->face();
+        const int w = f->data() - shift(h);
+        CAMPLACE_ASSERT(nb->data() == INT_MIN || nb->data() == w);
+        if (nb->data() == INT_MIN) {
+          nb->set_data(w);
+          stack.push_back(nb);
+        }
+      } while (++h != first);
+    };
+    while (!stack.empty()) {
+      const auto f = stack.back();
+      stack.pop_back();
+      if (f->has_outer_ccb()) visit(f, f->outer_ccb());
+      for (auto i = f->inner_ccbs_begin(); i != f->inner_ccbs_end(); ++i) visit(f, *i);
+    }
+    // Keep only the edges between the union and the rest: every face is then wholly inside or
+    // outside, and a face is inside when its boundary's shifts are positive.
+    std::vector<ChainArrangement::Halfedge_handle> inner_edges;
+    for (auto e = arr.edges_begin(); e != arr.edges_end(); ++e)
+      if ((e->face()->data() >= 1) == (e->twin()->face()->data() >= 1)) inner_edges.push_back(e);
+    for (auto e : inner_edges) arr.remove_edge(e);
+    auto cycle = [](ChainArrangement::Ccb_halfedge_const_circulator first) {
+      Polygon2 p;
+      auto h = first;
+      do p.push_back(h->source()->point());
+      while (++h != first);
+      return p;
+    };
+    for (auto f = arr.faces_begin(); f != arr.faces_end(); ++f) {
+      if (f->is_unbounded() || shift(f->outer_ccb()) <= 0) continue;
+      std::vector<Polygon2> holes;
+      for (auto i = f->inner_ccbs_begin(); i != f->inner_ccbs_end(); ++i)
+        holes.push_back(cycle(*i));
+      out.emplace_back(cycle(f->outer_ccb()), holes.begin(), holes.end());
+    }
+    return out;
+  }
+
+ private:
+  struct Edge {
+    int count = 0;  ///< multiplicity in the direction from → to
+    Point2 from, to;
+  };
+  template <class H>
+  static int shift(const H& h) {
+    return h->direction() == CGAL::ARR_LEFT_TO_RIGHT ? h->curve().data() : -h->curve().data();
+  }
+  /// Keyed by the (solid, vertex) pairs of the ends, the smaller first.
+  std::map<std::pair<std::pair<int, int>, std::pair<int, int>>, Edge> edges_;
 };
 
 /// A weakly simple cycle (as Boolean_set_operations_2 returns boundaries: a vertex may repeat
@@ -184,8 +285,8 @@ void add_cycles(const Polygon2& boundary, const Projector& proj, std::vector<Out
 ImagePlane image_plane(const core::CameraSetting& setting, const core::CameraModel& model) {
   const core::Fov fov(setting, core::exact_model(model));
   const core::Vec3& d = fov.axis();
-  const core::Vec3 a = (d.x() != 0.0 || d.y() != 0.0) ? core::Vec3(-d.y(), d.x(), 0.0)
-                                                     : core::Vec3(1.0, 0.0, 0.0);
+  const core::Vec3 a =
+      (d.x() != 0.0 || d.y() != 0.0) ? core::Vec3(-d.y(), d.x(), 0.0) : core::Vec3(1.0, 0.0, 0.0);
   const core::Vec3 b = d.cross(a);
   ImagePlane plane;
   plane.c = to_point(setting.position);
@@ -210,11 +311,25 @@ std::vector<OutlineRegion> occupied_outline(const ImagePlane& plane,
   const Projector proj(plane);
   std::vector<std::vector<int>> blocker_front;
   for (const Faces* b : blockers) blocker_front.push_back(b->front_faces(plane.c));
-  std::vector<Polygon2> plain;       // images of faces nothing hides
+  std::vector<Polygon2> plain;        // images of faces nothing hides that leave the window
   std::vector<PolygonWithHoles> cut;  // images of faces partly hidden, the hidden part removed
-  for (const Faces* solid : occupying) {
-    std::vector<Polygon2> unhidden;
-    bool any_blocking = false;
+  Chain chain;                        // faces nothing hides, wholly inside the window
+  const FT& w = plane.half_width;
+  for (int k = 0; k < int(occupying.size()); ++k) {
+    const Faces* solid = occupying[k];
+    // Each vertex's image when it lies strictly inside the window's cone (then (x − c)·d > 0).
+    std::vector<std::optional<Point2>> images(solid->points.size());
+    std::vector<bool> projected(solid->points.size(), false);
+    auto vertex_image = [&](int v) -> const std::optional<Point2>& {
+      if (!projected[v]) {
+        projected[v] = true;
+        const Vector u = solid->points[v] - plane.c;
+        const FT depth = w * (u * plane.d), s = u * plane.a, r = u * plane.b;
+        if (CGAL::abs(s) < depth && CGAL::abs(r) < depth)
+          images[v] = proj.project(solid->points[v]);
+      }
+      return images[v];
+    };
     for (int f : solid->front_faces(plane.c)) {
       const auto& tri = solid->triangles[f];
       const std::vector<Point> face{solid->points[tri[0]], solid->points[tri[1]],
@@ -223,13 +338,14 @@ std::vector<OutlineRegion> occupied_outline(const ImagePlane& plane,
       const CGAL::Bbox_3 tet_box = tet.bbox();
       const Plane& fplane = solid->planes[f];
       std::vector<Polygon2> hidden;
-      for (std::size_t k = 0; k < blockers.size(); ++k) {
-        const Faces& b = *blockers[k];
-        if (!CGAL::do_overlap(tet_box, b.bbox)) continue;
-        for (int g : blocker_front[k]) {
-          const Triangle gt = b.triangle(g);
+      bool blocked = false;
+      for (std::size_t b = 0; b < blockers.size(); ++b) {
+        const Faces& blocker = *blockers[b];
+        if (!CGAL::do_overlap(tet_box, blocker.bbox)) continue;
+        for (int g : blocker_front[b]) {
+          const Triangle gt = blocker.triangle(g);
           if (!CGAL::do_overlap(tet_box, gt.bbox()) || !CGAL::do_intersect(tet, gt)) continue;
-          any_blocking = true;
+          blocked = true;
           // g ∩ H̄_f: the part of g on the camera's side of f's plane (c is on the positive side).
           auto piece = clip({gt[0], gt[1], gt[2]}, [&](const Point& x) {
             return fplane.a() * x.x() + fplane.b() * x.y() + fplane.c() * x.z() + fplane.d();
@@ -238,10 +354,21 @@ std::vector<OutlineRegion> occupied_outline(const ImagePlane& plane,
           if (auto image = proj.image(std::move(piece))) hidden.push_back(std::move(*image));
         }
       }
+      if (!blocked && vertex_image(tri[0]) && vertex_image(tri[1]) && vertex_image(tri[2])) {
+        // f's plane misses c, so its image is a proper triangle; its turn gives the order.
+        std::array<int, 3> t = tri;
+        if (CGAL::orientation(*images[t[0]], *images[t[1]], *images[t[2]]) == CGAL::CLOCKWISE)
+          std::swap(t[1], t[2]);
+        for (int i = 0; i < 3; ++i) {
+          const int p = t[i], q = t[(i + 1) % 3];
+          chain.add({k, p}, {k, q}, *images[p], *images[q]);
+        }
+        continue;
+      }
       auto image = proj.image(face);
       if (!image) continue;
       if (hidden.empty()) {
-        unhidden.push_back(std::move(*image));
+        plain.push_back(std::move(*image));
         continue;
       }
       PolygonSet visible(*image);
@@ -250,16 +377,8 @@ std::vector<OutlineRegion> occupied_outline(const ImagePlane& plane,
       visible.difference(behind);
       visible.polygons_with_holes(std::back_inserter(cut));
     }
-    if (solid->convex && !any_blocking && !unhidden.empty()) {
-      // The image of a convex solid (cut to the window) is convex: the hull of its faces' images.
-      std::vector<Point2> pts, hull;
-      for (const auto& p : unhidden) pts.insert(pts.end(), p.vertices_begin(), p.vertices_end());
-      CGAL::convex_hull_2(pts.begin(), pts.end(), std::back_inserter(hull));
-      plain.emplace_back(hull.begin(), hull.end());
-    } else {
-      plain.insert(plain.end(), unhidden.begin(), unhidden.end());
-    }
   }
+  for (auto& region : chain.regions()) cut.push_back(std::move(region));
   std::vector<OutlineRegion> regions;
   if (plain.empty() && cut.empty()) return regions;
   PolygonSet all;

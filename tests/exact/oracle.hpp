@@ -19,7 +19,8 @@ struct Agreement {
 
 // Compares the kept models of `eval` (every state) at `samples` random points per state.
 inline Agreement compare_with_oracle(const core::Scene& scene, const core::CameraConfig& config,
-                              const exact::ExactEvaluation& eval, int samples, std::mt19937& rng) {
+                                     const exact::ExactEvaluation& eval, int samples,
+                                     std::mt19937& rng) {
   const auto states = core::states(scene);
   Agreement a;
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -33,16 +34,14 @@ inline Agreement compare_with_oracle(const core::Scene& scene, const core::Camer
           core::Vec3(unit(rng), unit(rng), unit(rng)).cwiseProduct(scene.area.max - scene.area.min);
       bool ambiguous = false, non_free = true;
       for (int c = 0; c < int(config.size()); ++c) {
-        const auto label = reference_label(scene, states[s].time_step, states[s].event,
-                                                    config[c], p, 1e-6, c);
+        const auto label =
+            reference_label(scene, states[s].time_step, states[s].event, config[c], p, 1e-6, c);
         ambiguous |= label.ambiguous;
         if (label.label == voxel::Label::free) non_free = false;
       }
       bool in_obstacle = false;
-      for (const auto& o : scene.static_obstacles)
-        in_obstacle |= reference_inside(o.mesh, p);
-      for (const auto& o : step.dynamic_obstacles)
-        in_obstacle |= reference_inside(o.mesh, p);
+      for (const auto& o : scene.static_obstacles) in_obstacle |= reference_inside(o.mesh, p);
+      for (const auto& o : step.dynamic_obstacles) in_obstacle |= reference_inside(o.mesh, p);
       if (ambiguous) continue;
       const bool expected = non_free && !in_obstacle;
       ++a.checked;
@@ -59,7 +58,7 @@ inline Agreement compare_with_oracle(const core::Scene& scene, const core::Camer
 
 // The same for the exact evaluation of `config`.
 inline Agreement compare_with_oracle(const core::Scene& scene, const core::CameraConfig& config,
-                              int samples, std::mt19937& rng) {
+                                     int samples, std::mt19937& rng) {
   exact::ExactOptions options;
   options.keep_models = true;
   return compare_with_oracle(scene, config, exact::evaluate_exact(scene, config, options), samples,

@@ -1,6 +1,8 @@
 // The exact model against the brute-force sensor model of tests/support (an independent
 // implementation of SPEC §3): at random points away from every boundary, p ∈ M exactly when no
 // camera reports it free and it lies inside no obstacle (SPEC §4, filter off).
+#include "oracle.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,7 +16,6 @@
 #include "camplace/exact/evaluator.hpp"
 #include "camplace/voxel/evaluator.hpp"
 #include "camplace/voxel/grid.hpp"
-#include "oracle.hpp"
 #include "scene_builder.hpp"
 
 namespace camplace {
