@@ -1,6 +1,7 @@
 #pragma once
-// What one camera cannot see past (SPEC §3), as exact convex hulls turned into Nef polyhedra: its
-// FOV, the shadow volumes of occluding objects and the silhouette cones of occupying ones.
+// What one camera cannot see past (SPEC §3), as Nef polyhedra: its FOV, the shadow volumes of
+// occluding objects and the silhouette cones of occupying ones (cones over their image-plane
+// outlines, or per face as a reference).
 // Cones and shadows are convex hulls of exact points: K(P) = conv(c, c + T(P − c)) and
 // shadow(P) = conv(P, c + T(P − c)) for a convex P, with T a power of two large enough that the
 // far cap lies outside the pipeline's clip box (a box around S: only M ⊂ S matters). Private to
@@ -137,13 +138,39 @@ inline Nef shadow(const ViewPoint& cam, const Solid& solid) {
   return union_all(std::move(parts));
 }
 
+/// True when a front face of a blocker meets conv(c, f) for a front face f of the solid: the
+/// blocker may hide part of it (occupied_cone's test).
+inline bool may_be_hidden(const ViewPoint& cam, const Solid& solid,
+                          const std::vector<const Solid*>& blockers) {
+  CGAL::Bbox_3 reach = solid.bbox + cam.position.bbox();
+  std::vector<std::pair<const Solid*, std::vector<int>>> near;
+  for (const Solid* b : blockers)
+    if (CGAL::do_overlap(reach, b->bbox)) near.push_back({b, front_faces(cam, *b)});
+  if (near.empty()) return false;
+  for (int f : front_faces(cam, solid)) {
+    const auto& tri = solid.triangles[f];
+    const Tetrahedron tet(cam.position, solid.points[tri[0]], solid.points[tri[1]],
+                          solid.points[tri[2]]);
+    const CGAL::Bbox_3 tet_box = tet.bbox();
+    for (const auto& [b, front] : near) {
+      if (!CGAL::do_overlap(tet_box, b->bbox)) continue;
+      for (int g : front) {
+        const Triangle gt = b->triangle(g);
+        if (CGAL::do_overlap(tet_box, gt.bbox()) && CGAL::do_intersect(tet, gt)) return true;
+      }
+    }
+  }
+  return false;
+}
+
 /// The silhouette cone of the visible part of an occupying solid: rays from c whose first hit
 /// among {solid} ∪ blockers is on the solid (c outside all of them; blockers occlude).
 ///
 /// For each front face f: K(f) ∖ ∪ K(g ∩ H̄_f), g a front face of a blocker meeting conv(c, f),
 /// H̄_f the closed half-space of f's plane on the camera's side. A ray toward f that meets a
 /// blocker first is free up to the blocker and lies in its shadow beyond, so removing the whole
-/// ray from K(f) is exact.
+/// ray from K(f) is exact. The reference construction (ExactOptions::face_cones): the pipeline
+/// builds the same set from outlines (occupied_outline, outline_cone).
 inline Nef occupied_cone(const ViewPoint& cam, const Solid& solid,
                          const std::vector<const Solid*>& blockers) {
   const auto front = front_faces(cam, solid);

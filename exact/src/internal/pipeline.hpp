@@ -8,7 +8,8 @@
 //       [c, p] meets the object;
 //   V = ∪ silhouette cones of the occupying objects, each cut where an occluding object hides
 //       it: cones over their outlines in the camera's image plane (occupied_outline,
-//       outline_cone), or, as a reference, the union of one cone per face (occupied_cone).
+//       outline_cone); a convex solid nothing hides, or every solid as a reference
+//       (ExactOptions::face_cones), by occupied_cone (one hull, or one cone per face).
 //   M = reg(S ∖ obstacles ∖ ∪_c Free_c) (SPEC §4, regularised: closure of the interior).
 #include <cmath>
 #include <optional>
@@ -143,12 +144,16 @@ class Pipeline {
     std::vector<const Faces*> occupying;
     for (const auto& o : objects) {
       if (o.kind != kind) continue;
+      const Solid& s = solid(*o.object);
+      // A convex solid nothing hides has a convex cone: one hull (occupied_cone) of points with
+      // short coordinates, cheaper in the later booleans than a cone over an outline, whose
+      // image-plane points are long rationals.
       if (o.role == core::ObjectRole::occluding)
-        parts.push_back(shadow(cam, solid(*o.object)));
-      else if (face_cones_)
-        parts.push_back(occupied_cone(cam, solid(*o.object), blockers));
+        parts.push_back(shadow(cam, s));
+      else if (face_cones_ || (s.convex && !may_be_hidden(cam, s, blockers)))
+        parts.push_back(occupied_cone(cam, s, blockers));
       else
-        occupying.push_back(&solid(*o.object));
+        occupying.push_back(&s);
     }
     if (!occupying.empty()) {
       const std::vector<const Faces*> blocking(blockers.begin(), blockers.end());
