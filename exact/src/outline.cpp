@@ -74,7 +74,7 @@ class Projector {
   /// counter-clockwise, or nothing when no part of positive area remains. Cutting to the window
   /// (the cone |(x − c)·a|, |(x − c)·b| ≤ half_width·(x − c)·d) leaves only points with
   /// (x − c)·d > 0, whose images exist.
-  std::optional<Polygon2> image(std::vector<Point> poly) const {
+  std::optional<Polygon2> image(std::vector<Point> poly) {
     const FT& w = p_.half_width;
     for (int axis = 0; axis < 2; ++axis) {
       const Vector& e = axis == 0 ? p_.a : p_.b;
@@ -99,18 +99,26 @@ class Projector {
     return out;
   }
 
-  Point2 project(const Point& x) const {
+  /// The image of x, remembered as a point of its ray.
+  Point2 project(const Point& x) {
     const Vector u = x - p_.c;
     const FT depth = u * p_.d;
-    return Point2((u * p_.a) / depth, (u * p_.b) / depth);
+    const Point2 q((u * p_.a) / depth, (u * p_.b) / depth);
+    origin_.emplace(q, x);
+    return q;
   }
 
-  /// The point of the image plane with image q.
-  Point lift(const Point2& q) const { return p_.c + d_ + a_ * q.x() + b_ * q.y(); }
+  /// A point with image q: a projected point when there is one (its coordinates are shorter
+  /// than those of the image plane's point), else the image plane's point.
+  Point lift(const Point2& q) const {
+    const auto it = origin_.find(q);
+    return it != origin_.end() ? it->second : p_.c + d_ + a_ * q.x() + b_ * q.y();
+  }
 
  private:
   const ImagePlane& p_;
   Vector d_, a_, b_;
+  std::map<Point2, Point> origin_;
 };
 
 /// The union of triangles of the image plane given as a boundary chain: each triangle's
@@ -228,7 +236,7 @@ std::vector<std::vector<Point2>> simple_cycles(const Polygon2& cycle) {
   return out;
 }
 
-/// A simple counter-clockwise cycle lifted to the image plane with a triangulation of its
+/// A simple counter-clockwise cycle lifted to points on its rays with a triangulation of its
 /// interior (constrained triangulation; the faces not reachable from the infinite face without
 /// crossing the cycle are inside).
 OutlineCycle lifted_cycle(const std::vector<Point2>& cycle, const Projector& proj) {
@@ -308,7 +316,7 @@ ImagePlane image_plane(const core::CameraSetting& setting, const core::CameraMod
 std::vector<OutlineRegion> occupied_outline(const ImagePlane& plane,
                                             const std::vector<const Faces*>& occupying,
                                             const std::vector<const Faces*>& blockers) {
-  const Projector proj(plane);
+  Projector proj(plane);
   std::vector<std::vector<int>> blocker_front;
   for (const Faces* b : blockers) blocker_front.push_back(b->front_faces(plane.c));
   std::vector<Polygon2> plain;        // images of faces nothing hides that leave the window

@@ -239,12 +239,19 @@ inline Nef occupied_cone(const ViewPoint& cam, const Solid& solid,
   return union_all(std::move(cones));
 }
 
-/// The cone {c + t(q − c) : q in the cycle's closed interior, 0 ≤ t ≤ T} over a simple cycle of
-/// the image plane: a closed polyhedron (triangles c, q'_{i+1}, q'_i on the sides, the cycle's
-/// triangulation scaled by T as the far cap, all outward: the cycle turns counter-clockwise about
-/// the viewing direction).
-inline Nef cycle_cone(const ViewPoint& cam, const OutlineCycle& cycle, const FT& t) {
-  const auto far = scaled(cam, cycle.points, t);
+/// The cone from c over a simple cycle of the image plane, cut beyond the clip box: a closed
+/// polyhedron, star-shaped from c (triangles c, p'_{i+1}, p'_i on the sides and the cycle's
+/// triangles scaled from c by T as the far cap, all outward: the cycle turns counter-clockwise
+/// about the viewing direction). T puts every cap triangle beyond the clip box: each lies at
+/// T times the distance from c to its unscaled triangle, which misses c (its image is a proper
+/// triangle).
+inline Nef cycle_cone(const ViewPoint& cam, const OutlineCycle& cycle) {
+  double h = HUGE_VAL;
+  for (const auto& t : cycle.triangles) {
+    const Triangle tri(cycle.points[t[0]], cycle.points[t[1]], cycle.points[t[2]]);
+    h = std::min(h, sqrt_lower(CGAL::squared_distance(cam.position, tri)));
+  }
+  const auto far = scaled(cam, cycle.points, scale_for(cam, h));
   std::vector<Point> pts{cam.position};
   pts.insert(pts.end(), far.begin(), far.end());
   const std::size_t n = cycle.points.size();
@@ -262,13 +269,11 @@ inline Nef cycle_cone(const ViewPoint& cam, const OutlineCycle& cycle, const FT&
 /// same point set as the union of occupied_cone over the solids within the FOV, up to boundaries,
 /// so the regularised model is the same.
 inline Nef outline_cone(const ViewPoint& cam, const std::vector<OutlineRegion>& regions) {
-  // Every image point lies at distance ≥ 1/|d| ≈ 1 from c.
-  const FT t = scale_for(cam, 0.5);
   std::vector<Nef> parts;
   for (const auto& region : regions) {
     std::vector<Nef> outer, holes;
-    for (const auto& cycle : region.outer) outer.push_back(cycle_cone(cam, cycle, t));
-    for (const auto& cycle : region.holes) holes.push_back(cycle_cone(cam, cycle, t));
+    for (const auto& cycle : region.outer) outer.push_back(cycle_cone(cam, cycle));
+    for (const auto& cycle : region.holes) holes.push_back(cycle_cone(cam, cycle));
     Nef cone = union_all(std::move(outer));
     const Nef removed = union_all(std::move(holes));
     if (!removed.is_empty()) cone -= removed;

@@ -24,8 +24,10 @@ struct ImagePlane {
 /// The image plane of a camera with the FOV `model` (SPEC §1) at `setting`.
 ImagePlane image_plane(const core::CameraSetting& setting, const core::CameraModel& model);
 
-/// A simple polygon in the image plane: its vertices (3D points on the plane), counter-clockwise
-/// about d, and a triangulation of its interior (indices into `points`, counter-clockwise).
+/// A simple polygon of the image plane: a point on the ray from c through each vertex (the scene
+/// point that projects there when there is one, else the vertex on the image plane; each with
+/// (x − c)·d > 0), in counter-clockwise order about d, and a triangulation of the polygon
+/// (indices into `points`, counter-clockwise). The points need not be coplanar.
 struct OutlineCycle {
   std::vector<Point> points;
   std::vector<std::array<int, 3>> triangles;
