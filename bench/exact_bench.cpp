@@ -7,6 +7,8 @@
 //              box (tests/support ellipsoid_mesh), N = 48, 200, 800, 3200; 1 state and 6 states
 //   cameras    paper_basic with 3, 6 and 12 cameras (the corners, then 6 more at mid height), 1
 //              state
+//   cell       (outlines only) paper_basic's 6 states with each robot one ellipsoid of 5,000
+//              triangles and each person one of 2,000
 // One iteration each (a full evaluation takes seconds to minutes); prints the figures, the
 // growth exponents (least-squares slope of log CPU time against log N) and the peak memory.
 //   build/release/bench/exact_bench
@@ -80,6 +82,22 @@ core::Scene fine_person_scene(int triangles, int states) {
   return scene;
 }
 
+// paper_basic with each time step's robot one ellipsoid of `robot` triangles in the bounding box
+// of its links and each event's person one of `person` triangles (masked mode: both occupy).
+core::Scene fine_cell_scene(int robot, int person) {
+  core::Scene scene = fine_person_scene(person, 6);
+  for (auto& step : scene.time_steps) {
+    core::Box3 box = step.dynamic_obstacles.front().bounds;
+    for (const auto& o : step.dynamic_obstacles) {
+      box.min = box.min.cwiseMin(o.bounds.min);
+      box.max = box.max.cwiseMax(o.bounds.max);
+    }
+    step.dynamic_obstacles = {testing::ellipsoid_object("robot", box, robot)};
+    step.critical = step.dynamic_obstacles;
+  }
+  return scene;
+}
+
 // paper_basic, time step 0 event 0, with `cameras` cameras: the first of the corner
 // configuration, then copies of the corners at z = 2 m turned by 20° and looking 15° down.
 std::pair<core::Scene, core::CameraConfig> camera_scene(int cameras) {
@@ -137,6 +155,16 @@ void register_families() {
             ->MeasureProcessCPUTime()
             ->UseRealTime();
       }
+    }
+    if (!faces) {
+      benchmark::RegisterBenchmark("cell/outline/robot:5000/person:2000/states:6",
+                                   [](benchmark::State& state) {
+                                     run(state, fine_cell_scene(5000, 2000), corners(), false);
+                                   })
+          ->Iterations(1)
+          ->Unit(benchmark::kMillisecond)
+          ->MeasureProcessCPUTime()
+          ->UseRealTime();
     }
     for (const int n : {3, 6, 12}) {
       benchmark::RegisterBenchmark(
