@@ -1,7 +1,9 @@
-// The occupied part of a camera's view as outlines in its image plane (internal/outline.hpp):
-// each face projected and cut to the window, the blockers' parts in front of it removed, all
-// joined with CGAL's exact 2D booleans (Boolean_set_operations_2 on the exact kernel), and the
-// result split into simple cycles and triangulated for the cones of cones.hpp. No Nef code here.
+// The occupied part of a camera's view as outlines in its image plane (internal/outline.hpp): the
+// faces nothing hides as one boundary chain (an arrangement of their silhouette edges with
+// winding numbers), the others projected and cut to the window with the blockers' parts in front
+// of them removed, all joined with CGAL's exact 2D booleans (Boolean_set_operations_2 on the
+// exact kernel), and the result split into simple cycles and triangulated for the cones of
+// cones.hpp. No Nef code here.
 #include "internal/outline.hpp"
 
 #include <CGAL/Arr_curve_data_traits_2.h>
@@ -23,7 +25,6 @@
 #include <map>
 #include <optional>
 #include <stdexcept>
-#include <tuple>
 
 #include "camplace/core/error.hpp"
 

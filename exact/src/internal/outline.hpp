@@ -42,8 +42,9 @@ struct OutlineRegion {
 /// occupying solid, as image-plane regions: for each front face f of an occupying solid, the image
 /// of f minus the images of the blockers' front faces g cut to the camera's side of f's plane
 /// (g ∩ H̄_f: a ray through both meets that part of g first) — the per-face construction of
-/// occupied_cone in cones.hpp, with the booleans done in 2D. Directions outside the window are
-/// left out; the FOV holds none of them.
+/// occupied_cone in cones.hpp, with the booleans done in 2D and the faces nothing hides joined
+/// through their silhouette edges only. Directions outside the window are left out; the FOV holds
+/// none of them.
 std::vector<OutlineRegion> occupied_outline(const ImagePlane& plane,
                                             const std::vector<const Faces*>& occupying,
                                             const std::vector<const Faces*>& blockers);
