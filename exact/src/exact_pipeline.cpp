@@ -4,6 +4,7 @@
 //   internal/kernel.hpp    kernel, number type, exact conversions
 //   internal/solids.hpp    scene objects in exact coordinates, convex hulls, unions
 //   internal/cones.hpp     FOVs, shadow volumes and silhouette cones of one camera
+//   internal/outline.hpp   occupied outlines in a camera's image plane (2D, in outline.cpp)
 //   internal/pipeline.hpp  the model of each state, with per-camera caches
 //   internal/soup.hpp      Nef → exact triangle soup, OFF export
 //   internal/model.hpp     components, exact volumes, plausibility filter, d(C, M)
@@ -178,7 +179,7 @@ ExactEvaluation evaluate_exact(const core::Scene& scene, const core::CameraConfi
   core::check_configuration(scene, config);
   if (!options.export_dir.empty()) {
     std::filesystem::create_directories(options.export_dir);
-    export_fovs(Pipeline(scene, config), options.export_dir);
+    export_fovs(Pipeline(scene, config, options.face_cones), options.export_dir);
   }
   const std::vector<core::StateIndex> states = core::states(scene);
   const auto tasks = make_tasks(states, options.threads);
@@ -192,7 +193,7 @@ ExactEvaluation evaluate_exact(const core::Scene& scene, const core::CameraConfi
     try {
       std::optional<Pipeline> pipeline;
       for (std::size_t t = next_task++; t < tasks.size(); t = next_task++) {
-        if (!pipeline) pipeline.emplace(scene, config);
+        if (!pipeline) pipeline.emplace(scene, config, options.face_cones);
         for (std::size_t i : tasks[t])
           outputs[i] = evaluate_state(*pipeline, scene, states[i], options.export_dir);
       }
@@ -226,8 +227,8 @@ ExactEvaluation evaluate_exact(const core::Scene& scene, const core::CameraConfi
 }
 
 ExactModel build_exact_model(const core::Scene& scene, const core::CameraConfig& config,
-                             const core::StateIndex& state) {
-  Pipeline pipeline(scene, config);
+                             const core::StateIndex& state, const ExactOptions& options) {
+  Pipeline pipeline(scene, config, options.face_cones);
   return ExactModel(cluster(pipeline.model(state).nef, scene.plausibility));
 }
 

@@ -1,6 +1,7 @@
 #pragma once
-// What one camera cannot see past (SPEC §3), as exact convex hulls turned into Nef polyhedra: its
-// FOV, the shadow volumes of occluding objects and the silhouette cones of occupying ones.
+// What one camera cannot see past (SPEC §3), as Nef polyhedra: its FOV, the shadow volumes of
+// occluding objects and the silhouette cones of occupying ones (cones over their image-plane
+// outlines, or per face as a reference).
 // Cones and shadows are convex hulls of exact points: K(P) = conv(c, c + T(P − c)) and
 // shadow(P) = conv(P, c + T(P − c)) for a convex P, with T a power of two large enough that the
 // far cap lies outside the pipeline's clip box (a box around S: only M ⊂ S matters). Private to
@@ -16,6 +17,7 @@
 #include "camplace/core/error.hpp"
 #include "camplace/core/scene.hpp"
 #include "internal/kernel.hpp"
+#include "internal/outline.hpp"
 #include "internal/solids.hpp"
 
 namespace camplace::exact::internal {
@@ -89,10 +91,7 @@ inline FT scale_for(const ViewPoint& cam, double h) {
 
 /// The faces of the solid whose outer side holds c.
 inline std::vector<int> front_faces(const ViewPoint& cam, const Solid& solid) {
-  std::vector<int> out;
-  for (int i = 0; i < int(solid.planes.size()); ++i)
-    if (solid.planes[i].oriented_side(cam.position) == CGAL::ON_POSITIVE_SIDE) out.push_back(i);
-  return out;
+  return solid.front_faces(cam.position);
 }
 
 inline double plane_distance_lower(const ViewPoint& cam, const Plane& plane) {
@@ -139,13 +138,39 @@ inline Nef shadow(const ViewPoint& cam, const Solid& solid) {
   return union_all(std::move(parts));
 }
 
+/// True when a front face of a blocker meets conv(c, f) for a front face f of the solid: the
+/// blocker may hide part of it (occupied_cone's test).
+inline bool may_be_hidden(const ViewPoint& cam, const Solid& solid,
+                          const std::vector<const Solid*>& blockers) {
+  CGAL::Bbox_3 reach = solid.bbox + cam.position.bbox();
+  std::vector<std::pair<const Solid*, std::vector<int>>> near;
+  for (const Solid* b : blockers)
+    if (CGAL::do_overlap(reach, b->bbox)) near.push_back({b, front_faces(cam, *b)});
+  if (near.empty()) return false;
+  for (int f : front_faces(cam, solid)) {
+    const auto& tri = solid.triangles[f];
+    const Tetrahedron tet(cam.position, solid.points[tri[0]], solid.points[tri[1]],
+                          solid.points[tri[2]]);
+    const CGAL::Bbox_3 tet_box = tet.bbox();
+    for (const auto& [b, front] : near) {
+      if (!CGAL::do_overlap(tet_box, b->bbox)) continue;
+      for (int g : front) {
+        const Triangle gt = b->triangle(g);
+        if (CGAL::do_overlap(tet_box, gt.bbox()) && CGAL::do_intersect(tet, gt)) return true;
+      }
+    }
+  }
+  return false;
+}
+
 /// The silhouette cone of the visible part of an occupying solid: rays from c whose first hit
 /// among {solid} ∪ blockers is on the solid (c outside all of them; blockers occlude).
 ///
 /// For each front face f: K(f) ∖ ∪ K(g ∩ H̄_f), g a front face of a blocker meeting conv(c, f),
 /// H̄_f the closed half-space of f's plane on the camera's side. A ray toward f that meets a
 /// blocker first is free up to the blocker and lies in its shadow beyond, so removing the whole
-/// ray from K(f) is exact.
+/// ray from K(f) is exact. The reference construction (ExactOptions::face_cones): the pipeline
+/// builds the same set from outlines (occupied_outline, outline_cone).
 inline Nef occupied_cone(const ViewPoint& cam, const Solid& solid,
                          const std::vector<const Solid*>& blockers) {
   const auto front = front_faces(cam, solid);
@@ -212,6 +237,49 @@ inline Nef occupied_cone(const ViewPoint& cam, const Solid& solid,
     cones.push_back(std::move(cone));
   }
   return union_all(std::move(cones));
+}
+
+/// The cone from c over a simple cycle of the image plane, cut beyond the clip box: a closed
+/// polyhedron, star-shaped from c (triangles c, p'_{i+1}, p'_i on the sides and the cycle's
+/// triangles scaled from c by T as the far cap, all outward: the cycle turns counter-clockwise
+/// about the viewing direction). T puts every cap triangle beyond the clip box: each lies at
+/// T times the distance from c to its unscaled triangle, which misses c (its image is a proper
+/// triangle).
+inline Nef cycle_cone(const ViewPoint& cam, const OutlineCycle& cycle) {
+  double h = HUGE_VAL;
+  for (const auto& t : cycle.triangles) {
+    const Triangle tri(cycle.points[t[0]], cycle.points[t[1]], cycle.points[t[2]]);
+    h = std::min(h, sqrt_lower(CGAL::squared_distance(cam.position, tri)));
+  }
+  const auto far = scaled(cam, cycle.points, scale_for(cam, h));
+  std::vector<Point> pts{cam.position};
+  pts.insert(pts.end(), far.begin(), far.end());
+  const std::size_t n = cycle.points.size();
+  std::vector<std::vector<std::size_t>> faces;
+  for (std::size_t i = 0; i < n; ++i) faces.push_back({0, 1 + (i + 1) % n, 1 + i});
+  for (const auto& tri : cycle.triangles)
+    faces.push_back({1 + std::size_t(tri[0]), 1 + std::size_t(tri[1]), 1 + std::size_t(tri[2])});
+  SurfaceMesh sm;
+  CGAL::Polygon_mesh_processing::polygon_soup_to_polygon_mesh(pts, faces, sm);
+  return Nef(sm);
+}
+
+/// The silhouette cones of occupying solids from their outline (occupied_outline), cut beyond the
+/// clip box: for each region, the cones over its outer cycles minus those over its holes. The
+/// same point set as the union of occupied_cone over the solids within the FOV, up to boundaries,
+/// so the regularised model is the same.
+inline Nef outline_cone(const ViewPoint& cam, const std::vector<OutlineRegion>& regions) {
+  std::vector<Nef> parts;
+  for (const auto& region : regions) {
+    std::vector<Nef> outer, holes;
+    for (const auto& cycle : region.outer) outer.push_back(cycle_cone(cam, cycle));
+    for (const auto& cycle : region.holes) holes.push_back(cycle_cone(cam, cycle));
+    Nef cone = union_all(std::move(outer));
+    const Nef removed = union_all(std::move(holes));
+    if (!removed.is_empty()) cone -= removed;
+    parts.push_back(std::move(cone));
+  }
+  return union_all(std::move(parts));
 }
 
 /// True when c lies in one of the closed solids (such a camera sees nothing, SPEC §3.3).

@@ -7,7 +7,9 @@
 //   U = ∪ shadow volumes of the occluding objects (core::role_of): points p whose segment
 //       [c, p] meets the object;
 //   V = ∪ silhouette cones of the occupying objects, each cut where an occluding object hides
-//       it (occupied_cone).
+//       it: cones over their outlines in the camera's image plane (occupied_outline,
+//       outline_cone); a convex solid nothing hides, or every solid as a reference
+//       (ExactOptions::face_cones), by occupied_cone (one hull, or one cone per face).
 //   M = reg(S ∖ obstacles ∖ ∪_c Free_c) (SPEC §4, regularised: closure of the interior).
 #include <cmath>
 #include <optional>
@@ -27,8 +29,10 @@ namespace camplace::exact::internal {
 
 class Pipeline {
  public:
-  /// Throws core::InputError when the configuration does not match the scene.
-  Pipeline(const core::Scene& scene, const core::CameraConfig& config) : scene_(scene) {
+  /// Throws core::InputError when the configuration does not match the scene. `face_cones`: the
+  /// reference construction of the silhouette cones (ExactOptions::face_cones).
+  Pipeline(const core::Scene& scene, const core::CameraConfig& config, bool face_cones = false)
+      : scene_(scene), face_cones_(face_cones) {
     core::check_configuration(scene, config);
     area_ = box_nef(scene.area);
     // The FOVs are clipped to a box a little larger than S rather than to S itself: the model's
@@ -53,6 +57,7 @@ class Pipeline {
       Camera cam;
       cam.view = view_point(setting, clip);
       cam.fov = fov_nef(cam.view, setting, scene.cameras.models.at(i)) * clip_box;
+      cam.image = image_plane(setting, scene.cameras.models.at(i));
       cameras_.push_back(std::move(cam));
     }
     step_free_.resize(cameras_.size());
@@ -99,7 +104,8 @@ class Pipeline {
  private:
   struct Camera {
     ViewPoint view;
-    Nef fov;  ///< pyramid ∩ clip box
+    Nef fov;           ///< pyramid ∩ clip box
+    ImagePlane image;  ///< for the outlines of occupying objects
     std::optional<Nef> static_free;
   };
 
@@ -135,11 +141,23 @@ class Pipeline {
     if (camera_inside(cam, of_kind(objects, kind))) return Nef();
     const auto blockers = occluders(objects);
     std::vector<Nef> parts;
+    std::vector<const Faces*> occupying;
     for (const auto& o : objects) {
       if (o.kind != kind) continue;
-      parts.push_back(o.role == core::ObjectRole::occluding
-                          ? shadow(cam, solid(*o.object))
-                          : occupied_cone(cam, solid(*o.object), blockers));
+      const Solid& s = solid(*o.object);
+      // A convex solid nothing hides has a convex cone: one hull (occupied_cone) of points with
+      // short coordinates, cheaper in the later booleans than a cone over an outline, whose
+      // image-plane points are long rationals.
+      if (o.role == core::ObjectRole::occluding)
+        parts.push_back(shadow(cam, s));
+      else if (face_cones_ || (s.convex && !may_be_hidden(cam, s, blockers)))
+        parts.push_back(occupied_cone(cam, s, blockers));
+      else
+        occupying.push_back(&s);
+    }
+    if (!occupying.empty()) {
+      const std::vector<const Faces*> blocking(blockers.begin(), blockers.end());
+      parts.push_back(outline_cone(cam, occupied_outline(cameras_[c].image, occupying, blocking)));
     }
     const Nef removed = union_all(std::move(parts));
     if (!removed.is_empty()) free -= removed;
@@ -190,6 +208,7 @@ class Pipeline {
   }
 
   const core::Scene& scene_;
+  bool face_cones_ = false;
   Nef area_;
   std::unordered_map<const core::SceneObject*, Solid> solids_;
   std::vector<Camera> cameras_;

@@ -10,41 +10,16 @@
 #include <vector>
 
 #include "camplace/core/geometry.hpp"
+#include "internal/faces.hpp"
 #include "internal/kernel.hpp"
 
 namespace camplace::exact::internal {
 
-/// One scene object (a closed outward triangle mesh) in exact coordinates.
-struct Solid {
-  std::vector<Point> points;
-  std::vector<std::array<int, 3>> triangles;
-  std::vector<Plane> planes;  ///< supporting planes, positive side = outside
-  bool convex = true;
-  CGAL::Bbox_3 bbox;
+/// One scene object with its closed solid as a Nef polyhedron, built on first use.
+struct Solid : Faces {
   mutable std::optional<Nef> nef;
 
-  explicit Solid(const core::TriangleMesh& mesh) {
-    points.reserve(mesh.vertices.size());
-    for (const auto& v : mesh.vertices) points.push_back(to_point(v));
-    triangles = mesh.triangles;
-    for (const auto& t : triangles) planes.emplace_back(points[t[0]], points[t[1]], points[t[2]]);
-    // Convex when every vertex lies on the closed inner side of every face plane.
-    for (const auto& plane : planes) {
-      for (const auto& p : points) {
-        if (plane.oriented_side(p) == CGAL::ON_POSITIVE_SIDE) {
-          convex = false;
-          break;
-        }
-      }
-      if (!convex) break;
-    }
-    bbox = CGAL::bbox_3(points.begin(), points.end());
-  }
-
-  Triangle triangle(int i) const {
-    const auto& t = triangles[i];
-    return Triangle(points[t[0]], points[t[1]], points[t[2]]);
-  }
+  explicit Solid(const core::TriangleMesh& mesh) : Faces(mesh) {}
 
   /// The closed solid as a Nef polyhedron (built on first use).
   const Nef& as_nef() const {

@@ -25,6 +25,10 @@ struct ExactOptions {
   /// steps per thread, so the per-step caches still help); 0 = std::thread::hardware_concurrency().
   /// The results do not depend on it and are always in state order.
   int threads = 0;
+  /// Build each silhouette cone as the union of one cone per visible face (the former
+  /// construction: the same model exactly, much slower on fine meshes; a reference for tests and
+  /// benchmarks) instead of the cones over the objects' outlines in each camera's image plane.
+  bool face_cones = false;
 };
 
 /// One connected component of a model (connected through interiors), before the filter.
@@ -76,6 +80,6 @@ ExactEvaluation evaluate_exact(const core::Scene& scene, const core::CameraConfi
 
 /// The exact model of one state (for validation). Same semantics as evaluate_exact.
 ExactModel build_exact_model(const core::Scene& scene, const core::CameraConfig& config,
-                             const core::StateIndex& state);
+                             const core::StateIndex& state, const ExactOptions& options = {});
 
 }  // namespace camplace::exact
