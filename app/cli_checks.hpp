@@ -6,7 +6,9 @@
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <utility>
 
+#include "camplace/core/error.hpp"
 #include "camplace/core/names.hpp"
 
 namespace camplace::app {
@@ -41,6 +43,24 @@ CLI::Validator one_of() {
 template <class Enum>
 Enum parse_enum(const std::string& name) {
   return *core::from_name<Enum>(name);
+}
+
+/// "I/N" of --shard (study, plan): 1 ≤ I ≤ N. Throws core::OptionError naming --shard.
+inline std::pair<int, int> parse_shard(const std::string& text) {
+  const std::string reason =
+      "must be I/N with whole numbers 1 ≤ I ≤ N (e.g. 2/8), not \"" + text + "\"";
+  const std::size_t slash = text.find('/');
+  const auto number = [&](const std::string& digits) {
+    if (digits.empty() || digits.size() > 6 ||
+        digits.find_first_not_of("0123456789") != std::string::npos) {
+      throw core::OptionError("shard", reason);
+    }
+    return std::stoi(digits);
+  };
+  if (slash == std::string::npos) throw core::OptionError("shard", reason);
+  const int index = number(text.substr(0, slash)), count = number(text.substr(slash + 1));
+  if (index < 1 || index > count) throw core::OptionError("shard", reason);
+  return {index, count};
 }
 
 }  // namespace camplace::app

@@ -77,24 +77,6 @@ std::pair<int, int> parse_counts(const std::string& text) {
   return {a, b};
 }
 
-/// "I/N" of --shard: 1 ≤ I ≤ N.
-std::pair<int, int> parse_shard(const std::string& text) {
-  const std::string reason =
-      "must be I/N with whole numbers 1 ≤ I ≤ N (e.g. 2/8), not \"" + text + "\"";
-  const std::size_t slash = text.find('/');
-  const auto number = [&](const std::string& digits) {
-    if (digits.empty() || digits.size() > 6 ||
-        digits.find_first_not_of("0123456789") != std::string::npos) {
-      throw core::OptionError("shard", reason);
-    }
-    return std::stoi(digits);
-  };
-  if (slash == std::string::npos) throw core::OptionError("shard", reason);
-  const int index = number(text.substr(0, slash)), count = number(text.substr(slash + 1));
-  if (index < 1 || index > count) throw core::OptionError("shard", reason);
-  return {index, count};
-}
-
 std::string number_text(double v) {
   char text[64];
   std::snprintf(text, sizeof text, "%.17g", v);

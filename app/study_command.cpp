@@ -18,6 +18,7 @@
 #include "camplace/jobs/mpi_work.hpp"
 #include "camplace/jobs/process.hpp"
 #include "camplace/optimize/report.hpp"
+#include "cli_checks.hpp"
 #include "commands.hpp"
 
 namespace camplace::app {
@@ -41,24 +42,6 @@ compare::LaunchOutcome launch_outcome(const jobs::ProcessOutcome& ended) {
 compare::LaunchOutcome launch_optimize(const std::string& program,
                                        const compare::OptimizeLaunch& launch) {
   return launch_outcome(jobs::run_process(program, optimize_process(launch)));
-}
-
-/// "I/N" of --shard: 1 ≤ I ≤ N. Throws core::OptionError naming --shard.
-std::pair<int, int> parse_shard(const std::string& text) {
-  const std::string reason =
-      "must be I/N with whole numbers 1 ≤ I ≤ N (e.g. 2/8), not \"" + text + "\"";
-  const std::size_t slash = text.find('/');
-  auto number = [&](const std::string& digits) {
-    if (digits.empty() || digits.size() > 6 ||
-        digits.find_first_not_of("0123456789") != std::string::npos) {
-      throw core::OptionError("shard", reason);
-    }
-    return std::stoi(digits);
-  };
-  if (slash == std::string::npos) throw core::OptionError("shard", reason);
-  const int index = number(text.substr(0, slash)), count = number(text.substr(slash + 1));
-  if (index < 1 || index > count) throw core::OptionError("shard", reason);
-  return {index, count};
 }
 
 /// The study's runs carried out on every rank of the session (rank 0 included): each run as

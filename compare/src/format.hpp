@@ -19,6 +19,20 @@ inline std::string num(double v, int digits = 6) {
   return buf;
 }
 
+/// Every bit of v ("%.17g"), for data files: reads back as the same double.
+inline std::string full_number(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+/// v to 6 significant digits ("%.6g"), for texts ("0.03 m").
+inline std::string short_number(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
 /// "NXxNYxNZ".
 inline std::string resolution_text(const std::array<int, 3>& n) {
   return std::to_string(n[0]) + "x" + std::to_string(n[1]) + "x" + std::to_string(n[2]);

@@ -8,25 +8,10 @@
 
 #include "camplace/core/error.hpp"
 #include "camplace/core/files.hpp"
+#include "format.hpp"
 #include "gnuplot.hpp"
 
 namespace camplace::compare {
-namespace {
-
-std::string num(double v, int digits = 4) {
-  char text[64];
-  std::snprintf(text, sizeof text, "%.*f", digits, v);
-  return text;
-}
-
-std::string g(double v) {
-  char text[64];
-  std::snprintf(text, sizeof text, "%.17g", v);
-  return text;
-}
-
-}  // namespace
-
 core::Scene scene_with_cameras(const core::Scene& scene, int count) {
   CAMPLACE_ASSERT(count >= 1 && scene.cameras.count >= 1);
   core::Scene out = scene;
@@ -78,15 +63,17 @@ void write_plan_report(const std::string& dir, const std::vector<PlanRow>& rows,
          "err_lower_bound,tolerance,reached_exact,max_overestimate_m,median_voxel_err,"
          "median_evaluations,median_seconds,recommended\n";
   for (const PlanRow& r : rows) {
-    csv << r.cameras << "," << (r.cost ? g(*r.cost) : "") << "," << r.runs_planned << ","
-        << r.runs_done << "," << (r.best_seed ? std::to_string(*r.best_seed) : "") << ","
-        << (r.best_seed ? g(r.voxel_err) : "") << "," << (r.exact_err ? g(r.voxel_err_pyramid) : "")
-        << "," << (r.exact_err ? g(*r.exact_err) : "") << "," << g(r.err_lower_bound) << ","
-        << g(r.tolerance) << "," << (r.exact_err ? (r.reached_exact() ? "1" : "0") : "") << ","
-        << (r.exact_err ? g(r.max_overestimate) : "") << ","
-        << (r.runs_done > 0 ? g(r.median_voxel_err) : "") << ","
-        << (r.runs_done > 0 ? g(r.median_evaluations) : "") << ","
-        << (r.runs_done > 0 ? g(r.median_seconds) : "") << ","
+    csv << r.cameras << "," << (r.cost ? detail::full_number(*r.cost) : "") << "," << r.runs_planned
+        << "," << r.runs_done << "," << (r.best_seed ? std::to_string(*r.best_seed) : "") << ","
+        << (r.best_seed ? detail::full_number(r.voxel_err) : "") << ","
+        << (r.exact_err ? detail::full_number(r.voxel_err_pyramid) : "") << ","
+        << (r.exact_err ? detail::full_number(*r.exact_err) : "") << ","
+        << detail::full_number(r.err_lower_bound) << "," << detail::full_number(r.tolerance) << ","
+        << (r.exact_err ? (r.reached_exact() ? "1" : "0") : "") << ","
+        << (r.exact_err ? detail::full_number(r.max_overestimate) : "") << ","
+        << (r.runs_done > 0 ? detail::full_number(r.median_voxel_err) : "") << ","
+        << (r.runs_done > 0 ? detail::full_number(r.median_evaluations) : "") << ","
+        << (r.runs_done > 0 ? detail::full_number(r.median_seconds) : "") << ","
         << (recommended && *recommended == r.cameras ? "1" : "0") << "\n";
   }
   core::write_file_atomically(dir + "/plan.csv", csv.str());
@@ -132,9 +119,10 @@ void write_plan_report(const std::string& dir, const std::vector<PlanRow>& rows,
   for (const PlanRow& r : rows) {
     if (!r.best_seed) continue;
     const double exact = r.exact_err ? *r.exact_err : std::nan("");
-    dat << r.cameras << " " << (r.exact_err ? g(exact) : "NaN") << " " << g(r.voxel_err) << " "
-        << g(r.err_lower_bound) << " " << g(r.tolerance) << " " << (r.cost ? g(*r.cost) : "NaN")
-        << "\n";
+    dat << r.cameras << " " << (r.exact_err ? detail::full_number(exact) : "NaN") << " "
+        << detail::full_number(r.voxel_err) << " " << detail::full_number(r.err_lower_bound) << " "
+        << detail::full_number(r.tolerance) << " "
+        << (r.cost ? detail::full_number(*r.cost) : "NaN") << "\n";
     for (const double v : {exact, r.voxel_err, r.err_lower_bound, r.tolerance}) {
       if (std::isfinite(v) && v > 0.0) {
         lo = std::min(lo, v);
@@ -151,7 +139,8 @@ void write_plan_report(const std::string& dir, const std::vector<PlanRow>& rows,
     cmd << "set title 'Best configuration per camera count'\n"
         << "set xlabel 'cameras'\nset ylabel 'Err [m²] (log scale)'\nset logscale y\nset format y "
            "'%g'\n"
-        << "set yrange [" << g(lo / 3) << ":" << g(hi * 3) << "]\nset xtics 1\nset grid\n"
+        << "set yrange [" << detail::full_number(lo / 3) << ":" << detail::full_number(hi * 3)
+        << "]\nset xtics 1\nset grid\n"
         << "set key outside right top box\nset offsets 0.3, 0.3, 0, 0\n"
         << "plot " << file << " using 1:2 with linespoints pt 7 lw 2 title 'exact Err', " << file
         << " using 1:3 with linespoints pt 5 title 'voxel Err', " << file
@@ -161,7 +150,7 @@ void write_plan_report(const std::string& dir, const std::vector<PlanRow>& rows,
       for (const PlanRow& r : rows) {
         if (r.cameras == *recommended && r.exact_err) {
           cmd << ", '-' using 1:2 with points pt 6 ps 3 lw 2 title 'recommended'\n"
-              << r.cameras << " " << g(*r.exact_err) << "\ne";
+              << r.cameras << " " << detail::full_number(*r.exact_err) << "\ne";
         }
       }
     }
@@ -171,7 +160,8 @@ void write_plan_report(const std::string& dir, const std::vector<PlanRow>& rows,
       std::ostringstream by_cost;
       by_cost << "set title 'Best configuration per camera count, against its cost'\n"
               << "set xlabel 'total cost of the cameras'\nset ylabel 'Err [m²] (log scale)'\n"
-              << "set logscale y\nset format y '%g'\nset yrange [" << g(lo / 3) << ":" << g(hi * 3)
+              << "set logscale y\nset format y '%g'\nset yrange [" << detail::full_number(lo / 3)
+              << ":" << detail::full_number(hi * 3)
               << "]\nset grid\nset key outside right top box\nset offsets graph 0.05, graph "
                  "0.05, 0, 0\n"
               << "plot " << file
@@ -210,16 +200,16 @@ void write_plan_report(const std::string& dir, const std::vector<PlanRow>& rows,
         "median evaluations |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const PlanRow& r : rows) {
     md << "| " << r.cameras << (recommended && *recommended == r.cameras ? " ←" : "") << " | "
-       << (r.cost ? g(*r.cost) : "–") << " | " << r.runs_done << "/" << r.runs_planned << " | "
-       << (r.best_seed ? "seed " + std::to_string(*r.best_seed) : "–") << " | "
-       << (r.best_seed ? num(r.voxel_err) : "–") << " | "
-       << (r.exact_err ? num(*r.exact_err)
+       << (r.cost ? detail::full_number(*r.cost) : "–") << " | " << r.runs_done << "/"
+       << r.runs_planned << " | " << (r.best_seed ? "seed " + std::to_string(*r.best_seed) : "–")
+       << " | " << (r.best_seed ? detail::num(r.voxel_err, 4) : "–") << " | "
+       << (r.exact_err ? detail::num(*r.exact_err, 4)
                        : (r.check_error.empty() ? "–" : "check failed: " + r.check_error))
-       << " | " << num(r.err_lower_bound) << " | " << num(r.tolerance) << " | "
-       << (r.exact_err ? (r.reached_exact() ? "yes" : "no") : "–") << " | "
-       << (r.exact_err ? num(r.max_overestimate) : "–") << " | "
-       << (r.runs_done > 0 ? num(r.median_voxel_err) : "–") << " | "
-       << (r.runs_done > 0 ? num(r.median_evaluations, 0) : "–") << " |\n";
+       << " | " << detail::num(r.err_lower_bound, 4) << " | " << detail::num(r.tolerance, 4)
+       << " | " << (r.exact_err ? (r.reached_exact() ? "yes" : "no") : "–") << " | "
+       << (r.exact_err ? detail::num(r.max_overestimate, 4) : "–") << " | "
+       << (r.runs_done > 0 ? detail::num(r.median_voxel_err, 4) : "–") << " | "
+       << (r.runs_done > 0 ? detail::num(r.median_evaluations, 0) : "–") << " |\n";
   }
   md << "\nVoxel Err with the scene's FOV, as the optimizer minimised it; the exact Err (CGAL Nef "
         "pipeline, inscribed pyramids) of the same cameras is what the recommendation trusts. "

@@ -15,6 +15,7 @@
 #include "camplace/core/files.hpp"
 #include "camplace/optimize/encoding.hpp"
 #include "camplace/voxel/evaluator.hpp"
+#include "format.hpp"
 
 namespace camplace::compare {
 namespace {
@@ -455,26 +456,6 @@ RobustnessResult analyse_robustness(const core::Scene& scene, const core::Camera
 namespace camplace::compare {
 namespace {
 
-std::string number(double v, int digits = 4) {
-  char text[64];
-  std::snprintf(text, sizeof text, "%.*f", digits, v);
-  return text;
-}
-
-/// Short, for texts ("0.03 m").
-std::string g(double v) {
-  char text[64];
-  std::snprintf(text, sizeof text, "%.6g", v);
-  return text;
-}
-
-/// Every bit, for data files (read back as the same double).
-std::string full(double v) {
-  char text[64];
-  std::snprintf(text, sizeof text, "%.17g", v);
-  return text;
-}
-
 nlohmann::ordered_json perturbed_json(const Perturbed& p) {
   nlohmann::ordered_json j;
   j["origin"] = p.origin;
@@ -514,21 +495,23 @@ std::string robustness_summary(const RobustnessOptions& options, const Robustnes
   const bool exact = options.pipeline == core::Pipeline::exact;
   const std::string pipeline = exact ? "exact pipeline" : "voxel pipeline";
   std::string s;
-  s += "planned configuration: Err " + number(r.nominal_err) + " m² (" + pipeline + ")";
-  if (!exact && r.nominal_exact_err) s += ", exact Err " + number(*r.nominal_exact_err) + " m²";
+  s += "planned configuration: Err " + detail::num(r.nominal_err, 4) + " m² (" + pipeline + ")";
+  if (!exact && r.nominal_exact_err)
+    s += ", exact Err " + detail::num(*r.nominal_exact_err, 4) + " m²";
   s += "\n";
   s += std::to_string(r.samples.size()) + " random perturbations within " +
-       g(options.position_tol) + " m and " + g(options.angle_tol / core::kDegree) + "° (seed " +
-       std::to_string(options.seed) + "): median Err " + number(r.median_err) +
-       " m², 95th percentile " + number(r.p95_err) + " m²\n";
+       detail::short_number(options.position_tol) + " m and " +
+       detail::short_number(options.angle_tol / core::kDegree) + "° (seed " +
+       std::to_string(options.seed) + "): median Err " + detail::num(r.median_err, 4) +
+       " m², 95th percentile " + detail::num(r.p95_err, 4) + " m²\n";
   if (r.searched) {
     s += "worst-case search (coordinate ascent on the voxel Err, all cameras): voxel Err " +
-         number(r.searched->voxel_err) + " m²\n";
+         detail::num(r.searched->voxel_err, 4) + " m²\n";
   }
-  s += "worst found: Err " + number(r.worst.err) + " m² (" + r.worst.origin + ")";
-  if (!exact && r.worst.exact_err) s += ", exact Err " + number(*r.worst.exact_err) + " m²";
-  s += "; largest deviation " + number(max_of(r.worst.moved_m), 4) + " m, " +
-       number(max_of(r.worst.turned) / core::kDegree, 2) + "°\n";
+  s += "worst found: Err " + detail::num(r.worst.err, 4) + " m² (" + r.worst.origin + ")";
+  if (!exact && r.worst.exact_err) s += ", exact Err " + detail::num(*r.worst.exact_err, 4) + " m²";
+  s += "; largest deviation " + detail::num(max_of(r.worst.moved_m), 4) + " m, " +
+       detail::num(max_of(r.worst.turned) / core::kDegree, 2) + "°\n";
   const int j = most_sensitive(r);
   if (j >= 0) {
     int ties = 0;
@@ -537,21 +520,21 @@ std::string robustness_summary(const RobustnessOptions& options, const Robustnes
     }
     s += ties > 1 ? "no camera's tolerance matters more than the others' (" + std::to_string(ties) +
                         " share the largest worst voxel Err with one camera perturbed, " +
-                        number(r.per_camera[j].worst_voxel_err) + " m²; per camera:"
+                        detail::num(r.per_camera[j].worst_voxel_err, 4) + " m²; per camera:"
                   : "camera whose tolerance matters most: " + std::to_string(j) +
                         " (worst voxel Err with it alone perturbed " +
-                        number(r.per_camera[j].worst_voxel_err) + " m²; per camera:";
+                        detail::num(r.per_camera[j].worst_voxel_err, 4) + " m²; per camera:";
     for (const CameraSensitivity& c : r.per_camera) {
-      s += " " + std::to_string(c.camera) + ": " + number(c.worst_voxel_err);
+      s += " " + std::to_string(c.camera) + ": " + detail::num(c.worst_voxel_err, 4);
     }
     s += ")\n";
   }
   const double tol = r.tolerance;
-  s += "tolerance " + number(tol) + " m²: planned " +
+  s += "tolerance " + detail::num(tol, 4) + " m²: planned " +
        (r.nominal_err <= tol ? "reaches it" : "misses it") + "; worst perturbed " +
        (r.worst.err <= tol ? "still reaches it" : "misses it") + " (" + pipeline + ")";
   if (!exact && r.err_lower_bound > tol) {
-    s += "; the voxel lower bound " + number(r.err_lower_bound) +
+    s += "; the voxel lower bound " + detail::num(r.err_lower_bound, 4) +
          " m² lies above the tolerance, so no configuration reaches it by voxel Err in this mode "
          "and resolution";
   }
@@ -565,8 +548,8 @@ std::string robustness_summary(const RobustnessOptions& options, const Robustnes
     }
     s += "exact check of the " + std::to_string(r.exact_checked.size()) +
          " worst distinct configurations" + (exact ? "" : " by voxel Err") + ": " +
-         std::to_string(reached) + " reach the tolerance, largest exact Err " + number(largest) +
-         " m²\n";
+         std::to_string(reached) + " reach the tolerance, largest exact Err " +
+         detail::num(largest, 4) + " m²\n";
   }
   if (r.interrupted) s += "interrupted: the figures cover the work done before the signal\n";
   return s;
@@ -583,10 +566,12 @@ void write_robustness_report(const std::string& dir, const RobustnessOptions& op
   std::string csv = "sample,err,voxel_err,exact_err,max_moved_m,max_turned_deg,max_rolled_deg\n";
   for (std::size_t k = 0; k < r.samples.size(); ++k) {
     const Perturbed& p = r.samples[k];
-    csv += std::to_string(k + 1) + "," + full(p.err) + "," + full(p.voxel_err) + "," +
-           (p.exact_err ? full(*p.exact_err) : "") + "," + full(max_of(p.moved_m)) + "," +
-           full(max_of(p.turned) / core::kDegree) + "," + full(max_of(p.rolled) / core::kDegree) +
-           "\n";
+    csv += std::to_string(k + 1) + "," + detail::full_number(p.err) + "," +
+           detail::full_number(p.voxel_err) + "," +
+           (p.exact_err ? detail::full_number(*p.exact_err) : "") + "," +
+           detail::full_number(max_of(p.moved_m)) + "," +
+           detail::full_number(max_of(p.turned) / core::kDegree) + "," +
+           detail::full_number(max_of(p.rolled) / core::kDegree) + "\n";
   }
   core::write_file_atomically((out / "samples.csv").string(), csv);
 
@@ -648,8 +633,9 @@ void write_robustness_report(const std::string& dir, const RobustnessOptions& op
         "; scene " + report.provenance.scene_file + ", sha256 " +
         report.provenance.scene.combined.substr(0, 12) + "…; cameras " + report.cameras_file +
         "; " + report.provenance.host + ", " + report.provenance.started + ").\n\n";
-  md += "Each camera is moved by at most " + g(options.position_tol) +
-        " m and its viewing direction turned by at most " + g(options.angle_tol / core::kDegree) +
+  md += "Each camera is moved by at most " + detail::short_number(options.position_tol) +
+        " m and its viewing direction turned by at most " +
+        detail::short_number(options.angle_tol / core::kDegree) +
         "° (roll, where the model has one, by at most as much), then made valid as the optimizer "
         "makes its configurations (clamped into its domain, onto its mount, out of keep-out "
         "boxes). Err by the " +
@@ -659,7 +645,7 @@ void write_robustness_report(const std::string& dir, const RobustnessOptions& op
         robustness_summary(options, r) + "```\n\n";
   md += "| camera | worst voxel Err with it alone perturbed [m²] | evaluations |\n|---|---|---|\n";
   for (const CameraSensitivity& c : r.per_camera) {
-    md += "| " + std::to_string(c.camera) + " | " + number(c.worst_voxel_err) + " | " +
+    md += "| " + std::to_string(c.camera) + " | " + detail::num(c.worst_voxel_err, 4) + " | " +
           std::to_string(c.evaluations) + " |\n";
   }
   if (!r.exact_checked.empty()) {
@@ -667,7 +653,8 @@ void write_robustness_report(const std::string& dir, const RobustnessOptions& op
         "\nExact check, worst first:\n\n| origin | voxel Err [m²] | exact Err [m²] "
         "|\n|---|---|---|\n";
     for (const Perturbed& p : r.exact_checked) {
-      md += "| " + p.origin + " | " + number(p.voxel_err) + " | " + number(*p.exact_err) + " |\n";
+      md += "| " + p.origin + " | " + detail::num(p.voxel_err, 4) + " | " +
+            detail::num(*p.exact_err, 4) + " |\n";
     }
   }
   md +=
@@ -677,7 +664,7 @@ void write_robustness_report(const std::string& dir, const RobustnessOptions& op
       "` with the same mode and resolution gives its Err), `samples.csv` (one row per random "
       "sample), `robustness.json` (everything above). " +
       std::to_string(r.voxel_evaluations) + " voxel and " + std::to_string(r.exact_evaluations) +
-      " exact evaluations, " + number(r.seconds, 1) + " s.\n";
+      " exact evaluations, " + detail::num(r.seconds, 1) + " s.\n";
   core::write_file_atomically((out / "robustness.md").string(), md);
 }
 
