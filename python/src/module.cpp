@@ -176,6 +176,13 @@ py::dict evaluate(const PyScene& scene, const py::object& cameras, const std::st
   if (voxels_out) {
     const std::string problem = compare::voxel_models_path_problem(voxels_out->string());
     if (!problem.empty()) throw core::OptionError("voxels_out", problem);
+    // As `camplace evaluate --voxels-out`: an unwritable folder is refused before the work.
+    const std::filesystem::path parent = voxels_out->parent_path();
+    try {
+      core::probe_output_directory(parent.empty() ? "." : parent.string(), "voxels_out");
+    } catch (const core::InputError& e) {
+      throw core::OptionError("voxels_out", e.reason());
+    }
   }
   const core::CameraConfig config = cameras_argument(cameras, *scene.scene, options.cameras_file);
   options.exact_fractions = fractions;
