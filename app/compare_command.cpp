@@ -191,6 +191,7 @@ void register_compare_optimizer_command(CLI::App& app) {
     int samples = 12;
     unsigned seed = 1;
     bool progress = false;
+    double max_seconds = 0.0;  // the whole command's bound; 0 = none
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
@@ -208,11 +209,17 @@ void register_compare_optimizer_command(CLI::App& app) {
   cmd->add_option("--out", args->out, "output directory")->required();
   cmd->add_flag("--progress", args->progress,
                 "progress on stderr also when it is not a terminal (on a terminal: always)");
+  cmd->add_option("--max-seconds", args->max_seconds,
+                  "stop with exit status 1 when the command takes longer than S seconds (what "
+                  "was written by then is kept; default 0: no limit)")
+      ->check(in_range(0.0, 1e9, "must be a number of seconds in [0, 1e9] (0 = no limit)"));
   cmd->footer(
       "Ctrl-C (or SIGTERM, SIGHUP) stops within a second, keeping runs.csv once every run's\n"
       "exact Err is known; the exit status is then 128 + the signal.");
   cmd->callback([args, resolutions] {
     const jobs::InterruptSignals signals;
+    jobs::set_deadline(args->max_seconds, "compare-optimizer stopped: --max-seconds " +
+                                              core::format_number(args->max_seconds) + " exceeded");
     const core::Scene scene = load_scene_and_report(args->scene);
     compare::OptimizerValidationOptions options;
     options.runs_dir = args->runs;

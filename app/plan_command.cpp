@@ -15,6 +15,7 @@
 #include "camplace/core/err.hpp"
 #include "camplace/core/error.hpp"
 #include "camplace/core/files.hpp"
+#include "camplace/core/json_reader.hpp"
 #include "camplace/core/provenance.hpp"
 #include "camplace/core/scene.hpp"
 #include "camplace/core/scene_writer.hpp"
@@ -46,6 +47,7 @@ struct PlanArgs {
   int runs = 3, refine = 0, threads = 1;
   unsigned seed = 1;
   double time_limit = 120.0;
+  double max_seconds = 0.0;  // the whole command's bound; 0 = none
   long long max_evals = 10000;
   bool restart = false, report_only = false;
 };
@@ -113,6 +115,8 @@ void run_plan(const PlanArgs& args) {
   }
   const jobs::InterruptSignals signals;
   std::atomic<bool>& stop = jobs::InterruptSignals::flag();
+  jobs::set_deadline(args.max_seconds, "plan stopped: --max-seconds " +
+                                           core::format_number(args.max_seconds) + " exceeded");
   const core::Scene scene = load_scene_and_report(args.scene);
   std::array<int, 3> resolution = scene.voxels;
   if (!args.resolution.empty()) {
@@ -137,6 +141,17 @@ void run_plan(const PlanArgs& args) {
   }
   core::create_output_directory(args.out, "--out");
   const fs::path out(args.out);
+  // --max-seconds ends the process at its deadline, within a second: the run under way gets
+  // SIGTERM (its file says "interrupted" and a rerun repeats it), an exact check under way is
+  // cut. Signals still stop after the run under way and write the report.
+  jobs::StopAtOnce::Options at_deadline;
+  at_deadline.end_on_signal = false;
+  at_deadline.temp_dirs = {out.string(), (out / "validation-cache").string(),
+                           (out / "scenes").string()};
+  at_deadline.kept = "the finished runs are in " + (out / "runs").string() +
+                     " and the exact checks in " + (out / "validation-cache").string() +
+                     "; rerun the same command to resume and write the report";
+  const jobs::StopAtOnce at_once(at_deadline);
   if (args.restart) {
     std::error_code ec;
     int removed = 0;
@@ -420,6 +435,11 @@ void register_plan_command(CLI::App& app) {
   cmd->add_flag("--report-only", args->report_only,
                 "run nothing: write the report from the runs in --out (exact-checking each "
                 "count's best) and list the missing ones");
+  cmd->add_option("--max-seconds", args->max_seconds,
+                  "stop with exit status 1 when the command takes longer than S seconds (the "
+                  "run under way is stopped and repeated by a rerun; the finished runs are kept; "
+                  "default 0: no limit)")
+      ->check(in_range(0.0, 1e9, "must be a number of seconds in [0, 1e9] (0 = no limit)"));
   cmd->callback([args] { run_plan(*args); });
 }
 

@@ -30,6 +30,7 @@ struct RobustnessArgs {
   std::string scene, cameras, out = "robustness", pipeline = "voxel", mode = "conservative",
                               resolution;
   double position_tol = 0.0, angle_tol = 0.0;
+  double max_seconds = 0.0;  // the whole command's bound; 0 = none
   int samples = 200, refine = 0, threads = 1, search_evals = 2000, exact_checks = 3;
   unsigned seed = 1;
   bool progress = false;
@@ -52,6 +53,8 @@ std::string command_line(const RobustnessArgs& a) {
 void run_robustness(const RobustnessArgs& args) {
   const jobs::InterruptSignals signals;
   std::atomic<bool>& stop = jobs::InterruptSignals::flag();
+  jobs::set_deadline(args.max_seconds, "robustness stopped: --max-seconds " +
+                                           core::format_number(args.max_seconds) + " exceeded");
   const core::Scene scene = load_scene_and_report(args.scene);
   // The planned configuration must fit the scene: its count and models (load_camera_config),
   // its domains, mounts and keep-out boxes (what the optimizer asks of a start file).
@@ -100,6 +103,13 @@ void run_robustness(const RobustnessArgs& args) {
       progress.update(stage, done, total);
     };
   }
+  // --max-seconds ends the process at its deadline, within a second, even in the middle of an
+  // exact check; the report is written only at the end. A signal still stops after the
+  // evaluation under way and writes the report of the samples done.
+  jobs::StopAtOnce::Options at_deadline;
+  at_deadline.end_on_signal = false;
+  at_deadline.temp_dirs = {args.out};
+  const jobs::StopAtOnce at_once(at_deadline);
   compare::RobustnessReport report;
   report.command = command_line(args);
   report.cameras_file = args.cameras;
@@ -165,6 +175,10 @@ void register_robustness_command(CLI::App& app) {
   cmd->add_option("--out", args->out, "output directory");
   cmd->add_flag("--progress", args->progress,
                 "progress on stderr also when it is not a terminal (on a terminal: always)");
+  cmd->add_option("--max-seconds", args->max_seconds,
+                  "stop with exit status 1 when the command takes longer than S seconds (nothing "
+                  "is written then; default 0: no limit)")
+      ->check(in_range(0.0, 1e9, "must be a number of seconds in [0, 1e9] (0 = no limit)"));
   cmd->callback([args] { run_robustness(*args); });
 }
 

@@ -13,6 +13,7 @@
 #include "camplace/compare/study.hpp"
 #include "camplace/core/error.hpp"
 #include "camplace/core/files.hpp"
+#include "camplace/core/json_reader.hpp"
 #include "camplace/jobs/interrupt.hpp"
 #include "camplace/jobs/mpi_runs.hpp"
 #include "camplace/jobs/mpi_work.hpp"
@@ -67,6 +68,7 @@ compare::RunDispatcher mpi_dispatcher(const jobs::mpi::Session& session,
 void register_study_command(CLI::App& app) {
   auto options = std::make_shared<compare::StudyOptions>();
   auto shard = std::make_shared<std::string>();
+  auto max_seconds = std::make_shared<double>(0.0);
   CLI::App* cmd = app.add_subcommand(
       "study", "run a study of the paper's examinations (resumable), report in DIR");
   cmd->footer(
@@ -87,7 +89,12 @@ void register_study_command(CLI::App& app) {
                   "at the same time into one --out");
   cmd->add_flag("--report-only", options->report_only,
                 "run nothing: write the report from the runs in --out and list the missing ones");
-  cmd->callback([options, shard] {
+  cmd->add_option("--max-seconds", *max_seconds,
+                  "stop with exit status 1 when the command takes longer than S seconds (the "
+                  "run under way is stopped and repeated by a rerun; the finished runs and exact "
+                  "checks are kept; default 0: no limit)")
+      ->check(in_range(0.0, 1e9, "must be a number of seconds in [0, 1e9] (0 = no limit)"));
+  cmd->callback([options, shard, max_seconds] {
     if (!shard->empty()) {
       std::tie(options->shard_index, options->shard_count) = parse_shard(*shard);
       for (const auto& [set, name] : {std::pair{options->restart, "--restart"},
@@ -101,6 +108,8 @@ void register_study_command(CLI::App& app) {
     }
     // SIGINT, SIGTERM and SIGHUP stop the study after the run under way (interrupt.hpp).
     const jobs::InterruptSignals signals;
+    jobs::set_deadline(*max_seconds, "study stopped: --max-seconds " +
+                                         core::format_number(*max_seconds) + " exceeded");
     core::create_output_directory(options->out_dir, "--out");
     // The running binary, so a study's runs use the same camplace as the study.
     std::error_code ec;
@@ -121,11 +130,24 @@ void register_study_command(CLI::App& app) {
                        (options->validate ? " --validate" : "") +
                        (shard->empty() ? "" : " --shard " + *shard) +
                        (options->report_only ? " --report-only" : "");
+    options->interrupt = &jobs::InterruptSignals::flag();
     if (options->validate) {
       options->on_validate_progress = [](const compare::ValidationProgress& p) {
         std::fprintf(stderr, "validate: %d/%d runs, %.0f s\n", p.done, p.total, p.seconds);
       };
     }
+    // --max-seconds ends the process at its deadline, within a second: the run under way gets
+    // SIGTERM (its file says "interrupted" and a rerun repeats it), an exact check under way is
+    // cut (the finished ones are in the cache). Signals still stop after the run under way.
+    jobs::StopAtOnce::Options at_deadline;
+    at_deadline.end_on_signal = false;
+    const std::filesystem::path out(options->out_dir);
+    at_deadline.temp_dirs = {out.string(), (out / "validation-cache").string(),
+                             (out / "scenes").string()};
+    at_deadline.kept = "the finished runs are in " + (out / "runs").string() +
+                       " and the finished exact checks in " + (out / "validation-cache").string() +
+                       "; rerun the same command to resume and write the report";
+    const jobs::StopAtOnce at_once(at_deadline);
     compare::StudyOutcome outcome;
     try {
       outcome = compare::run_study(*options);

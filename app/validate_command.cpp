@@ -16,6 +16,7 @@
 
 #include "camplace/compare/run_validation.hpp"
 #include "camplace/core/files.hpp"
+#include "camplace/core/json_reader.hpp"
 #include "camplace/core/threads.hpp"
 #include "camplace/jobs/interrupt.hpp"
 #include "camplace/jobs/mpi_work.hpp"
@@ -30,6 +31,7 @@ namespace {
 struct ValidateArgs {
   compare::ValidateOptions options;
   bool progress = false;
+  double max_seconds = 0.0;  ///< the whole command's bound; 0 = none
 };
 
 /// One run's check under way on this rank, in a thread of its own (the rank keeps polling).
@@ -93,6 +95,8 @@ void run_validate(ValidateArgs& args) {
   // The first SIGINT, SIGTERM or SIGHUP finishes the runs under way and writes the files
   // (interrupt.hpp).
   const jobs::InterruptSignals signals;
+  jobs::set_deadline(args.max_seconds, "validate stopped: --max-seconds " +
+                                           core::format_number(args.max_seconds) + " exceeded");
   compare::ValidateOptions& options = args.options;
   options.interrupt = &jobs::InterruptSignals::flag();
   const bool tty = ::isatty(STDERR_FILENO) == 1;
@@ -115,6 +119,17 @@ void run_validate(ValidateArgs& args) {
   // cache; rank 0 then writes the files from it as a serial validate does.
   std::unique_ptr<jobs::mpi::Session> session;
   if (jobs::mpi::launched_by_mpirun()) session = std::make_unique<jobs::mpi::Session>();
+  // --max-seconds ends the process at its deadline, within a second, even in the middle of a
+  // check (one exact check of a large cell can take minutes); the checks finished by then are
+  // in the cache, from which a rerun resumes. A signal still stops after the checks under way
+  // and writes the files (options.interrupt).
+  jobs::StopAtOnce::Options at_deadline;
+  at_deadline.end_on_signal = false;
+  const std::string cache = (std::filesystem::path(options.dir) / "validation-cache").string();
+  at_deadline.temp_dirs = {options.dir, cache};
+  at_deadline.kept =
+      "the exact checks finished so far are in " + cache + "; rerun the same command to resume";
+  const jobs::StopAtOnce at_once(at_deadline);
   if (session && session->rank() > 0) {
     jobs::mpi::serve(*session, check_handlers(std::make_shared<compare::RunChecker>(options.dir)));
     return;
@@ -167,6 +182,10 @@ void register_validate_command(CLI::App& app) {
           in_range(0, core::kMaxThreads,
                    "must lie in [0, " + std::to_string(core::kMaxThreads) + "] (0 = all cores)"));
   cmd->add_flag("--progress", args->progress, "progress lines on stderr also when not a terminal");
+  cmd->add_option("--max-seconds", args->max_seconds,
+                  "stop with exit status 1 when the command takes longer than S seconds (the "
+                  "checks finished by then stay in the cache; default 0: no limit)")
+      ->check(in_range(0.0, 1e9, "must be a number of seconds in [0, 1e9] (0 = no limit)"));
   cmd->callback([args] { run_validate(*args); });
 }
 

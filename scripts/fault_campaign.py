@@ -13,7 +13,7 @@ lost (every seed of a finished command has its run file) or mixed (the run files
 share their settings); summary.json lists exactly the run files, with their Err and
 evaluations; runs.csv has one row per run file; a command that failed said why on an
 `error:` line (full disk: the system's reason), and left no temporary file behind (a killed
-process may leave its own `*.tmp<pid>`, counted apart: the rerun does not read them).
+process may leave its own `*.camplace-tmp<pid>`, counted apart: the rerun does not read them).
 
     python3 scripts/fault_campaign.py --binary build/release/app/camplace --trials 200
 
@@ -60,7 +60,7 @@ def temp_files(folder, pid=None):
     found = []
     for base, _, files in os.walk(folder):
         for name in files:
-            if re.search(r"\.tmp\d+$", name) and (pid is None or name.endswith(".tmp%d" % pid)):
+            if re.search(r"\.camplace-tmp\d+$", name) and (pid is None or name.endswith(".camplace-tmp%d" % pid)):
                 found.append(os.path.join(base, name))
     return found
 
@@ -70,12 +70,12 @@ def check_folder(t, folder, expect_seeds=None, killed_pids=()):
     if not os.path.isdir(folder):
         return
     leftovers = [f for f in temp_files(folder)
-                 if not any(f.endswith(".tmp%d" % p) for p in killed_pids)]
+                 if not any(f.endswith(".camplace-tmp%d" % p) for p in killed_pids)]
     t.check(not leftovers, "temporary files left: %s" % leftovers)
     for base, _, files in os.walk(folder):
         for name in files:
             path = os.path.join(base, name)
-            if re.search(r"\.tmp\d+$", name):
+            if re.search(r"\.camplace-tmp\d+$", name):
                 continue
             # A study run's output-<seed>.txt is its log: empty when its run was found finished.
             if os.path.getsize(path) == 0 and not re.fullmatch(r"output-\d+\.txt", name):
@@ -146,7 +146,7 @@ def trial_kill_study(binary, rng, work, t):
     again = run(binary, args)
     # A run killed while its child optimize wrote: the study names it; the rerun redoes it.
     t.check(again.returncode == 0, "rerun failed: %s" % again.stdout[-400:])
-    killed = [pid] + [int(m) for m in re.findall(r"\.tmp(\d+)", " ".join(temp_files(out)))]
+    killed = [pid] + [int(m) for m in re.findall(r"\.camplace-tmp(\d+)", " ".join(temp_files(out)))]
     for group in ("cameras-3", "cameras-4"):
         check_folder(t, os.path.join(out, "runs", group), expect_seeds=[1, 2], killed_pids=killed)
     with open(os.path.join(out, "runs.csv")) as f:

@@ -403,6 +403,9 @@ ValidationOutcome validate_runs(const ValidateOptions& options) {
     throw core::InputError(options.dir, "",
                            "holds no run file (run-<seed>.json of camplace optimize or study)");
   }
+  // What an earlier validate, killed mid-write, left behind.
+  core::remove_stale_temp_files(dir.string());
+  core::remove_stale_temp_files((dir / kCacheDir).string());
   const std::string started = core::now_iso8601();
   const int threads = std::max(
       1, std::min<int>(options.threads > 0 ? options.threads
@@ -480,56 +483,79 @@ int discard_validation(const std::string& dir) {
 }
 
 std::vector<RunValidation> read_validation_csv(const std::string& dir) {
+  const fs::path path = fs::path(dir) / "validation.csv";
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return {};
+  std::ostringstream text;
+  text << in.rdbuf();
+  const std::string file = path.string();
+  // validate_runs writes this file; one changed by hand (or cut short) is refused by name, as
+  // a rerun of `camplace validate` rewrites it from the cache.
+  const std::string remedy = " (rerun `camplace validate " + dir + "` to write it anew)";
+  std::vector<std::vector<std::string>> records;
+  try {
+    records = core::csv_records(text.str());
+  } catch (const std::invalid_argument& e) {
+    throw core::InputError(file, "", std::string(e.what()) + remedy);
+  }
+  // Another header: a file of another camplace version, whose checks are not read.
+  std::string header;
+  if (!records.empty()) {
+    for (const std::string& f : records[0]) header += (header.empty() ? "" : ",") + f;
+  }
+  if (header != kCsvHeader) return {};
   std::vector<RunValidation> out;
-  std::ifstream in(fs::path(dir) / "validation.csv");
-  if (!in) return out;
-  std::string line;
-  std::getline(in, line);
-  if (line != kCsvHeader) return out;
-  while (std::getline(in, line)) {
-    // Fields: split on commas outside quotes.
-    std::vector<std::string> f;
-    std::string field;
-    bool quoted = false;
-    for (std::size_t k = 0; k < line.size(); ++k) {
-      const char c = line[k];
-      if (quoted) {
-        if (c == '"' && k + 1 < line.size() && line[k + 1] == '"') {
-          field += '"';
-          ++k;
-        } else if (c == '"') {
-          quoted = false;
-        } else {
-          field += c;
-        }
-      } else if (c == '"') {
-        quoted = true;
-      } else if (c == ',') {
-        f.push_back(field);
-        field.clear();
-      } else {
-        field += c;
-      }
+  for (std::size_t k = 1; k < records.size(); ++k) {
+    const std::vector<std::string>& f = records[k];
+    const std::string row = "record " + std::to_string(k + 1);
+    if (f.size() != 15) {
+      throw core::InputError(file, row,
+                             std::to_string(f.size()) + " fields instead of 15" + remedy);
     }
-    f.push_back(field);
-    if (f.size() != 15) continue;
+    auto number = [&](int column, const char* name) {
+      const std::string& v = f[static_cast<std::size_t>(column)];
+      std::size_t used = 0;
+      double x = 0.0;
+      try {
+        x = std::stod(v, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (v.empty() || used != v.size()) {
+        throw core::InputError(file, row + ", " + name, "not a number: \"" + v + "\"" + remedy);
+      }
+      return x;
+    };
+    auto flag = [&](int column, const char* name) {
+      const std::string& v = f[static_cast<std::size_t>(column)];
+      if (v != "true" && v != "false") {
+        throw core::InputError(file, row + ", " + name,
+                               "neither true nor false: \"" + v + "\"" + remedy);
+      }
+      return v == "true";
+    };
     RunValidation r;
     r.run = f[0];
     r.scene = f[1];
     r.mode = f[2];
     r.error = f[14];
     if (r.error.empty()) {
-      std::sscanf(f[3].c_str(), "%dx%dx%d", &r.resolution[0], &r.resolution[1], &r.resolution[2]);
-      r.voxel_err = std::stod(f[4]);
-      r.voxel_err_same_fov = std::stod(f[5]);
-      r.exact_err = std::stod(f[6]);
-      r.tolerance = std::stod(f[7]);
-      r.reached_voxel = f[8] == "true";
-      r.reached_exact = f[9] == "true";
-      r.max_overestimate = std::stod(f[10]);
-      r.seconds = std::stod(f[11]);
-      r.err_lower_bound = std::stod(f[12]);
-      r.target = std::stod(f[13]);
+      char end = 0;
+      if (std::sscanf(f[3].c_str(), "%dx%dx%d%c", &r.resolution[0], &r.resolution[1],
+                      &r.resolution[2], &end) != 3) {
+        throw core::InputError(file, row + ", resolution",
+                               "not NXxNYxNZ: \"" + f[3] + "\"" + remedy);
+      }
+      r.voxel_err = number(4, "voxel_err");
+      r.voxel_err_same_fov = number(5, "voxel_err_same_fov");
+      r.exact_err = number(6, "exact_err");
+      r.tolerance = number(7, "tolerance");
+      r.reached_voxel = flag(8, "reached_voxel");
+      r.reached_exact = flag(9, "reached_exact");
+      r.max_overestimate = number(10, "max_overestimate");
+      r.seconds = number(11, "seconds");
+      r.err_lower_bound = number(12, "err_lower_bound");
+      r.target = number(13, "target");
     }
     out.push_back(std::move(r));
   }

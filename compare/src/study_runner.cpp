@@ -326,6 +326,7 @@ StudyOutcome run_study(const StudyOptions& options) {
     check_resume(spec, groups, dir);
   }
   fs::create_directories(dir + "/scenes");
+  core::remove_stale_temp_files(dir + "/scenes");
   const bool conservative = spec.mode == core::LabelMode::conservative;
   const int total_runs = static_cast<int>(groups.size()) * spec.runs_per_group;
   outcome.runs_total = total_runs;
@@ -493,7 +494,8 @@ StudyOutcome run_study(const StudyOptions& options) {
     check.command = options.command;
     check.threads = options.validate_threads;
     check.on_progress = options.on_validate_progress;
-    validate_runs(check);
+    check.interrupt = options.interrupt;
+    if (validate_runs(check).interrupted) outcome.interrupted = true;
   }
   std::map<std::string, RunValidation> checks;
   for (RunValidation& v : read_validation_csv(dir)) {

@@ -1,9 +1,11 @@
 #include "camplace/core/files.hpp"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
@@ -46,7 +48,7 @@ void write_file_atomically(const std::string& path, const std::string& text) {
   }
   // Unique per process, so concurrent writers of different results never share a temp file.
   // On every failure it is removed again: no half-written file is left behind.
-  const std::string tmp = path + ".tmp" + std::to_string(::getpid());
+  const std::string tmp = path + kTempSuffix + std::to_string(::getpid());
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
   if (fd < 0) throw WriteError(path + ": cannot write: " + std::strerror(errno));
   const auto fail = [&](int error, const char* what) {
@@ -72,6 +74,38 @@ void create_output_directory(const std::string& dir, const std::string& option) 
         "cannot create directory \"" + dir + "\"" + (ec ? ": " + ec.message() : std::string()));
   }
   probe_writable(dir, option);
+  remove_stale_temp_files(dir);
+}
+
+int remove_stale_temp_files(const std::string& dir) {
+  namespace fs = std::filesystem;
+  const std::string suffix = kTempSuffix;
+  const auto now = fs::file_time_type::clock::now();
+  int removed = 0;
+  std::error_code ec;
+  for (auto it = fs::directory_iterator(dir, ec); !ec && it != fs::directory_iterator();
+       it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    const std::size_t at = name.rfind(suffix);
+    if (at == std::string::npos || at == 0) continue;
+    const std::string digits = name.substr(at + suffix.size());
+    if (digits.empty() || digits.size() > 9 ||
+        digits.find_first_not_of("0123456789") != std::string::npos) {
+      continue;
+    }
+    const long pid = std::stol(digits);
+    // Its writer still runs here (or the pid is of a process we may not signal): kept.
+    if (pid <= 0 || pid == ::getpid() || ::kill(static_cast<pid_t>(pid), 0) == 0 ||
+        errno != ESRCH) {
+      continue;
+    }
+    std::error_code time_error;
+    const auto changed = fs::last_write_time(it->path(), time_error);
+    if (time_error || now - changed < std::chrono::minutes(1)) continue;
+    std::error_code remove_error;
+    if (fs::remove(it->path(), remove_error)) ++removed;
+  }
+  return removed;
 }
 
 void probe_output_directory(const std::string& dir, const std::string& option) {
@@ -94,7 +128,9 @@ void probe_output_directory(const std::string& dir, const std::string& option) {
 void probe_writable(const std::string& dir, const std::string& option) {
   // A file created and removed again: a read-only or full folder is found before the work.
   const std::string probe =
-      (std::filesystem::path(dir) / (".camplace-probe.tmp" + std::to_string(::getpid()))).string();
+      (std::filesystem::path(dir) /
+       (".camplace-probe" + std::string(kTempSuffix) + std::to_string(::getpid())))
+          .string();
   const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
   int error = fd < 0 ? errno : 0;
   if (fd >= 0) {

@@ -89,7 +89,8 @@ struct StopAtOnce::State {
 
   [[noreturn]] void end(bool deadline) {
     std::unique_lock<std::mutex> lock(writing());  // never in the middle of a write
-    const std::string suffix = ".tmp" + std::to_string(::getpid());
+    // core::write_file_atomically's temporary files (core::kTempSuffix, core/files.hpp).
+    const std::string suffix = ".camplace-tmp" + std::to_string(::getpid());
     for (const std::string& dir : options.temp_dirs) {
       std::error_code ec;
       for (auto it = std::filesystem::directory_iterator(dir, ec);
@@ -107,6 +108,9 @@ struct StopAtOnce::State {
       const std::lock_guard<std::mutex> guard(mutex);
       kept = options.kept;
     }
+    // A signal reached the forwarded process (a study's run) already; the deadline did not.
+    const int child = g_forward.load();
+    if (deadline && child > 0) ::kill(child, SIGTERM);
     if (::isatty(STDERR_FILENO) == 1) std::fputs("\n", stderr);
     if (deadline) {
       std::fprintf(stderr, "error: %s; %s\n", options.deadline_message.c_str(), kept.c_str());
@@ -134,7 +138,7 @@ struct StopAtOnce::State {
     }
     std::unique_lock<std::mutex> lock(mutex);
     while (!stop) {
-      if (g_flag.load()) {
+      if (options.end_on_signal && g_flag.load()) {
         lock.unlock();
         end(false);
       }

@@ -79,7 +79,12 @@ int resolved_threads(int threads) {
 core::CameraConfig cameras_argument(const py::object& cameras, const core::Scene& scene,
                                     std::string& file) {
   if (py::isinstance<py::str>(cameras) || py::hasattr(cameras, "__fspath__")) {
-    file = cameras.cast<std::filesystem::path>().string();
+    try {
+      file = cameras.cast<std::filesystem::path>().string();
+    } catch (const py::cast_error&) {
+      // A NUL in the string, or an __fspath__ that gives no path: no file can have that name.
+      throw py::value_error("cameras: not a file path: " + py::repr(cameras).cast<std::string>());
+    }
     py::gil_scoped_release release;
     return core::load_camera_config(file, scene);
   }

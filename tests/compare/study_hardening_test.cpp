@@ -2,12 +2,15 @@
 // that break CSV and Markdown tables, and run files edited after their run.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "camplace/compare/run_validation.hpp"
+#include "camplace/core/error.hpp"
 #include "command.hpp"
 #include "scene_builder.hpp"
 
@@ -137,6 +140,43 @@ TEST(StudyHardening, ARunFileEditedAfterItsRunIsFlaggedByValidateAndByTheReport)
   EXPECT_EQ(moved.exit_code, 1) << moved.output;
   EXPECT_NE(moved.output.find("is not the Err of the recorded cameras"), std::string::npos)
       << moved.output;
+}
+
+TEST(StudyHardening, ValidationCsvFieldsWithCommasQuotesAndLineBreaksReadBack) {
+  // validation.csv as validate_runs writes it (RFC 4180): a failed check whose run path holds a
+  // comma and whose error holds quotes and a line break, then a checked run. The reader used to
+  // split records at every line break and dropped both.
+  const std::string dir = temp_dir("validation-csv");
+  const std::string header =
+      "run,scene,mode,resolution,voxel_err,voxel_err_same_fov,exact_err,tolerance,reached_voxel,"
+      "reached_exact,max_overestimate,seconds,err_lower_bound,target,error\n";
+  const std::string failed =
+      "\"runs/a,b/run-1.json\",s.json,,,,,,,,,,,,,\"first line\nsecond \"\"quoted\"\"\"\n";
+  const std::string checked =
+      "runs/c/run-2.json,s.json,conservative,16x12x12,0.25,0.25,0.125,0.046875,false,false,0,1.5,"
+      "0.0625,0.046875,\n";
+  write_file(dir + "/validation.csv", header + failed + checked);
+  const std::vector<compare::RunValidation> rows = compare::read_validation_csv(dir);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].run, "runs/a,b/run-1.json");
+  EXPECT_EQ(rows[0].error, "first line\nsecond \"quoted\"");
+  EXPECT_EQ(rows[1].run, "runs/c/run-2.json");
+  EXPECT_EQ(rows[1].resolution, (std::array<int, 3>{16, 12, 12}));
+  EXPECT_EQ(rows[1].exact_err, 0.125);
+  EXPECT_EQ(rows[1].err_lower_bound, 0.0625);
+  EXPECT_TRUE(rows[1].error.empty());
+  // A damaged field is refused by file, record and column, not read as 0 or skipped.
+  std::string damaged = checked;
+  damaged.replace(damaged.find("0.125"), 5, "0.1x5");
+  write_file(dir + "/validation.csv", header + failed + damaged);
+  try {
+    compare::read_validation_csv(dir);
+    ADD_FAILURE() << "a damaged validation.csv was read";
+  } catch (const core::InputError& e) {
+    EXPECT_EQ(e.file(), dir + "/validation.csv");
+    EXPECT_EQ(e.entry(), "record 3, exact_err");
+    EXPECT_NE(e.reason().find("not a number: \"0.1x5\""), std::string::npos) << e.reason();
+  }
 }
 
 }  // namespace

@@ -4,7 +4,9 @@
 
 #include <chrono>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "camplace/core/error.hpp"
 #include "camplace/core/scene.hpp"
@@ -106,6 +108,41 @@ TEST(TableText, CsvFieldsAreQuotedAsRfc4180Says) {
   EXPECT_EQ(core::csv_field("two\nlines"), "\"two\nlines\"");
   EXPECT_EQ(core::csv_field("cr\r"), "\"cr\r\"");
   EXPECT_EQ(core::csv_field(" padded"), "\" padded\"");
+}
+
+TEST(TableText, CsvRecordsReadBackEveryFieldTheWriterQuotes) {
+  // Every awkward field, written by csv_field, comes back as it was (the records by hand).
+  const std::vector<std::string> fields = {"plain",    "",        "a,b", "say \"hi\"", "two\nlines",
+                                           "cr\r\nlf", " padded", "\"",  ",\n,"};
+  std::string text;
+  for (std::size_t i = 0; i < fields.size(); ++i) {
+    text += (i == 0 ? "" : ",") + core::csv_field(fields[i]);
+  }
+  text += "\nlast,row\r\n";
+  const auto records = core::csv_records(text);
+  ASSERT_EQ(records.size(), 2u);
+  EXPECT_EQ(records[0], fields);
+  EXPECT_EQ(records[1], (std::vector<std::string>{"last", "row"}));
+  // No final line break; an empty text; an empty record.
+  EXPECT_EQ(core::csv_records("a,b"), (std::vector<std::vector<std::string>>{{"a", "b"}}));
+  EXPECT_TRUE(core::csv_records("").empty());
+  EXPECT_EQ(core::csv_records("\n"), (std::vector<std::vector<std::string>>{{""}}));
+}
+
+TEST(TableText, CsvRecordsRefuseADamagedText) {
+  auto message = [](const std::string& text) {
+    try {
+      core::csv_records(text);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(message("a,b\nc,\"open"),
+            "record 2: a double quote is not closed before the end of the file");
+  EXPECT_EQ(message("a,b\"c"),
+            "record 1: a double quote inside a field that is not quoted as a whole");
+  EXPECT_EQ(message("\"a\"b,c"), "record 1: text after a field's closing double quote");
 }
 
 TEST(TableText, MarkdownCellsCannotEndTheCellOrTheRow) {

@@ -50,6 +50,22 @@ pid_t start(const std::vector<std::string>& args, const std::string& log) {
   return pid;
 }
 
+/// Waits until the process `pid` has a handler for SIGTERM (/proc/PID/status, SigCgt); false
+/// after `seconds` or when it ended.
+bool wait_until_catches_sigterm(pid_t pid, double seconds) {
+  const auto begin = std::chrono::steady_clock::now();
+  while (seconds_since(begin) < seconds) {
+    std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+    for (std::string line; std::getline(status, line);) {
+      if (line.rfind("SigCgt:", 0) != 0) continue;
+      const unsigned long long caught = std::stoull(line.substr(7), nullptr, 16);
+      if ((caught >> (SIGTERM - 1)) & 1ULL) return true;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return false;
+}
+
 json read_json(const fs::path& path) {
   std::ifstream in(path);
   return json::parse(in);
@@ -120,6 +136,74 @@ TEST(OptimizeHardening, ExportAndCompareHaveMaxSecondsToo) {
   }
 }
 
+TEST(OptimizeHardening, TheOtherLongCommandsHaveMaxSecondsToo) {
+  // Each is cut well before its work would end (an exact check of paper_basic takes most of a
+  // second; the runs have no budget but a 600 s time limit), within a second of its deadline.
+  const std::string dir = temp_dir("long-commands-max-seconds");
+  const std::string cameras = std::string(CAMPLACE_SOURCE_DIR) + "/data/paper_basic_corners.json";
+  ASSERT_EQ(camplace("optimize " + kScene + " --out " + dir + "/opt --runs 1 --max-evals 20 " +
+                     "--threads 1 --quiet")
+                .exit_code,
+            0);
+  // 36x27x27 voxels: a run cannot reach its tolerance or lower bound within the second.
+  const json study = {
+      {"algorithm", "gaco"},
+      {"mode", "conservative"},
+      {"runs_per_group", 1},
+      {"threads", 1},
+      {"first_seed", 1},
+      {"scene_seed", 1},
+      {"time_limit_s", 600},
+      {"max_evaluations", 2000000000},
+      {"examinations",
+       json::array({{{"name", "resolution"}, {"family", "resolution"}, {"params", {5}}}})}};
+  const std::string study_file = write_file(dir + "/study.json", study.dump(1));
+  struct Case {
+    std::string command, args, kept;
+    std::string seconds = "1";
+  };
+  const std::vector<Case> cases = {
+      {"validate", dir + "/opt",
+       "the exact checks finished so far are in " + dir +
+           "/opt/validation-cache; rerun the same command to resume",
+       "0.2"},
+      {"compare-optimizer", kScene + " --runs " + dir + "/opt --out " + dir + "/co", ""},
+      {"robustness",
+       kScene + " --cameras " + cameras +
+           " --position-tol 0.03 --angle-tol 2 --pipeline exact --out " + dir + "/rb",
+       "nothing was written"},
+      {"study", study_file + " --out " + dir + "/study",
+       "the finished runs are in " + dir + "/study/runs"},
+      {"plan",
+       kScene + " --counts 2..3 --runs 1 --max-evals 0 --time-limit 600 --resolution " +
+           "36x27x27 --threads 1 --out " + dir + "/plan",
+       "the finished runs are in " + dir + "/plan/runs"}};
+  for (const Case& c : cases) {
+    const auto begin = std::chrono::steady_clock::now();
+    const CommandResult r = camplace(c.command + " " + c.args + " --max-seconds " + c.seconds);
+    const double took = seconds_since(begin);
+    EXPECT_EQ(r.exit_code, 1) << c.command << ": " << r.output;
+    EXPECT_NE(r.output.find("error: " + c.command + " stopped: --max-seconds " + c.seconds +
+                            " exceeded; " + c.kept),
+              std::string::npos)
+        << c.command << ": " << r.output;
+    EXPECT_LT(took, 4.0) << c.command << ": " << r.output;
+  }
+  // The study's and the plan's run under way got SIGTERM: it wrote its best so far as
+  // "interrupted" (a rerun repeats it) instead of running on for 600 s.
+  for (const std::string& file :
+       {dir + "/study/runs/resolution-5/run-1.json", dir + "/plan/runs/2/run-1.json"}) {
+    const auto begin = std::chrono::steady_clock::now();
+    while (!fs::exists(file) && seconds_since(begin) < 10.0) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    ASSERT_TRUE(fs::exists(file)) << file;
+    EXPECT_EQ(read_json(file).at("stop_reason"), "interrupted") << file;
+  }
+  // Without the bound, validate resumes from the cache and finishes.
+  EXPECT_EQ(camplace("validate " + dir + "/opt").exit_code, 0);
+}
+
 TEST(OptimizeHardening, ASignalEndsTheScenesLoadingAtOnce) {
   // A scene whose static obstacle is a sphere of 360,000 triangles: its loading (reading,
   // checking) takes seconds. SIGTERM while it loads ends the process within a second, with
@@ -157,28 +241,37 @@ TEST(OptimizeHardening, ASignalEndsTheScenesLoadingAtOnce) {
   write_file(dir + "/scene.json", scene.dump());
   const pid_t pid =
       start({"optimize", dir + "/scene.json", "--out", dir + "/out", "--quiet"}, dir + "/log");
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  // Signalled once its handlers are in place (they are installed just before the loading,
+  // which then takes seconds): not after a guessed delay, which a loaded machine can outlast.
+  ASSERT_TRUE(wait_until_catches_sigterm(pid, 20.0)) << read_text(dir + "/log");
   const auto signalled = std::chrono::steady_clock::now();
   ::kill(pid, SIGTERM);
   const int status = wait_for(pid, 10.0);
   const double took = seconds_since(signalled);
   ASSERT_TRUE(status != -1 && WIFEXITED(status)) << read_text(dir + "/log");
   EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM) << read_text(dir + "/log");
+  // Within a second (the watcher looks every 50 ms); the loading takes 3-4 s.
   EXPECT_LT(took, 1.0) << read_text(dir + "/log");
   EXPECT_NE(read_text(dir + "/log").find("interrupted: nothing was written"), std::string::npos)
       << read_text(dir + "/log");
 }
 
 TEST(OptimizeHardening, RunsOfOtherSettingsWrittenMeanwhileStopTheProcessBeforeItWrites) {
-  // A (center mode) runs for 3 s; B (conservative) starts after A's check of the empty folder
+  // A (center mode) runs for 6 s; B (conservative) starts after A's check of the empty folder
   // and writes its run first. A finds it under the folder's lock and writes nothing: the folder
   // holds only conservative runs and a summary of them.
-  const std::string out = temp_dir("concurrent-settings");
+  const std::string out = temp_dir("concurrent-settings") + "/out";
   const std::string logs = temp_dir("concurrent-settings-logs");
   const pid_t a = start({"optimize", kScene, "--out", out, "--seed", "1", "--mode", "center",
-                         "--time-limit", "3", "--tolerance", "0", "--threads", "1", "--quiet"},
+                         "--time-limit", "6", "--tolerance", "0", "--threads", "1", "--quiet"},
                         logs + "/a.log");
-  std::this_thread::sleep_for(std::chrono::milliseconds(800));
+  // A makes its folder right after its check of the runs there: B starts then, not after a
+  // guessed delay.
+  const auto started = std::chrono::steady_clock::now();
+  while (!fs::exists(out) && seconds_since(started) < 20.0) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_TRUE(fs::exists(out)) << read_text(logs + "/a.log");
   const CommandResult b = camplace("optimize " + kScene + " --out " + out +
                                    " --seed 5 --max-evals 30 --threads 1 --quiet");
   ASSERT_EQ(b.exit_code, 0) << b.output;

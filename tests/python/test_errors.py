@@ -104,6 +104,12 @@ def test_bad_arguments_name_the_keyword(paper):
         "option: objective: unknown objective \"volume\" (expected err, err+volume)")
 
 
+def test_a_camera_path_no_file_can_have_is_a_value_error(paper):
+    # It used to escape as RuntimeError ("Unable to cast Python instance to C++ type").
+    assert message(camplace.evaluate, paper, "cams\0.json") == (
+        "cameras: not a file path: 'cams\\x00.json'")
+
+
 def test_wrong_types_raise_type_errors(paper):
     with pytest.raises(TypeError):
         camplace.evaluate(paper, [{"position": object(), "yaw_deg": 0, "pitch_deg": 0}] * 6)

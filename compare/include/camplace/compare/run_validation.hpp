@@ -109,7 +109,9 @@ void check_run_cameras(const std::string& file, const optimize::RunFile& run,
 /// refuses it.
 void check_recorded_err(const std::string& file, const optimize::RunFile& run, double recomputed);
 
-/// The rows of DIR/validation.csv (for reports); empty when the file does not exist.
+/// The rows of DIR/validation.csv (for reports), fields as RFC 4180 quotes them (a field may hold
+/// commas, quotes and line breaks); empty when the file does not exist or has another header.
+/// Throws core::InputError naming the file, the record and the field when it is damaged.
 std::vector<RunValidation> read_validation_csv(const std::string& dir);
 
 /// Removes what validate_runs wrote into `dir` (validation.csv, validation.md and the

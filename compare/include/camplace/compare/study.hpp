@@ -2,6 +2,7 @@
 /// Studies of the paper's examinations (SPEC §8–9): groups of R optimiser runs on generated
 /// scenes, one scene parameter varied per examination; resumable; a report with the paper's
 /// plots.
+#include <atomic>
 #include <functional>
 #include <string>
 #include <vector>
@@ -61,6 +62,9 @@ struct StudyOptions {
   /// instead of refusing runs that are not of this study.
   bool restart = false;
   int validate_threads = 0;  ///< 0 = all cores
+  /// Set (e.g. by Ctrl-C): the exact checks stop after those under way, as validate_runs does;
+  /// the report covers the runs checked by then. (The runs themselves stop by their signal.)
+  const std::atomic<bool>* interrupt = nullptr;
   std::function<void(const ValidationProgress&)> on_validate_progress;
   /// When set, carries out the missing runs instead of `launch` one after another (MPI).
   RunDispatcher dispatch;

@@ -3,6 +3,7 @@
 /// table cells that cannot end the cell or the row early, so that a name holding a comma, a
 /// quote, a `|` or a line break keeps its file parseable.
 #include <string>
+#include <vector>
 
 namespace camplace::core {
 
@@ -40,5 +41,12 @@ inline std::string md_cell(const std::string& text) {
   }
   return out;
 }
+
+/// The records of a CSV text as RFC 4180 writes them (csv_field): fields split on commas outside
+/// double quotes, `""` inside quotes read as one quote, and line breaks (LF or CR LF) inside
+/// quotes kept as part of the field. A final line break ends the last record; an empty text has
+/// none. Throws std::invalid_argument ("record N: ...") for a quote left open at the end, or a
+/// quote inside an unquoted field or after a closing quote.
+std::vector<std::vector<std::string>> csv_records(const std::string& text);
 
 }  // namespace camplace::core

@@ -45,11 +45,13 @@ int interrupted_exit_status();
 
 /// While one lives (inside an InterruptSignals), a signal, or the deadline, ends the process
 /// within a second: a watcher thread waits until no write is under way (writing()), removes
-/// the files `<name>.tmp<pid>` that core::write_file_atomically leaves in `temp_dirs`, prints
-/// "interrupted: <kept>" (exit status 128 + the signal) or, at the deadline (its own or
+/// the files `<name>.camplace-tmp<pid>` that core::write_file_atomically leaves in `temp_dirs`,
+/// prints "interrupted: <kept>" (exit status 128 + the signal) or, at the deadline (its own or
 /// set_deadline's, whichever comes first), "error: <deadline_message>; <kept>" (exit status 1)
-/// on stderr and calls _exit. A signal that came before the scope began ends the process when it
-/// begins. Nest none (active() tells whether one lives).
+/// on stderr and calls _exit. At the deadline it first sends SIGTERM to the process signals are
+/// forwarded to (InterruptSignals::forward_to, e.g. a study's run), which a signal reached
+/// already. A signal that came before the scope began ends the process when it begins. Nest
+/// none (active() tells whether one lives).
 class StopAtOnce {
  public:
   struct Options {
@@ -60,6 +62,9 @@ class StopAtOnce {
     /// Seconds from construction until the process ends with deadline_message; ≤ 0: none.
     double deadline_seconds = 0.0;
     std::string deadline_message;
+    /// false: only the deadline ends the process; a signal is left to the command's own
+    /// stop after the work under way (e.g. validate's, which then writes its report).
+    bool end_on_signal = true;
   };
   explicit StopAtOnce(Options options);
   ~StopAtOnce();
