@@ -17,6 +17,7 @@
 #include "camplace/core/json_reader.hpp"
 #include "camplace/core/statistics.hpp"
 #include "camplace/optimize/report.hpp"
+#include "camplace/voxel/evaluator.hpp"
 #include "run_json.hpp"
 
 namespace camplace::optimize {
@@ -85,7 +86,15 @@ RunContext read_context(const core::JsonNode& node) {
   const core::JsonNode resolution = node.at("resolution");
   if (resolution.array_size() != 3) resolution.fail("expected [nx, ny, nz] (3 integers)");
   for (std::size_t k = 0; k < 3; ++k) c.resolution[k] = resolution.at(k).integer_in(0, kIntMax);
-  if (node.has("refine")) c.refine = node.at("refine").integer_in(1, kIntMax);
+  // What the voxel evaluator accepts (voxel::refine_problem), so that a changed run file is
+  // named here rather than refused later by the evaluator under the option's name.
+  if (node.has("refine")) {
+    c.refine = node.at("refine").integer_in(1, voxel::kMaxRefine);
+    if (c.mode != "conservative") {
+      node.at("refine").fail("refinement needs mode conservative, the run's mode is \"" +
+                             c.mode + "\"");
+    }
+  }
   c.start = node.at("start").string();
   c.time_limit = node.at("time_limit_s").number();
   c.max_evaluations = read_count(node.at("max_evaluations"));

@@ -250,6 +250,24 @@ TEST(Report, UnknownFormatVersionsAndDamagedRunFilesAreErrorsNamingFileAndEntry)
     EXPECT_EQ(e->entry(), c.entry) << c.what;
     EXPECT_NE(e->reason().find(c.reason_part), std::string::npos) << c.what << ": " << e->what();
   }
+  // A refinement the voxel evaluator refuses is named as the run file's entry (validate used
+  // to say only "option: refine: ...", naming no file).
+  for (const auto& [mode, refine, reason] :
+       {std::tuple<std::string, int, std::string>{"conservative", 99, "out of range [1, 10]"},
+        {"center", 2, "refinement needs mode conservative, the run's mode is \"center\""}}) {
+    nlohmann::json j = good;
+    j["context"]["mode"] = mode;
+    j["context"]["refine"] = refine;
+    const std::optional<core::InputError> e = read_error(j);
+    ASSERT_TRUE(e) << mode << " " << refine;
+    EXPECT_EQ(e->file(), "dir/run-7.json");
+    EXPECT_EQ(e->entry(), "/context/refine");
+    EXPECT_NE(e->reason().find(reason), std::string::npos) << e->what();
+  }
+  nlohmann::json refined = good;
+  refined["context"]["mode"] = "conservative";
+  refined["context"]["refine"] = 10;
+  EXPECT_FALSE(read_error(refined));
   nlohmann::json missing = good;
   missing.erase("memory_kb");
   const std::optional<core::InputError> e = read_error(missing);
