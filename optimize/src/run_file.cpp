@@ -91,8 +91,8 @@ RunContext read_context(const core::JsonNode& node) {
   if (node.has("refine")) {
     c.refine = node.at("refine").integer_in(1, voxel::kMaxRefine);
     if (c.mode != "conservative") {
-      node.at("refine").fail("refinement needs mode conservative, the run's mode is \"" +
-                             c.mode + "\"");
+      node.at("refine").fail("refinement needs mode conservative, the run's mode is \"" + c.mode +
+                             "\"");
     }
   }
   c.start = node.at("start").string();

@@ -1,4 +1,6 @@
 // Result files: atomic writes and the temporary files a killed writer leaves behind.
+#include "camplace/core/files.hpp"
+
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -10,7 +12,6 @@
 #include <string>
 #include <vector>
 
-#include "camplace/core/files.hpp"
 #include "scene_builder.hpp"
 
 namespace camplace::testing {
@@ -42,13 +43,12 @@ TEST(Files, StaleTemporaryFilesOfEndedWritersAreRemovedWhenAFolderIsOpened) {
   const std::string stale = touch(dir / ("run-1.json.camplace-tmp" + dead), old);
   // Kept: a running writer's; a file written moments ago (a writer of another machine on a
   // shared folder may have that pid); names that are not camplace's temporary files.
-  const std::vector<std::string> kept = {
-      touch(dir / ("run-2.json.camplace-tmp" + alive), old),
-      touch(dir / ("run-3.json.camplace-tmp" + dead), fresh),
-      touch(dir / ("notes.tmp" + dead), old),
-      touch(dir / ("run-4.json.camplace-tmp" + dead + "x"), old),
-      touch(dir / ".camplace-tmp", old),
-      touch(dir / "run-5.json", old)};
+  const std::vector<std::string> kept = {touch(dir / ("run-2.json.camplace-tmp" + alive), old),
+                                         touch(dir / ("run-3.json.camplace-tmp" + dead), fresh),
+                                         touch(dir / ("notes.tmp" + dead), old),
+                                         touch(dir / ("run-4.json.camplace-tmp" + dead + "x"), old),
+                                         touch(dir / ".camplace-tmp", old),
+                                         touch(dir / "run-5.json", old)};
   core::create_output_directory(dir.string(), "--out");
   EXPECT_FALSE(fs::exists(stale));
   for (const std::string& file : kept) EXPECT_TRUE(fs::exists(file)) << file;
