@@ -106,9 +106,8 @@ struct VertexView {
   bool in_front;
 };
 
-/// A slot's projection before padding, and the bins it covers.
-struct SlotBounds {
-  double x0, x1, y0, y1;
+/// The bins a slot group covers.
+struct GroupBins {
   BinRange coarse, wide;
 };
 
@@ -117,14 +116,14 @@ struct SetupWork {
   std::vector<VertexView> vertices;
   std::vector<double> tilt;  ///< per triangle of the current object: det / scale, 0 when flat
   std::vector<std::uint8_t> flat;
-  std::vector<SlotBounds> bounds;  ///< per slot; x0 = NaN: not wholly in front
+  std::vector<GroupBins> bins;  ///< per slot group
+  std::vector<int> deferred;    ///< the current cluster's triangles not wholly in front
   std::vector<int> fill;
-  std::vector<int> members;  ///< one chunk's binned slots (chunk_candidates)
-  std::vector<int> binned;   ///< per object: its binned slots
+  std::vector<int> members;  ///< one chunk's slot groups (chunk_candidates)
 };
 
-/// Counting sort of the slots of one chunk (`members`, ascending) into the bins of `grid`:
-/// `range(slot)` gives the bins a slot covers.
+/// Counting sort of the slot groups of one chunk (`members`, ascending) into the bins of `grid`:
+/// `range(group)` gives the bins a group covers.
 template <class Range>
 void sort_into_bins(const BinGrid& grid, const std::vector<int>& members, const Range& range,
                     std::vector<int>& fill, BinLists& lists) {
@@ -226,85 +225,107 @@ bool cull_back_faces(const ObjectInfo& info, bool camera_inside, const Triangles
 
 /// The slots of object o: its triangles that can decide a label (not culled back faces; in
 /// conservative mode not flat; projecting into the FOV's section or not wholly in front of the
-/// camera), with their padded rectangles and, in center mode, edge lines.
+/// camera), cluster by cluster (ObjectInfo::clusters), with their padded rectangles and, in center
+/// mode, edge lines. Per cluster, its slots wholly in front of the camera form a group (binned),
+/// then come the others (candidates everywhere).
 void add_slots(int o, const ObjectInfo& info, bool cull, bool conservative, CameraSetup& cam,
                SetupWork& work) {
   const double inf = std::numeric_limits<double>::infinity();
   const core::TriangleMesh& mesh = *info.mesh;
-  for (int i = 0; i < info.triangle_count; ++i) {
-    const int t = info.first_triangle + i;
-    if (cull && work.tilt[i] > 0) {
-      cam.back[t] = 1;
-      continue;
-    }
-    if (conservative && work.flat[i]) continue;
-    const auto& tv = mesh.triangles[i];
-    const VertexView* v[3] = {&work.vertices[tv[0]], &work.vertices[tv[1]], &work.vertices[tv[2]]};
-    if (!(v[0]->in_front && v[1]->in_front && v[2]->in_front)) {
-      // Not wholly in front of the camera: a candidate everywhere.
-      cam.slot_triangle.push_back(t);
-      cam.slot_object.push_back(o);
-      cam.rect.push_back({-inf, inf, -inf, inf});
-      if (!conservative) cam.lines.emplace_back();
-      work.bounds.push_back({std::numeric_limits<double>::quiet_NaN(), 0, 0, 0, {}, {}});
-      continue;
-    }
-    const double xlo = std::min({v[0]->x, v[1]->x, v[2]->x});
-    const double xhi = std::max({v[0]->x, v[1]->x, v[2]->x});
-    const double ylo = std::min({v[0]->y, v[1]->y, v[2]->y});
-    const double yhi = std::max({v[0]->y, v[1]->y, v[2]->y});
-    const double pad_x = 2 * kMargin * (1.0 + std::max(std::abs(xlo), std::abs(xhi)));
-    const double pad_y = 2 * kMargin * (1.0 + std::max(std::abs(ylo), std::abs(yhi)));
-    const std::array<double, 4> r{xlo - pad_x, xhi + pad_x, ylo - pad_y, yhi + pad_y};
-    // Outside the FOV's section: no box or ray the labeller tests projects onto it.
-    if (r[1] < cam.view[0] || r[0] > cam.view[1] || r[3] < cam.view[2] || r[2] > cam.view[3]) {
-      continue;
-    }
+  auto add_slot = [&](int t, const std::array<double, 4>& rect) {
     cam.slot_triangle.push_back(t);
     cam.slot_object.push_back(o);
-    cam.rect.push_back(r);
-    work.bounds.push_back({xlo, xhi, ylo, yhi, {}, {}});
-    if (conservative) continue;
-    // The projected triangle's edge lines, inside ≥ 0, unit normals, padded like the
-    // rectangle; none for a (nearly) degenerate projection.
-    detail::EdgeLines& lines = cam.lines.emplace_back();
-    const double px[3] = {v[0]->x, v[1]->x, v[2]->x}, py[3] = {v[0]->y, v[1]->y, v[2]->y};
-    const double area = (px[1] - px[0]) * (py[2] - py[0]) - (py[1] - py[0]) * (px[2] - px[0]);
-    const double size = std::max(xhi - xlo, yhi - ylo);
-    lines.valid = std::abs(area) > 1e-9 * size * size;
-    if (!lines.valid) continue;
-    const double pad = std::max(pad_x, pad_y);
-    for (int ed = 0; ed < 3; ++ed) {
-      const int f = (ed + 1) % 3;
-      double la = -(py[f] - py[ed]), lb = px[f] - px[ed];
-      if (area < 0) {
-        la = -la;
-        lb = -lb;
+    cam.rect.push_back(rect);
+  };
+  for (const detail::TriangleCluster& cluster : info.clusters) {
+    work.deferred.clear();
+    const int first = static_cast<int>(cam.slot_triangle.size());
+    std::array<double, 4> group_rect{inf, -inf, inf, -inf};
+    for (int n = cluster.begin; n < cluster.end; ++n) {
+      const int i = info.cluster_order[n];
+      const int t = info.first_triangle + i;
+      if (cull && work.tilt[i] > 0) {
+        cam.back[t] = 1;
+        continue;
       }
-      const double norm = std::sqrt(la * la + lb * lb);
-      la /= norm;
-      lb /= norm;
-      lines.line[ed] = {la, lb, -(la * px[ed] + lb * py[ed]) + pad};
+      if (conservative && work.flat[i]) continue;
+      const auto& tv = mesh.triangles[i];
+      const VertexView* v[3] = {&work.vertices[tv[0]], &work.vertices[tv[1]],
+                                &work.vertices[tv[2]]};
+      if (!(v[0]->in_front && v[1]->in_front && v[2]->in_front)) {
+        work.deferred.push_back(t);
+        continue;
+      }
+      const double xlo = std::min({v[0]->x, v[1]->x, v[2]->x});
+      const double xhi = std::max({v[0]->x, v[1]->x, v[2]->x});
+      const double ylo = std::min({v[0]->y, v[1]->y, v[2]->y});
+      const double yhi = std::max({v[0]->y, v[1]->y, v[2]->y});
+      const double pad_x = 2 * kMargin * (1.0 + std::max(std::abs(xlo), std::abs(xhi)));
+      const double pad_y = 2 * kMargin * (1.0 + std::max(std::abs(ylo), std::abs(yhi)));
+      const std::array<double, 4> r{xlo - pad_x, xhi + pad_x, ylo - pad_y, yhi + pad_y};
+      // Outside the FOV's section: no box or ray the labeller tests projects onto it.
+      if (r[1] < cam.view[0] || r[0] > cam.view[1] || r[3] < cam.view[2] || r[2] > cam.view[3]) {
+        continue;
+      }
+      add_slot(t, r);
+      group_rect = {std::min(group_rect[0], r[0]), std::max(group_rect[1], r[1]),
+                    std::min(group_rect[2], r[2]), std::max(group_rect[3], r[3])};
+      if (conservative) continue;
+      // The projected triangle's edge lines, inside ≥ 0, unit normals, padded like the
+      // rectangle; none for a (nearly) degenerate projection.
+      detail::EdgeLines& lines = cam.lines.emplace_back();
+      const double px[3] = {v[0]->x, v[1]->x, v[2]->x}, py[3] = {v[0]->y, v[1]->y, v[2]->y};
+      const double area = (px[1] - px[0]) * (py[2] - py[0]) - (py[1] - py[0]) * (px[2] - px[0]);
+      const double size = std::max(xhi - xlo, yhi - ylo);
+      lines.valid = std::abs(area) > 1e-9 * size * size;
+      if (!lines.valid) continue;
+      const double pad = std::max(pad_x, pad_y);
+      for (int ed = 0; ed < 3; ++ed) {
+        const int f = (ed + 1) % 3;
+        double la = -(py[f] - py[ed]), lb = px[f] - px[ed];
+        if (area < 0) {
+          la = -la;
+          lb = -lb;
+        }
+        const double norm = std::sqrt(la * la + lb * lb);
+        la /= norm;
+        lb /= norm;
+        lines.line[ed] = {la, lb, -(la * px[ed] + lb * py[ed]) + pad};
+      }
+    }
+    const int last = static_cast<int>(cam.slot_triangle.size());
+    if (last > first) {
+      // Every point of the cluster's triangles lies in its ball: their distance from the camera,
+      // as point_triangle_sq_distance gives it, is at least the ball's less a margin far above
+      // the rounding of either.
+      const double to_center = (cluster.center - cam.c).norm();
+      const double margin =
+          1e-9 * (to_center + cluster.radius + cam.c.norm() + cluster.center.norm());
+      cam.groups.push_back({first, last, group_rect, to_center - cluster.radius - margin});
+    }
+    // Not wholly in front of the camera: a candidate everywhere.
+    for (int t : work.deferred) {
+      cam.everywhere.push_back(static_cast<int>(cam.slot_triangle.size()));
+      add_slot(t, {-inf, inf, -inf, inf});
+      if (!conservative) cam.lines.emplace_back();
     }
   }
 }
 
-/// The bins: they cover the slots' (padded) rectangles within the FOV's section, at bin width
-/// `width`, finer where a chunk has more slots than a few per bin (`per_chunk`: the binned slots
+/// The bins: they cover the slot groups' (padded) rectangles within the FOV's section, at bin
+/// width `width`, finer where a chunk has more groups than a few per bin (`per_chunk`: the groups
 /// of the chunk that has most), so that the candidates per voxel stay bounded as meshes get finer.
 /// A box or ray whose projection misses that rectangle has no binned candidate
 /// (detail::outside_bins). Conservative mode: wide bins twice as fine with every rectangle
 /// widened by half a coarse bin, so that a box whose projection is at most one coarse bin wide
-/// finds every slot it can meet in the bin of its rectangle's centre, each once (no repeats to
-/// skip). Then each slot's bin ranges, into work.bounds.
+/// finds every group it can meet in the bin of its rectangle's centre, each once (no repeats to
+/// skip). Then each group's bin ranges, into work.bins.
 void place_bins(const std::array<double, 2>& width, int per_chunk, bool conservative,
                 CameraSetup& cam, SetupWork& work) {
   const double inf = std::numeric_limits<double>::infinity();
-  const int slots = static_cast<int>(cam.slot_triangle.size());
   std::array<double, 2> lo{inf, inf}, hi{-inf, -inf};
-  for (int s = 0; s < slots; ++s) {
-    if (std::isnan(work.bounds[s].x0)) continue;
-    const auto& r = cam.rect[s];
+  for (const detail::SlotGroup& g : cam.groups) {
+    const auto& r = g.rect;
     lo = {std::min(lo[0], r[0]), std::min(lo[1], r[2])};
     hi = {std::max(hi[0], r[1]), std::max(hi[1], r[3])};
   }
@@ -329,35 +350,35 @@ void place_bins(const std::array<double, 2>& width, int per_chunk, bool conserva
                                       {hi[0] + cam.widen[0], hi[1] + cam.widen[1]},
                                       {0.5 * w[0], 0.5 * w[1]}, 2 * kMaxBins)
                           : BinGrid{};
-  for (int s = 0; s < slots; ++s) {
-    SlotBounds& b = work.bounds[s];
-    if (std::isnan(b.x0)) continue;
-    b.coarse = detail::bin_range(cam.coarse, b.x0, b.x1, b.y0, b.y1);
+  work.bins.resize(cam.groups.size());
+  for (std::size_t g = 0; g < cam.groups.size(); ++g) {
+    const auto& r = cam.groups[g].rect;
+    GroupBins& b = work.bins[g];
+    b.coarse = detail::bins_under(cam.coarse, r[0], r[1], r[2], r[3]);
     if (!conservative) continue;
-    const auto& r = cam.rect[s];
     b.wide = detail::bins_under(cam.wide, r[0] - cam.widen[0], r[1] + cam.widen[0],
                                 r[2] - cam.widen[1], r[3] + cam.widen[1]);
   }
 }
 
-/// One chunk's candidates: the slots of its objects (`objects`, ascending: their slots are
-/// consecutive and ascending, cam.object_slots), sorted into the bins, or in `everywhere`. Only
-/// the chunk's own slots are visited: with many states, each chunk holds few of the objects.
+/// One chunk's candidates: the slot groups of its objects (`objects`, ascending), sorted into the
+/// bins, and their slots not wholly in front of the camera in `everywhere`. Only the chunk's own
+/// groups are visited: with many states, each chunk holds few of the objects.
 void chunk_candidates(const CameraSetup& cam, const std::vector<int>& objects, bool conservative,
                       SetupWork& work, ChunkCandidates& out) {
   work.members.clear();
   out.everywhere.clear();
   for (int o : objects) {
-    for (int s = cam.object_slots[o]; s < cam.object_slots[o + 1]; ++s) {
-      (std::isnan(work.bounds[s].x0) ? out.everywhere : work.members).push_back(s);
-    }
+    for (int g = cam.object_groups[o]; g < cam.object_groups[o + 1]; ++g) work.members.push_back(g);
+    out.everywhere.insert(out.everywhere.end(), cam.everywhere.begin() + cam.everywhere_start[o],
+                          cam.everywhere.begin() + cam.everywhere_start[o + 1]);
   }
   sort_into_bins(
-      cam.coarse, work.members, [&](int s) -> const BinRange& { return work.bounds[s].coarse; },
+      cam.coarse, work.members, [&](int g) -> const BinRange& { return work.bins[g].coarse; },
       work.fill, out.coarse);
   if (conservative) {
     sort_into_bins(
-        cam.wide, work.members, [&](int s) -> const BinRange& { return work.bounds[s].wide; },
+        cam.wide, work.members, [&](int g) -> const BinRange& { return work.bins[g].wide; },
         work.fill, out.wide);
   } else {
     out.wide.start.assign(cam.wide.count() + 1, 0);
@@ -421,16 +442,20 @@ void VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera,
   cam.slot_object.clear();
   cam.rect.clear();
   cam.lines.clear();
-  work.bounds.clear();
-  cam.object_slots.assign(objects.size() + 1, 0);
+  cam.groups.clear();
+  cam.everywhere.clear();
+  cam.object_groups.assign(objects.size() + 1, 0);
+  cam.everywhere_start.assign(objects.size() + 1, 0);
   for (std::size_t o = 0; o < objects.size(); ++o) {
-    cam.object_slots[o] = static_cast<int>(cam.slot_triangle.size());
+    cam.object_groups[o] = static_cast<int>(cam.groups.size());
+    cam.everywhere_start[o] = static_cast<int>(cam.everywhere.size());
     view_vertices(*objects[o].mesh, cam, work.vertices);
     const bool cull = cull_back_faces(objects[o], cam.inside_object[o], triangles, cam.c, work);
     cam.culled[o] = cull;
     add_slots(static_cast<int>(o), objects[o], cull, conservative, cam, work);
   }
-  cam.object_slots[objects.size()] = static_cast<int>(cam.slot_triangle.size());
+  cam.object_groups[objects.size()] = static_cast<int>(cam.groups.size());
+  cam.everywhere_start[objects.size()] = static_cast<int>(cam.everywhere.size());
   if (conservative) {
     // The cones are made on first use (cone_of): a fine mesh has many slots that no box tests.
     const std::size_t slots = cam.slot_triangle.size();
@@ -447,17 +472,11 @@ void VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera,
                               std::memory_order_relaxed);
     }
   }
-  // The binned slots of the chunk that has most (an object may belong to several chunks).
-  work.binned.assign(objects.size(), 0);
-  for (std::size_t o = 0; o < objects.size(); ++o) {
-    for (int s = cam.object_slots[o]; s < cam.object_slots[o + 1]; ++s) {
-      work.binned[o] += !std::isnan(work.bounds[s].x0);
-    }
-  }
+  // The slot groups of the chunk that has most (an object may belong to several chunks).
   int per_chunk = 0;
   for (const std::vector<int>& chunk : chunk_objects) {
     int count = 0;
-    for (int o : chunk) count += work.binned[o];
+    for (int o : chunk) count += cam.object_groups[o + 1] - cam.object_groups[o];
     per_chunk = std::max(per_chunk, count);
   }
   place_bins(width, per_chunk, conservative, cam, work);

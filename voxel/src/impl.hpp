@@ -58,6 +58,14 @@ void parallel_for(int count, int threads, const Body& body) {
 using StateMask = std::uint64_t;
 constexpr int kChunk = 64;
 
+/// A cluster of an object's triangles near each other (set-up, cluster_triangles): its range of
+/// ObjectInfo::cluster_order and a ball (world frame, m) holding every one of its vertices.
+struct TriangleCluster {
+  int begin = 0, end = 0;
+  core::Vec3 center = core::Vec3::Zero();
+  double radius = 0.0;
+};
+
 /// One object of the scene with its fixed role (SPEC §3: what a first hit on it means).
 struct ObjectInfo {
   const core::TriangleMesh* mesh = nullptr;
@@ -67,6 +75,10 @@ struct ObjectInfo {
   int first_triangle = 0;
   int triangle_count = 0;
   bool outward = false;  ///< signed volume > 0: the mesh is oriented outward (back-face culling)
+  /// The object's triangles (indices into mesh->triangles) cluster by cluster, and the clusters:
+  /// each camera numbers its slots in this order and bins them per cluster (camera_setup).
+  std::vector<int> cluster_order;
+  std::vector<TriangleCluster> clusters;
 };
 
 /// Per camera and candidate triangle (conservative mode): the infinite cone from the camera over
@@ -101,27 +113,40 @@ struct BinGrid {
   int count() const { return n[0] * n[1]; }
 };
 
-/// The candidate lists of one chunk of 64 states: per bin of a BinGrid the slots (ascending)
-/// whose rectangle covers it, as offsets (count() + 1) into items.
+/// The candidate lists of one chunk of 64 states: per bin of a BinGrid the slot groups
+/// (ascending) whose rectangle covers it, as offsets (count() + 1) into items.
 struct BinLists {
   std::vector<int> start;
   std::vector<int> items;
 };
 
-/// One chunk's candidates: the coarse bins, the wide bins (conservative mode) and the slots not
-/// wholly in front of the camera, which are candidates everywhere. Only slots of objects that
-/// belong to a state of the chunk.
+/// One chunk's candidates: the coarse bins and the wide bins (conservative mode) of slot groups,
+/// and the slots not wholly in front of the camera, which are candidates everywhere. Only slots
+/// of objects that belong to a state of the chunk.
 struct ChunkCandidates {
-  BinLists coarse, wide;
+  BinLists coarse, wide;  ///< of groups (CameraSetup::groups)
   std::vector<int> everywhere;
+};
+
+/// The binned slots of one cluster of triangles (consecutive slots first .. last − 1, of one
+/// object), with what holds for each of them: the union of their (padded) rectangles, and a lower
+/// bound of their triangles' distance from the camera (TriangleCone::near_distance, as computed;
+/// −∞ when none is known). A box that misses the rectangle, or lies nearer than `near` to a
+/// non-occupying group, has none of them as a candidate.
+struct SlotGroup {
+  int first = 0, last = 0;
+  std::array<double, 4> rect{};
+  double near = 0.0;
 };
 
 /// Everything about one camera that one evaluation needs and that does not depend on the
 /// voxel: the FOV test, and the triangles that can decide a label (the candidates: in front of
 /// the camera or across its plane, not culled, projecting into the FOV; in conservative mode not
 /// flat), numbered as slots in triangle order, each with its projection's rectangle and, per
-/// mode, its edge lines or its cone, sorted into bins of the image plane per chunk of 64 states
-/// (a slot is a candidate for a voxel only when their projections' rectangles share a bin).
+/// mode, its edge lines or its cone; the slots in front of the camera are grouped by cluster of
+/// triangles and the groups sorted into bins of the image plane per chunk of 64 states (a slot
+/// is a candidate for a voxel only when its group's rectangle and the voxel's projection share a
+/// bin).
 /// Rebuilt in place for every evaluation (its memory is reused, camera_setup).
 struct CameraSetup {
   core::CameraSetting setting;
@@ -150,9 +175,13 @@ struct CameraSetup {
   // Per slot.
   std::vector<int> slot_triangle;
   std::vector<int> slot_object;
-  /// Per object o: its slots are object_slots[o] .. object_slots[o + 1] − 1 (objects.size() + 1
-  /// offsets; slots are numbered in object order).
-  std::vector<int> object_slots;
+  /// Slots are numbered object by object, cluster by cluster. Per object o: its groups are
+  /// object_groups[o] .. object_groups[o + 1] − 1 (objects.size() + 1 offsets).
+  std::vector<SlotGroup> groups;
+  std::vector<int> object_groups;
+  /// The slots not wholly in front of the camera, per object o from everywhere_start[o] on.
+  std::vector<int> everywhere;
+  std::vector<int> everywhere_start;
   /// The projection's bounding rectangle (x0, x1, y0, y1), padded; infinite for the slots not
   /// wholly in front of the camera.
   std::vector<std::array<double, 4>> rect;
@@ -179,7 +208,7 @@ struct StateInfo {
 
 /// Per-call working memory of the labeller (evaluate() is const and runs on several threads).
 struct Scratch {
-  std::vector<std::uint32_t> stamp;  ///< per slot (any camera's): last visit that tested it
+  std::vector<std::uint32_t> stamp;  ///< per slot group (any camera's): last visit that tested it
   std::uint32_t visit = 0;
   struct Hit {
     double t;
