@@ -113,9 +113,14 @@ struct GroupBins {
 
 /// The working memory of camera_setup, reused from evaluation to evaluation on each thread.
 struct SetupWork {
-  std::vector<VertexView> vertices;
-  std::vector<double> tilt;  ///< per triangle of the current object: det / scale, 0 when flat
+  std::vector<VertexView> vertices;  ///< per vertex of the current object, once viewed
+  std::vector<std::uint32_t> vertex_stamp;
+  std::uint32_t vertex_visit = 0;
+  /// Per triangle of the current object, once its cluster's tilts are computed: det / scale, 0
+  /// when flat.
+  std::vector<double> tilt;
   std::vector<std::uint8_t> flat;
+  std::vector<std::uint8_t> behind;  ///< per cluster: behind_cluster (when the object is culled)
   std::vector<GroupBins> bins;  ///< per slot group
   std::vector<int> deferred;    ///< the current cluster's triangles not wholly in front
   std::vector<int> fill;
@@ -168,51 +173,112 @@ BinGrid grid_over(const std::array<double, 2>& lo, const std::array<double, 2>& 
   return grid;
 }
 
-/// Each vertex of `mesh` once, seen from the camera: its offset, length and projection (the same
+/// The vertices of cluster k's triangles not yet seen from the camera for this object
+/// (work.vertex_stamp ≠ work.vertex_visit), each once: its offset, length and projection (the same
 /// numbers per triangle corner as computed from the triangle).
-void view_vertices(const core::TriangleMesh& mesh, const CameraSetup& cam,
-                   std::vector<VertexView>& out) {
-  out.resize(mesh.vertices.size());
-  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
-    VertexView& vv = out[v];
-    vv.q = mesh.vertices[v] - cam.c;
-    vv.norm = vv.q.norm();
-    const double z = vv.q.dot(cam.axis);
-    vv.in_front = z > kMargin * vv.norm;
-    if (vv.in_front) {
-      vv.x = vv.q.dot(cam.ex) / z;
-      vv.y = vv.q.dot(cam.ey) / z;
+void view_vertices(const ObjectInfo& info, const detail::TriangleCluster& k, const CameraSetup& cam,
+                   SetupWork& work) {
+  const core::TriangleMesh& mesh = *info.mesh;
+  for (int n = k.begin; n < k.end; ++n) {
+    for (int v : mesh.triangles[info.cluster_order[n]]) {
+      if (work.vertex_stamp[v] == work.vertex_visit) continue;
+      work.vertex_stamp[v] = work.vertex_visit;
+      VertexView& vv = work.vertices[v];
+      vv.q = mesh.vertices[v] - cam.c;
+      vv.norm = vv.q.norm();
+      const double z = vv.q.dot(cam.axis);
+      vv.in_front = z > kMargin * vv.norm;
+      if (vv.in_front) {
+        vv.x = vv.q.dot(cam.ex) / z;
+        vv.y = vv.q.dot(cam.ey) / z;
+      }
     }
   }
 }
 
-/// The camera's tilt against each triangle's plane (det / scale; 0 when the camera lies in it,
-/// flat: the cone has no volume), into work.tilt and work.flat, and whether the object's back
-/// faces are culled (both modes; docs/design/labelling.md L3): det > 0 means the camera is behind
-/// the triangle's plane. An object is culled only when it is oriented outward, the camera is
-/// outside it and clear of its surface, and no triangle is near edge-on; a near miss of a culled
-/// object's front face makes judge_conservative() test its back faces too. The surface's clearance
-/// is measured per triangle only when the bounding sphere does not prove it (a sphere gap of twice
-/// the bound leaves room for any rounding of either).
-bool cull_back_faces(const ObjectInfo& info, bool camera_inside, const Triangles& triangles,
-                     const Vec3& c, SetupWork& work) {
+/// The camera's tilt against the plane of each triangle of cluster k (det / scale; 0 when the
+/// camera lies in it, flat: the cone has no volume), into work.tilt and work.flat (with its
+/// vertices' views); whether every one is clear of edge-on (|tilt| > 1e-9).
+bool tilts(const ObjectInfo& info, const detail::TriangleCluster& k, const CameraSetup& cam,
+           SetupWork& work) {
+  view_vertices(info, k, cam, work);
   const core::TriangleMesh& mesh = *info.mesh;
-  const int n = info.triangle_count;
-  work.tilt.assign(n, 0.0);
-  work.flat.assign(n, 0);
-  bool clear_tilts = true;
-  for (int i = 0; i < n; ++i) {
+  bool clear = true;
+  for (int n = k.begin; n < k.end; ++n) {
+    const int i = info.cluster_order[n];
     const auto& tv = mesh.triangles[i];
     const VertexView &a = work.vertices[tv[0]], &b = work.vertices[tv[1]],
                      &e = work.vertices[tv[2]];
     const double det = a.q.dot(b.q.cross(e.q));
     const double scale = a.norm * b.norm * e.norm;
     work.flat[i] = !(std::abs(det) > 1e-12 * scale);
-    if (!work.flat[i]) work.tilt[i] = det / scale;
-    clear_tilts = clear_tilts && std::abs(work.tilt[i]) > 1e-9;
+    work.tilt[i] = work.flat[i] ? 0.0 : det / scale;
+    clear = clear && std::abs(work.tilt[i]) > 1e-9;
   }
+  return clear;
+}
+
+/// Whether the camera at c lies behind the plane of every triangle of cluster k, each tilt (as
+/// tilts() computes it) above 1e-9, proven from the cluster's bounds: for a triangle with unit
+/// normal n (within the cluster's normal cone), |cross| ≥ min_cross, corner a in the ball (m, R),
+/// det = (a − c)·cross ≥ min_cross · (n·(m − c) − R), n·(m − c) ≥ |m − c| cos(φ + θ) (φ: the angle
+/// of m − c to the cone's axis, θ its half angle), and scale ≤ (|m − c| + R)³. The bound asks 4
+/// times the threshold: far above the rounding of either.
+bool behind_cluster(const detail::TriangleCluster& k, const Vec3& c) {
+  if (!(k.normal_cos > 0.0) || !(k.min_cross > 0.0)) return false;
+  const Vec3 v = k.ball.center - c;
+  const double dist = v.norm();
+  if (!(dist > k.ball.radius)) return false;
+  const double cos_phi = std::clamp(k.normal_axis.dot(v) / dist, -1.0, 1.0);
+  const double sin_phi = std::sqrt(1.0 - cos_phi * cos_phi);
+  const double sin_theta = std::sqrt(1.0 - k.normal_cos * k.normal_cos);
+  const double plane = dist * (cos_phi * k.normal_cos - sin_phi * sin_theta) - k.ball.radius;
+  const double far = dist + k.ball.radius;
+  return plane > 0.0 && k.min_cross * plane > 4e-9 * far * far * far;
+}
+
+/// Whether the object's back faces are culled (both modes; docs/design/labelling.md L3), with
+/// the tilts of its triangles (tilts()) into work, and its clusters wholly behind (work.behind)
+/// when culled: det > 0 means the camera is behind the triangle's plane. An object is culled only
+/// when it is oriented outward, the camera is outside it and clear of its surface, and no
+/// triangle is near edge-on; a near miss of a culled object's front face makes
+/// judge_conservative() test its back faces too. A cluster proven behind (behind_cluster) needs
+/// no tilt per triangle when the object is culled. The surface's clearance is measured per
+/// triangle only when the bounding sphere does not prove it (a sphere gap of twice the bound
+/// leaves room for any rounding of either).
+bool cull_back_faces(const ObjectInfo& info, bool camera_inside, const Triangles& triangles,
+                     const CameraSetup& cam, SetupWork& work) {
+  const Vec3& c = cam.c;
+  const int n = info.triangle_count;
+  const std::size_t clusters = info.clusters.size();
+  work.tilt.resize(n);
+  work.flat.resize(n);
+  work.vertices.resize(info.mesh->vertices.size());
+  work.vertex_stamp.resize(info.mesh->vertices.size(), 0);
+  if (++work.vertex_visit == 0) {
+    std::fill(work.vertex_stamp.begin(), work.vertex_stamp.end(), 0);
+    work.vertex_visit = 1;
+  }
+  work.behind.assign(clusters, 0);
+  const bool may_cull = info.outward && !camera_inside;
+  bool clear_tilts = true;
+  for (std::size_t k = 0; k < clusters; ++k) {
+    if (may_cull && behind_cluster(info.clusters[k], c)) {
+      work.behind[k] = 1;
+      continue;
+    }
+    clear_tilts = tilts(info, info.clusters[k], cam, work) && clear_tilts;
+  }
+  auto not_culled = [&] {
+    // Every triangle's tilt is needed.
+    for (std::size_t k = 0; k < clusters; ++k) {
+      if (work.behind[k]) tilts(info, info.clusters[k], cam, work);
+      work.behind[k] = 0;
+    }
+    return false;
+  };
   const double scale = (info.center - c).norm() + info.radius;
-  if (!(info.outward && !camera_inside && clear_tilts)) return false;
+  if (!(may_cull && clear_tilts)) return not_culled();
   if ((info.center - c).norm() - info.radius > 2e-9 * scale) return true;
   double clearance = std::numeric_limits<double>::infinity();
   for (int i = 0; i < n; ++i) {
@@ -220,7 +286,7 @@ bool cull_back_faces(const ObjectInfo& info, bool camera_inside, const Triangles
     clearance =
         std::min(clearance, std::sqrt(core::point_triangle_sq_distance(c, tri[0], tri[1], tri[2])));
   }
-  return clearance > 1e-9 * scale;
+  return clearance > 1e-9 * scale || not_culled();
 }
 
 /// The slots of object o: its triangles that can decide a label (not culled back faces; in
@@ -237,7 +303,15 @@ void add_slots(int o, const ObjectInfo& info, bool cull, bool conservative, Came
     cam.slot_object.push_back(o);
     cam.rect.push_back(rect);
   };
-  for (const detail::TriangleCluster& cluster : info.clusters) {
+  for (std::size_t k = 0; k < info.clusters.size(); ++k) {
+    const detail::TriangleCluster& cluster = info.clusters[k];
+    if (cull && work.behind[k]) {
+      // Back faces all (behind_cluster): no slots.
+      for (int n = cluster.begin; n < cluster.end; ++n) {
+        cam.back[info.first_triangle + info.cluster_order[n]] = 1;
+      }
+      continue;
+    }
     work.deferred.clear();
     const int first = static_cast<int>(cam.slot_triangle.size());
     std::array<double, 4> group_rect{inf, -inf, inf, -inf};
@@ -295,13 +369,8 @@ void add_slots(int o, const ObjectInfo& info, bool cull, bool conservative, Came
     }
     const int last = static_cast<int>(cam.slot_triangle.size());
     if (last > first) {
-      // Every point of the cluster's triangles lies in its ball: their distance from the camera,
-      // as point_triangle_sq_distance gives it, is at least the ball's less a margin far above
-      // the rounding of either.
-      const double to_center = (cluster.center - cam.c).norm();
-      const double margin =
-          1e-9 * (to_center + cluster.radius + cam.c.norm() + cluster.center.norm());
-      cam.groups.push_back({first, last, group_rect, to_center - cluster.radius - margin});
+      cam.groups.push_back(
+          {first, last, group_rect, detail::nearest_in_ball(cluster.ball, cam.c)});
     }
     // Not wholly in front of the camera: a candidate everywhere.
     for (int t : work.deferred) {
@@ -449,8 +518,7 @@ void VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera,
   for (std::size_t o = 0; o < objects.size(); ++o) {
     cam.object_groups[o] = static_cast<int>(cam.groups.size());
     cam.everywhere_start[o] = static_cast<int>(cam.everywhere.size());
-    view_vertices(*objects[o].mesh, cam, work.vertices);
-    const bool cull = cull_back_faces(objects[o], cam.inside_object[o], triangles, cam.c, work);
+    const bool cull = cull_back_faces(objects[o], cam.inside_object[o], triangles, cam, work);
     cam.culled[o] = cull;
     add_slots(static_cast<int>(o), objects[o], cull, conservative, cam, work);
   }

@@ -58,12 +58,32 @@ void parallel_for(int count, int threads, const Body& body) {
 using StateMask = std::uint64_t;
 constexpr int kChunk = 64;
 
-/// A cluster of an object's triangles near each other (set-up, cluster_triangles): its range of
-/// ObjectInfo::cluster_order and a ball (world frame, m) holding every one of its vertices.
-struct TriangleCluster {
-  int begin = 0, end = 0;
+/// A ball (world frame, m) holding a triangle or a cluster of triangles.
+struct Ball {
   core::Vec3 center = core::Vec3::Zero();
   double radius = 0.0;
+};
+
+/// A lower bound of the distance from c (m) of the triangles in `ball`, as
+/// core::point_triangle_sq_distance gives it (its root): the ball's distance less a margin far
+/// above the rounding of either.
+inline double nearest_in_ball(const Ball& ball, const core::Vec3& c) {
+  const double to_center = (ball.center - c).norm();
+  const double margin = 1e-9 * (to_center + ball.radius + c.norm() + ball.center.norm());
+  return to_center - ball.radius - margin;
+}
+
+/// A cluster of an object's triangles near each other (set-up, cluster_triangles): its range of
+/// ObjectInfo::cluster_order and a ball holding every one of its vertices.
+struct TriangleCluster {
+  int begin = 0, end = 0;
+  Ball ball;
+  /// The triangles' unit normals (of cross = (b − a) × (e − a)) lie within the cone about
+  /// normal_axis whose half angle has cosine normal_cos (≤ 0: no such cone); min_cross: the
+  /// least |cross|.
+  core::Vec3 normal_axis = core::Vec3::Zero();
+  double normal_cos = -1.0;
+  double min_cross = 0.0;
 };
 
 /// One object of the scene with its fixed role (SPEC §3: what a first hit on it means).
@@ -308,6 +328,7 @@ struct SceneTables {
   std::vector<detail::ObjectInfo> objects;
   std::vector<std::array<core::Vec3, 3>> triangles;  ///< all objects' triangles, world frame
   std::vector<int> triangle_object;                  ///< object of each triangle
+  std::vector<detail::Ball> triangle_balls;          ///< a ball holding each triangle
   std::vector<detail::StateInfo> states;
   /// Per chunk of 64 states: the states (bits) each object belongs to, and each time step's.
   std::vector<std::vector<detail::StateMask>> chunk_object_states;

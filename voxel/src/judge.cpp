@@ -239,16 +239,20 @@ Verdict VoxelEvaluator::Impl::judge_conservative(const CameraSetup& cam, const V
     // (The edge lines of the projection would repeat the cone-plane test of cone_test.)
     const auto& r = cam.rect[s];
     if (r[0] > vx1 || r[1] < vx0 || r[2] > vy1 || r[3] < vy0) return false;
+    if (!occupying) {
+      // Wholly beyond the box (the ball's bound first: no cone needed).
+      if (far < 0.0) far = (w.cwiseAbs() + size.half).norm();
+      if (detail::nearest_in_ball(triangle_balls[cam.slot_triangle[s]], cam.c) >= far) {
+        return false;
+      }
+    }
     const TriangleCone& tc = cone_of(cam, s);
     if (!exact_ready) {
       if (d < 0.0) d = w.norm();
       wc = (w / d) * d;
       exact_ready = true;
     }
-    if (!occupying) {
-      if (far < 0.0) far = (w.cwiseAbs() + size.half).norm();
-      if (tc.near_distance >= far) return false;
-    }
+    if (!occupying && tc.near_distance >= far) return false;
     const Cone cone = cone_test(tc, wc, size);
     if (cone == Cone::near_miss && cam.culled[o]) {
       // A culled object touching the voxel within rounding: its back faces decide as they
@@ -405,8 +409,13 @@ StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& 
   auto decides = [&](int s) {
     const auto& rect = cam.rect[s];
     if (rect[0] > vx1 || rect[1] < vx0 || rect[2] > vy1 || rect[3] < vy0) return false;
+    const bool occupying = objects[cam.slot_object[s]].occupying;
+    if (!occupying &&
+        detail::nearest_in_ball(triangle_balls[cam.slot_triangle[s]], cam.c) >= far) {
+      return false;  // wholly beyond the block (no cone needed)
+    }
     const TriangleCone& tc = cone_of(cam, s);
-    if (!objects[cam.slot_object[s]].occupying && tc.near_distance >= far) return false;
+    if (!occupying && tc.near_distance >= far) return false;
     for (int i = 0; i < 3; ++i) {
       if (tc.normal[i].dot(w) + tc.normal[i].cwiseAbs().dot(half) < -scale) return false;
     }

@@ -78,11 +78,36 @@ void cluster_triangles(const core::TriangleMesh& mesh, detail::ObjectInfo& info)
     for (int i = begin; i < end; ++i) {
       for (int v : mesh.triangles[info.cluster_order[i]]) extend(box, mesh.vertices[v]);
     }
-    cluster.center = box.center();
+    cluster.ball.center = box.center();
     for (int i = begin; i < end; ++i) {
       for (int v : mesh.triangles[info.cluster_order[i]]) {
-        cluster.radius = std::max(cluster.radius, (mesh.vertices[v] - cluster.center).norm());
+        cluster.ball.radius =
+            std::max(cluster.ball.radius, (mesh.vertices[v] - cluster.ball.center).norm());
       }
+    }
+    // The normal cone, widened against rounding (θ by at least ~1e-6).
+    Vec3 sum = Vec3::Zero();
+    cluster.min_cross = std::numeric_limits<double>::infinity();
+    for (int i = begin; i < end; ++i) {
+      const auto& tv = mesh.triangles[info.cluster_order[i]];
+      const Vec3 cross = (mesh.vertices[tv[1]] - mesh.vertices[tv[0]])
+                             .cross(mesh.vertices[tv[2]] - mesh.vertices[tv[0]]);
+      const double length = cross.norm();
+      cluster.min_cross = std::min(cluster.min_cross, length);
+      if (length > 0.0) sum += cross / length;
+    }
+    if (cluster.min_cross > 0.0 && sum.norm() > 0.0) {
+      cluster.normal_axis = sum.normalized();
+      double cos = 1.0;
+      for (int i = begin; i < end; ++i) {
+        const auto& tv = mesh.triangles[info.cluster_order[i]];
+        const Vec3 cross = (mesh.vertices[tv[1]] - mesh.vertices[tv[0]])
+                               .cross(mesh.vertices[tv[2]] - mesh.vertices[tv[0]]);
+        cos = std::min(cos, cluster.normal_axis.dot(cross.normalized()));
+      }
+      cluster.normal_cos = cos - 1e-12;
+    } else {
+      cluster.min_cross = 0.0;
     }
     info.clusters.push_back(cluster);
   }
@@ -119,6 +144,11 @@ int VoxelEvaluator::Impl::add_object(const core::SceneObject& object, core::Obje
     triangles.push_back(
         {object.mesh.vertices[t[0]], object.mesh.vertices[t[1]], object.mesh.vertices[t[2]]});
     triangle_object.push_back(static_cast<int>(objects.size()));
+    const auto& tri = triangles.back();
+    detail::Ball ball;
+    ball.center = (tri[0] + tri[1] + tri[2]) / 3.0;
+    for (const Vec3& v : tri) ball.radius = std::max(ball.radius, (v - ball.center).norm());
+    triangle_balls.push_back(ball);
   }
   objects.push_back(info);
   return static_cast<int>(objects.size()) - 1;
