@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <thread>
 
 #include "camplace/core/geometry.hpp"
@@ -120,9 +121,10 @@ struct SetupWork {
   /// when flat.
   std::vector<double> tilt;
   std::vector<std::uint8_t> flat;
-  std::vector<std::uint8_t> behind;  ///< per cluster: behind_cluster (when the object is culled)
-  std::vector<GroupBins> bins;  ///< per slot group
-  std::vector<int> deferred;    ///< the current cluster's triangles not wholly in front
+  std::vector<std::uint8_t> facing;  ///< per cluster: facing_cluster (when the object is culled)
+  std::vector<std::uint8_t> group_projected;  ///< per slot group: its slots projected
+  std::vector<GroupBins> bins;                ///< per slot group
+  std::vector<int> deferred;  ///< the current cluster's triangles not wholly in front
   std::vector<int> fill;
   std::vector<int> members;  ///< one chunk's slot groups (chunk_candidates)
 };
@@ -173,6 +175,20 @@ BinGrid grid_over(const std::array<double, 2>& lo, const std::array<double, 2>& 
   return grid;
 }
 
+/// Vertex p seen from the camera.
+VertexView view_point(const Vec3& p, const CameraSetup& cam) {
+  VertexView vv;
+  vv.q = p - cam.c;
+  vv.norm = vv.q.norm();
+  const double z = vv.q.dot(cam.axis);
+  vv.in_front = z > kMargin * vv.norm;
+  if (vv.in_front) {
+    vv.x = vv.q.dot(cam.ex) / z;
+    vv.y = vv.q.dot(cam.ey) / z;
+  }
+  return vv;
+}
+
 /// The vertices of cluster k's triangles not yet seen from the camera for this object
 /// (work.vertex_stamp ≠ work.vertex_visit), each once: its offset, length and projection (the same
 /// numbers per triangle corner as computed from the triangle).
@@ -183,15 +199,7 @@ void view_vertices(const ObjectInfo& info, const detail::TriangleCluster& k, con
     for (int v : mesh.triangles[info.cluster_order[n]]) {
       if (work.vertex_stamp[v] == work.vertex_visit) continue;
       work.vertex_stamp[v] = work.vertex_visit;
-      VertexView& vv = work.vertices[v];
-      vv.q = mesh.vertices[v] - cam.c;
-      vv.norm = vv.q.norm();
-      const double z = vv.q.dot(cam.axis);
-      vv.in_front = z > kMargin * vv.norm;
-      if (vv.in_front) {
-        vv.x = vv.q.dot(cam.ex) / z;
-        vv.y = vv.q.dot(cam.ey) / z;
-      }
+      work.vertices[v] = view_point(mesh.vertices[v], cam);
     }
   }
 }
@@ -218,34 +226,43 @@ bool tilts(const ObjectInfo& info, const detail::TriangleCluster& k, const Camer
   return clear;
 }
 
-/// Whether the camera at c lies behind the plane of every triangle of cluster k, each tilt (as
-/// tilts() computes it) above 1e-9, proven from the cluster's bounds: for a triangle with unit
-/// normal n (within the cluster's normal cone), |cross| ≥ min_cross, corner a in the ball (m, R),
-/// det = (a − c)·cross ≥ min_cross · (n·(m − c) − R), n·(m − c) ≥ |m − c| cos(φ + θ) (φ: the angle
-/// of m − c to the cone's axis, θ its half angle), and scale ≤ (|m − c| + R)³. The bound asks 4
+/// How every triangle of a cluster faces the camera (facing_cluster).
+constexpr std::uint8_t kMixed = 0, kBehind = 1, kInFront = 2;
+
+/// kBehind when the camera at c lies behind the plane of every triangle of cluster k, kInFront
+/// when in front of every one, each tilt (as tilts() computes it) of magnitude above 1e-9, proven
+/// from the cluster's bounds; else kMixed. For a triangle with unit normal n (within the
+/// cluster's normal cone), |cross| ≥ min_cross, corner a in the ball (m, R):
+/// det = (a − c)·cross, ±n·(a − c) ≥ |m − c| cos(φ + θ) − R (φ: the angle of m − c to the cone's
+/// axis, turned by ±, θ the cone's half angle), and scale ≤ (|m − c| + R)³. The bound asks 4
 /// times the threshold: far above the rounding of either.
-bool behind_cluster(const detail::TriangleCluster& k, const Vec3& c) {
-  if (!(k.normal_cos > 0.0) || !(k.min_cross > 0.0)) return false;
+std::uint8_t facing_cluster(const detail::TriangleCluster& k, const Vec3& c) {
+  if (!(k.normal_cos > 0.0) || !(k.min_cross > 0.0)) return kMixed;
   const Vec3 v = k.ball.center - c;
   const double dist = v.norm();
-  if (!(dist > k.ball.radius)) return false;
+  if (!(dist > k.ball.radius)) return kMixed;
   const double cos_phi = std::clamp(k.normal_axis.dot(v) / dist, -1.0, 1.0);
   const double sin_phi = std::sqrt(1.0 - cos_phi * cos_phi);
   const double sin_theta = std::sqrt(1.0 - k.normal_cos * k.normal_cos);
-  const double plane = dist * (cos_phi * k.normal_cos - sin_phi * sin_theta) - k.ball.radius;
   const double far = dist + k.ball.radius;
-  return plane > 0.0 && k.min_cross * plane > 4e-9 * far * far * far;
+  const double needed = 4e-9 * far * far * far / k.min_cross;
+  for (const double sign : {1.0, -1.0}) {
+    const double plane =
+        dist * (sign * cos_phi * k.normal_cos - sin_phi * sin_theta) - k.ball.radius;
+    if (plane > 0.0 && plane > needed) return sign > 0 ? kBehind : kInFront;
+  }
+  return kMixed;
 }
 
 /// Whether the object's back faces are culled (both modes; docs/design/labelling.md L3), with
-/// the tilts of its triangles (tilts()) into work, and its clusters wholly behind (work.behind)
-/// when culled: det > 0 means the camera is behind the triangle's plane. An object is culled only
-/// when it is oriented outward, the camera is outside it and clear of its surface, and no
-/// triangle is near edge-on; a near miss of a culled object's front face makes
-/// judge_conservative() test its back faces too. A cluster proven behind (behind_cluster) needs
-/// no tilt per triangle when the object is culled. The surface's clearance is measured per
-/// triangle only when the bounding sphere does not prove it (a sphere gap of twice the bound
-/// leaves room for any rounding of either).
+/// the tilts of its triangles (tilts()) into work, and how its clusters face the camera
+/// (work.facing; all kMixed unless culled): det > 0 means the camera is behind the triangle's
+/// plane. An object is culled only when it is oriented outward, the camera is outside it and
+/// clear of its surface, and no triangle is near edge-on; a near miss of a culled object's front
+/// face makes judge_conservative() test its back faces too. A cluster that faces the camera one
+/// way (facing_cluster) needs no tilt per triangle when the object is culled. The surface's
+/// clearance is measured per triangle only when the bounding sphere does not prove it (a sphere
+/// gap of twice the bound leaves room for any rounding of either).
 bool cull_back_faces(const ObjectInfo& info, bool camera_inside, const Triangles& triangles,
                      const CameraSetup& cam, SetupWork& work) {
   const Vec3& c = cam.c;
@@ -259,21 +276,20 @@ bool cull_back_faces(const ObjectInfo& info, bool camera_inside, const Triangles
     std::fill(work.vertex_stamp.begin(), work.vertex_stamp.end(), 0);
     work.vertex_visit = 1;
   }
-  work.behind.assign(clusters, 0);
+  work.facing.assign(clusters, kMixed);
   const bool may_cull = info.outward && !camera_inside;
   bool clear_tilts = true;
   for (std::size_t k = 0; k < clusters; ++k) {
-    if (may_cull && behind_cluster(info.clusters[k], c)) {
-      work.behind[k] = 1;
-      continue;
+    if (may_cull) work.facing[k] = facing_cluster(info.clusters[k], c);
+    if (work.facing[k] == kMixed) {
+      clear_tilts = tilts(info, info.clusters[k], cam, work) && clear_tilts;
     }
-    clear_tilts = tilts(info, info.clusters[k], cam, work) && clear_tilts;
   }
   auto not_culled = [&] {
     // Every triangle's tilt is needed.
     for (std::size_t k = 0; k < clusters; ++k) {
-      if (work.behind[k]) tilts(info, info.clusters[k], cam, work);
-      work.behind[k] = 0;
+      if (work.facing[k] != kMixed) tilts(info, info.clusters[k], cam, work);
+      work.facing[k] = kMixed;
     }
     return false;
   };
@@ -289,28 +305,101 @@ bool cull_back_faces(const ObjectInfo& info, bool camera_inside, const Triangles
   return clearance > 1e-9 * scale || not_culled();
 }
 
+/// Slot s's projection from its triangle's corners seen from the camera: its rectangle
+/// (padded) and, in center mode, its edge lines (padded like the rectangle; invalid for a nearly
+/// degenerate projection). False when the rectangle lies outside the FOV's section: no box or ray
+/// the labeller tests projects onto it (the triangle is no slot).
+bool project_slot(const VertexView* const v[3], const CameraSetup& cam, bool conservative, int s) {
+  const double xlo = std::min({v[0]->x, v[1]->x, v[2]->x});
+  const double xhi = std::max({v[0]->x, v[1]->x, v[2]->x});
+  const double ylo = std::min({v[0]->y, v[1]->y, v[2]->y});
+  const double yhi = std::max({v[0]->y, v[1]->y, v[2]->y});
+  const double pad_x = 2 * kMargin * (1.0 + std::max(std::abs(xlo), std::abs(xhi)));
+  const double pad_y = 2 * kMargin * (1.0 + std::max(std::abs(ylo), std::abs(yhi)));
+  const std::array<double, 4> r{xlo - pad_x, xhi + pad_x, ylo - pad_y, yhi + pad_y};
+  if (r[1] < cam.view[0] || r[0] > cam.view[1] || r[3] < cam.view[2] || r[2] > cam.view[3]) {
+    return false;
+  }
+  cam.rect[s] = r;
+  if (conservative) return true;
+  detail::EdgeLines& lines = cam.lines[s];
+  const double px[3] = {v[0]->x, v[1]->x, v[2]->x}, py[3] = {v[0]->y, v[1]->y, v[2]->y};
+  const double area = (px[1] - px[0]) * (py[2] - py[0]) - (py[1] - py[0]) * (px[2] - px[0]);
+  const double size = std::max(xhi - xlo, yhi - ylo);
+  lines.valid = std::abs(area) > 1e-9 * size * size;
+  if (!lines.valid) return true;
+  const double pad = std::max(pad_x, pad_y);
+  for (int ed = 0; ed < 3; ++ed) {
+    const int f = (ed + 1) % 3;
+    double la = -(py[f] - py[ed]), lb = px[f] - px[ed];
+    if (area < 0) {
+      la = -la;
+      lb = -lb;
+    }
+    const double norm = std::sqrt(la * la + lb * lb);
+    la /= norm;
+    lb /= norm;
+    lines.line[ed] = {la, lb, -(la * px[ed] + lb * py[ed]) + pad};
+  }
+  return true;
+}
+
+/// A rectangle (padded) of image coordinates holding the projection of every point of the ball,
+/// padded twice as much as a slot's: it holds the rectangle of each triangle inside; or nothing
+/// when the ball is not wholly in front of the camera, every vertex inside clearly passing
+/// VertexView's in_front test.
+std::optional<std::array<double, 4>> ball_rectangle(const detail::Ball& ball,
+                                                    const CameraSetup& cam) {
+  const Vec3 v = ball.center - cam.c;
+  const double z = v.dot(cam.axis), r = ball.radius;
+  if (!(z - r > 4 * kMargin * (v.norm() + r))) return std::nullopt;
+  auto p = detail::box_projection(v.dot(cam.ex), v.dot(cam.ey), z, r, r, r);
+  const double pad_x = 4 * kMargin * (1.0 + std::max(std::abs(p[0]), std::abs(p[1])));
+  const double pad_y = 4 * kMargin * (1.0 + std::max(std::abs(p[2]), std::abs(p[3])));
+  return std::array<double, 4>{p[0] - pad_x, p[1] + pad_x, p[2] - pad_y, p[3] + pad_y};
+}
+
 /// The slots of object o: its triangles that can decide a label (not culled back faces; in
 /// conservative mode not flat; projecting into the FOV's section or not wholly in front of the
 /// camera), cluster by cluster (ObjectInfo::clusters), with their padded rectangles and, in center
 /// mode, edge lines. Per cluster, its slots wholly in front of the camera form a group (binned),
-/// then come the others (candidates everywhere).
+/// then come the others (candidates everywhere). A culled object's cluster proven wholly in front
+/// (work.facing) and in front of the camera is a group of all its triangles, projected on first
+/// use (project_group); one whose rectangle misses the FOV's section has no slot.
 void add_slots(int o, const ObjectInfo& info, bool cull, bool conservative, CameraSetup& cam,
                SetupWork& work) {
   const double inf = std::numeric_limits<double>::infinity();
   const core::TriangleMesh& mesh = *info.mesh;
-  auto add_slot = [&](int t, const std::array<double, 4>& rect) {
+  auto add_slot = [&](int t) {
     cam.slot_triangle.push_back(t);
     cam.slot_object.push_back(o);
-    cam.rect.push_back(rect);
+    return static_cast<int>(cam.slot_triangle.size()) - 1;
   };
   for (std::size_t k = 0; k < info.clusters.size(); ++k) {
     const detail::TriangleCluster& cluster = info.clusters[k];
-    if (cull && work.behind[k]) {
-      // Back faces all (behind_cluster): no slots.
+    if (cull && work.facing[k] == kBehind) {
+      // Back faces all (facing_cluster): no slots.
       for (int n = cluster.begin; n < cluster.end; ++n) {
         cam.back[info.first_triangle + info.cluster_order[n]] = 1;
       }
       continue;
+    }
+    const double near = detail::nearest_in_ball(cluster.ball, cam.c);
+    if (cull && work.facing[k] == kInFront) {
+      const auto rect = ball_rectangle(cluster.ball, cam);
+      if (rect) {
+        const auto& r = *rect;
+        if (r[1] < cam.view[0] || r[0] > cam.view[1] || r[3] < cam.view[2] || r[2] > cam.view[3]) {
+          continue;  // neither is any of its triangles'
+        }
+        const int first = static_cast<int>(cam.slot_triangle.size());
+        for (int n = cluster.begin; n < cluster.end; ++n) {
+          add_slot(info.first_triangle + info.cluster_order[n]);
+        }
+        work.group_projected.push_back(0);
+        cam.groups.push_back({first, first + cluster.end - cluster.begin, r, near});
+        continue;
+      }
     }
     work.deferred.clear();
     const int first = static_cast<int>(cam.slot_triangle.size());
@@ -330,53 +419,24 @@ void add_slots(int o, const ObjectInfo& info, bool cull, bool conservative, Came
         work.deferred.push_back(t);
         continue;
       }
-      const double xlo = std::min({v[0]->x, v[1]->x, v[2]->x});
-      const double xhi = std::max({v[0]->x, v[1]->x, v[2]->x});
-      const double ylo = std::min({v[0]->y, v[1]->y, v[2]->y});
-      const double yhi = std::max({v[0]->y, v[1]->y, v[2]->y});
-      const double pad_x = 2 * kMargin * (1.0 + std::max(std::abs(xlo), std::abs(xhi)));
-      const double pad_y = 2 * kMargin * (1.0 + std::max(std::abs(ylo), std::abs(yhi)));
-      const std::array<double, 4> r{xlo - pad_x, xhi + pad_x, ylo - pad_y, yhi + pad_y};
-      // Outside the FOV's section: no box or ray the labeller tests projects onto it.
-      if (r[1] < cam.view[0] || r[0] > cam.view[1] || r[3] < cam.view[2] || r[2] > cam.view[3]) {
-        continue;
-      }
-      add_slot(t, r);
+      const int s = static_cast<int>(cam.slot_triangle.size());
+      if (!project_slot(v, cam, conservative, s)) continue;
+      add_slot(t);
+      const auto& r = cam.rect[s];
       group_rect = {std::min(group_rect[0], r[0]), std::max(group_rect[1], r[1]),
                     std::min(group_rect[2], r[2]), std::max(group_rect[3], r[3])};
-      if (conservative) continue;
-      // The projected triangle's edge lines, inside ≥ 0, unit normals, padded like the
-      // rectangle; none for a (nearly) degenerate projection.
-      detail::EdgeLines& lines = cam.lines.emplace_back();
-      const double px[3] = {v[0]->x, v[1]->x, v[2]->x}, py[3] = {v[0]->y, v[1]->y, v[2]->y};
-      const double area = (px[1] - px[0]) * (py[2] - py[0]) - (py[1] - py[0]) * (px[2] - px[0]);
-      const double size = std::max(xhi - xlo, yhi - ylo);
-      lines.valid = std::abs(area) > 1e-9 * size * size;
-      if (!lines.valid) continue;
-      const double pad = std::max(pad_x, pad_y);
-      for (int ed = 0; ed < 3; ++ed) {
-        const int f = (ed + 1) % 3;
-        double la = -(py[f] - py[ed]), lb = px[f] - px[ed];
-        if (area < 0) {
-          la = -la;
-          lb = -lb;
-        }
-        const double norm = std::sqrt(la * la + lb * lb);
-        la /= norm;
-        lb /= norm;
-        lines.line[ed] = {la, lb, -(la * px[ed] + lb * py[ed]) + pad};
-      }
     }
     const int last = static_cast<int>(cam.slot_triangle.size());
     if (last > first) {
-      cam.groups.push_back(
-          {first, last, group_rect, detail::nearest_in_ball(cluster.ball, cam.c)});
+      work.group_projected.push_back(1);
+      cam.groups.push_back({first, last, group_rect, near});
     }
     // Not wholly in front of the camera: a candidate everywhere.
     for (int t : work.deferred) {
-      cam.everywhere.push_back(static_cast<int>(cam.slot_triangle.size()));
-      add_slot(t, {-inf, inf, -inf, inf});
-      if (!conservative) cam.lines.emplace_back();
+      const int s = add_slot(t);
+      cam.everywhere.push_back(s);
+      cam.rect[s] = {-inf, inf, -inf, inf};
+      if (!conservative) cam.lines[s].valid = false;
     }
   }
 }
@@ -457,6 +517,29 @@ void chunk_candidates(const CameraSetup& cam, const std::vector<int>& objects, b
 
 }  // namespace
 
+void VoxelEvaluator::Impl::project_group(const CameraSetup& cam, int g) const {
+  std::atomic<std::uint8_t>& state = cam.group_state[g];
+  std::uint8_t expected = detail::kConeMissing;
+  if (!state.compare_exchange_strong(expected, detail::kConeMaking, std::memory_order_acq_rel)) {
+    while (state.load(std::memory_order_acquire) != detail::kConeReady) std::this_thread::yield();
+    return;
+  }
+  // The numbers add_slots computes from the vertices' views (triangles holds the same vertices),
+  // of triangles that lie wholly in front of the camera (ball_rectangle) and face it.
+  const double inf = std::numeric_limits<double>::infinity();
+  const detail::SlotGroup& group = cam.groups[g];
+  for (int s = group.first; s < group.last; ++s) {
+    const auto& tri = triangles[cam.slot_triangle[s]];
+    const VertexView views[3] = {view_point(tri[0], cam), view_point(tri[1], cam),
+                                 view_point(tri[2], cam)};
+    CAMPLACE_ASSERT(views[0].in_front && views[1].in_front && views[2].in_front);
+    const VertexView* const v[3] = {&views[0], &views[1], &views[2]};
+    // Outside the FOV's section: an empty rectangle, which no box's meets.
+    if (!project_slot(v, cam, conservative, s)) cam.rect[s] = {inf, -inf, inf, -inf};
+  }
+  state.store(detail::kConeReady, std::memory_order_release);
+}
+
 const TriangleCone& VoxelEvaluator::Impl::make_cone_of(const CameraSetup& cam, int slot) const {
   std::atomic<std::uint8_t>& state = cam.cone_state[slot];
   std::uint8_t expected = detail::kConeMissing;
@@ -509,9 +592,11 @@ void VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera,
   cam.culled.assign(objects.size(), 0);
   cam.slot_triangle.clear();
   cam.slot_object.clear();
-  cam.rect.clear();
-  cam.lines.clear();
+  // Written per slot (at most one per triangle), projected groups on first use.
+  if (cam.rect.size() < triangles.size()) cam.rect.resize(triangles.size());
+  if (!conservative && cam.lines.size() < triangles.size()) cam.lines.resize(triangles.size());
   cam.groups.clear();
+  work.group_projected.clear();
   cam.everywhere.clear();
   cam.object_groups.assign(objects.size() + 1, 0);
   cam.everywhere_start.assign(objects.size() + 1, 0);
@@ -524,6 +609,15 @@ void VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera,
   }
   cam.object_groups[objects.size()] = static_cast<int>(cam.groups.size());
   cam.everywhere_start[objects.size()] = static_cast<int>(cam.everywhere.size());
+  const std::size_t groups = cam.groups.size();
+  if (cam.group_capacity < groups) {
+    cam.group_capacity = std::max(groups, 2 * cam.group_capacity);
+    cam.group_state.reset(new std::atomic<std::uint8_t>[cam.group_capacity]);
+  }
+  for (std::size_t g = 0; g < groups; ++g) {
+    cam.group_state[g].store(work.group_projected[g] ? detail::kConeReady : detail::kConeMissing,
+                             std::memory_order_relaxed);
+  }
   if (conservative) {
     // The cones are made on first use (cone_of): a fine mesh has many slots that no box tests.
     const std::size_t slots = cam.slot_triangle.size();

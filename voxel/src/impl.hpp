@@ -202,10 +202,17 @@ struct CameraSetup {
   /// The slots not wholly in front of the camera, per object o from everywhere_start[o] on.
   std::vector<int> everywhere;
   std::vector<int> everywhere_start;
+  /// Per group: kConeReady when its slots' rectangles (and edge lines) are known, else they are
+  /// computed on first use (VoxelEvaluator::Impl::ensure_projected; kConeMissing → kConeMaking →
+  /// kConeReady).
+  mutable std::unique_ptr<std::atomic<std::uint8_t>[]> group_state;
+  std::size_t group_capacity = 0;
   /// The projection's bounding rectangle (x0, x1, y0, y1), padded; infinite for the slots not
-  /// wholly in front of the camera.
-  std::vector<std::array<double, 4>> rect;
-  std::vector<EdgeLines> lines;  ///< center mode; when projectable and not degenerate
+  /// wholly in front of the camera, empty (x0 = ∞) for those of a group projected on first use
+  /// that lie outside the FOV's section (no slots of the others). At least one entry per slot.
+  mutable std::vector<std::array<double, 4>> rect;
+  /// Center mode; when projectable and not degenerate.
+  mutable std::vector<EdgeLines> lines;
   /// Conservative mode: per slot its cone, made on first use by whichever thread needs it first
   /// (VoxelEvaluator::Impl::cone_of; cone_state kConeMissing → kConeMaking → kConeReady).
   mutable std::unique_ptr<TriangleCone[]> cones;
@@ -581,6 +588,14 @@ struct VoxelEvaluator::Impl : detail::SceneTables,
     return make_cone_of(cam, slot);
   }
   const detail::TriangleCone& make_cone_of(const detail::CameraSetup& cam, int slot) const;
+  /// Slot group g's slots projected (rectangles and edge lines), on first use (thread-safe;
+  /// project_group in camera_setup.cpp).
+  void ensure_projected(const detail::CameraSetup& cam, int g) const {
+    if (cam.group_state[g].load(std::memory_order_acquire) != detail::kConeReady) {
+      project_group(cam, g);
+    }
+  }
+  void project_group(const detail::CameraSetup& cam, int g) const;
 };
 
 }  // namespace camplace::voxel

@@ -149,6 +149,7 @@ Verdict VoxelEvaluator::Impl::judge_center(const CameraSetup& cam, const Vec3& w
             const auto& r = group.rect;
             if (px < r[0] || px > r[1] || py < r[2] || py > r[3]) continue;
           }
+          ensure_projected(cam, g);
           for (int s = group.first; s < group.last; ++s) test(s);
         }
       }
@@ -225,9 +226,12 @@ Verdict VoxelEvaluator::Impl::judge_conservative(const CameraSetup& cam, const V
     const int o = cam.slot_object[group.first];
     const bool occupying = objects[o].occupying;
     if (!open_states(o, occupying)) return false;
-    if (occupying) return true;
-    if (far < 0.0) far = (w.cwiseAbs() + size.half).norm();
-    return group.near < far;
+    if (!occupying) {
+      if (far < 0.0) far = (w.cwiseAbs() + size.half).norm();
+      if (!(group.near < far)) return false;
+    }
+    ensure_projected(cam, g);
+    return true;
   };
   // True when `out` changed. Inlined into judge_candidates' loops (GCC and Clang): 5% of an
   // evaluation at 36×27×27.
@@ -410,8 +414,7 @@ StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& 
     const auto& rect = cam.rect[s];
     if (rect[0] > vx1 || rect[1] < vx0 || rect[2] > vy1 || rect[3] < vy0) return false;
     const bool occupying = objects[cam.slot_object[s]].occupying;
-    if (!occupying &&
-        detail::nearest_in_ball(triangle_balls[cam.slot_triangle[s]], cam.c) >= far) {
+    if (!occupying && detail::nearest_in_ball(triangle_balls[cam.slot_triangle[s]], cam.c) >= far) {
       return false;  // wholly beyond the block (no cone needed)
     }
     const TriangleCone& tc = cone_of(cam, s);
@@ -458,6 +461,7 @@ StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& 
         const int o = cam.slot_object[group.first];
         if (!(object_states[o] & clear)) continue;
         if (!objects[o].occupying && group.near >= far) continue;
+        ensure_projected(cam, g);
         for (int s = group.first; s < group.last; ++s) {
           if (pass(s)) return 0;
         }
