@@ -1,9 +1,11 @@
 // Per camera, once per evaluation (SPEC §3): everything the labeller needs that does not depend
 // on the voxel — the camera's frame and FOV numbers, the objects that hold the camera (blind in
 // their states), back-face culling, the slots (the triangles that can decide a label, with their
-// projections and, in conservative mode, their cones) and the slots sorted into bins of the
-// image plane per chunk of 64 states (docs/design/labelling.md L1, L3). Its work grows with the
-// triangles in view, its memory is reused from evaluation to evaluation.
+// projections and, in conservative mode, their cones) in groups per cluster of triangles, and
+// the groups sorted into bins of the image plane per chunk of 64 states (docs/design/labelling.md
+// L1, L3, L10). Clusters wholly behind the camera, or facing it, cost no work per triangle; a
+// group's projections are computed when a box or ray first needs them. Its memory is reused from
+// evaluation to evaluation.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -153,11 +155,12 @@ void sort_into_bins(const BinGrid& grid, const std::vector<int>& members, const 
   }
 }
 
-/// Slots per bin of the chunk with most slots, on average, above which the bins get finer than
-/// the grid's resolution gives (place_bins), and at most how many bins there are then. Center
-/// mode looks up one bin per voxel centre; conservative mode every bin under a box's projection,
-/// or for a small box one wide bin (4 times as many bins per chunk): fewer, larger bins. Measured
-/// on fine meshes (bench/scale_bench, instructions per evaluation): 8 against 2 and 4.
+/// Slot groups per bin of the chunk with most groups, on average, above which the bins get finer
+/// than the grid's resolution gives (place_bins), and at most how many bins there are then.
+/// Center mode looks up one bin per voxel centre; conservative mode every bin under a box's
+/// projection, or for a small box one wide bin (4 times as many bins per chunk): fewer, larger
+/// bins. Measured on fine meshes when the bins held single slots (bench/scale_bench,
+/// instructions per evaluation): 8 against 2 and 4; not measured again for groups.
 constexpr double kCenterPerBin = 4.0, kConservativePerBin = 8.0;
 constexpr double kCenterMaxBins = 1 << 18, kConservativeMaxBins = 1 << 14;
 

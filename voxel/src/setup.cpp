@@ -23,8 +23,8 @@ namespace {
 // cost more than the distance itself on fine meshes.
 constexpr double kNoCutoff = std::numeric_limits<double>::infinity();
 
-/// Triangles per cluster at most (cluster_triangles): measured on fine meshes
-/// (bench/scale_bench, instructions per evaluation).
+/// Triangles per cluster at most (cluster_triangles): a choice (a group's ball stays near the size
+/// of its triangles), not measured against others.
 constexpr int kClusterSize = 16;
 
 Box3 empty_box() {
