@@ -588,6 +588,10 @@ struct VoxelEvaluator::Impl : detail::SceneTables,
     return make_cone_of(cam, slot);
   }
   const detail::TriangleCone& make_cone_of(const detail::CameraSetup& cam, int slot) const;
+  /// Whether the cone of the camera's slot is made.
+  static bool cone_ready(const detail::CameraSetup& cam, int slot) {
+    return cam.cone_state[slot].load(std::memory_order_acquire) == detail::kConeReady;
+  }
   /// Slot group g's slots projected (rectangles and edge lines), on first use (thread-safe;
   /// project_group in camera_setup.cpp).
   void ensure_projected(const detail::CameraSetup& cam, int g) const {

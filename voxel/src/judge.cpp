@@ -206,9 +206,10 @@ Verdict VoxelEvaluator::Impl::judge_conservative(const CameraSetup& cam, const V
     vy0 = r[2];
     vy1 = r[3];
   }
-  // The box's outline in the image, once a rectangle meets its rectangle (none when the box is
-  // not wholly in front): a triangle (in front of the camera) whose rectangle lies clearly
-  // outside it has a cone that misses the box clearly (cone_test's Cone::miss).
+  // The box's outline in the image, once a triangle whose rectangle meets the box's has no cone
+  // yet (none when the box is not wholly in front): a triangle in front of the camera whose
+  // rectangle lies clearly outside it has a cone that misses the box clearly (cone_test's
+  // Cone::miss, L10); groups are tested against it once it is known.
   detail::BoxOutline outline;
   bool outlined = z_lo <= 0.0;
   auto outside = [&](const std::array<double, 4>& r) {
@@ -242,7 +243,7 @@ Verdict VoxelEvaluator::Impl::judge_conservative(const CameraSetup& cam, const V
       if (far < 0.0) far = (w.cwiseAbs() + size.half).norm();
       if (!(group.near < far)) return false;
     }
-    if (outside(r)) return false;
+    if (outlined && outside(r)) return false;
     ensure_projected(cam, g);
     return true;
   };
@@ -256,11 +257,12 @@ Verdict VoxelEvaluator::Impl::judge_conservative(const CameraSetup& cam, const V
     // (The edge lines of the projection would repeat the cone-plane test of cone_test.)
     const auto& r = cam.rect[s];
     if (r[0] > vx1 || r[1] < vx0 || r[2] > vy1 || r[3] < vy0) return false;
-    if (outside(r)) return false;
-    if (!occupying) {
-      // Wholly beyond the box (the ball's bound first: no cone needed).
-      if (far < 0.0) far = (w.cwiseAbs() + size.half).norm();
-      if (detail::nearest_in_ball(triangle_balls[cam.slot_triangle[s]], cam.c) >= far) {
+    if (!occupying && far < 0.0) far = (w.cwiseAbs() + size.half).norm();
+    if (!cone_ready(cam, s)) {
+      // Before a cone is made: clearly outside the box's outline, or wholly beyond the box.
+      if (outside(r)) return false;
+      if (!occupying &&
+          detail::nearest_in_ball(triangle_balls[cam.slot_triangle[s]], cam.c) >= far) {
         return false;
       }
     }
@@ -424,8 +426,9 @@ StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& 
   const double far = (w.cwiseAbs() + half).norm() * (1.0 + 1e-12);
   const double scale = 2.0 * kTouch * (d + half.sum());
   // True when slot s may decide some voxel of the block.
-  // The block's outline in the image (once a rectangle meets the block's): a triangle whose
-  // rectangle lies clearly outside it decides no voxel of the block (judge_conservative's).
+  // The block's outline in the image (once a triangle whose rectangle meets the block's has no
+  // cone yet): a triangle whose rectangle lies clearly outside it decides no voxel of the block
+  // (L10); groups are tested against it once it is known.
   detail::BoxOutline outline;
   bool outlined = false;
   auto outside = [&](const std::array<double, 4>& rect) {
@@ -438,10 +441,14 @@ StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& 
   auto decides = [&](int s) {
     const auto& rect = cam.rect[s];
     if (rect[0] > vx1 || rect[1] < vx0 || rect[2] > vy1 || rect[3] < vy0) return false;
-    if (outside(rect)) return false;
     const bool occupying = objects[cam.slot_object[s]].occupying;
-    if (!occupying && detail::nearest_in_ball(triangle_balls[cam.slot_triangle[s]], cam.c) >= far) {
-      return false;  // wholly beyond the block (no cone needed)
+    if (!cone_ready(cam, s)) {
+      // Before a cone is made: clearly outside the block's outline, or wholly beyond the block.
+      if (outside(rect)) return false;
+      if (!occupying &&
+          detail::nearest_in_ball(triangle_balls[cam.slot_triangle[s]], cam.c) >= far) {
+        return false;
+      }
     }
     const TriangleCone& tc = cone_of(cam, s);
     if (!occupying && tc.near_distance >= far) return false;
@@ -487,7 +494,7 @@ StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& 
         const int o = cam.slot_object[group.first];
         if (!(object_states[o] & clear)) continue;
         if (!objects[o].occupying && group.near >= far) continue;
-        if (outside(rect)) continue;
+        if (outlined && outside(rect)) continue;
         ensure_projected(cam, g);
         for (int s = group.first; s < group.last; ++s) {
           if (pass(s)) return 0;
