@@ -1,12 +1,15 @@
 // Per camera, once per evaluation (SPEC §3): everything the labeller needs that does not depend
 // on the voxel — the camera's frame and FOV numbers, the objects that hold the camera (blind in
 // their states), back-face culling, the slots (the triangles that can decide a label, with their
-// projections and, in conservative mode, their cones) and the slots sorted into bins of the
-// image plane per chunk of 64 states (docs/design/labelling.md L1, L3). Its work grows with the
-// triangles in view, its memory is reused from evaluation to evaluation.
+// projections and, in conservative mode, their cones) in groups per cluster of triangles, and
+// the groups sorted into bins of the image plane per chunk of 64 states (docs/design/labelling.md
+// L1, L3, L10). Clusters wholly behind the camera, or facing it, cost no work per triangle; a
+// group's projections are computed when a box or ray first needs them. Its memory is reused from
+// evaluation to evaluation.
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <thread>
 
 #include "camplace/core/geometry.hpp"
@@ -106,25 +109,30 @@ struct VertexView {
   bool in_front;
 };
 
-/// A slot's projection before padding, and the bins it covers.
-struct SlotBounds {
-  double x0, x1, y0, y1;
+/// The bins a slot group covers.
+struct GroupBins {
   BinRange coarse, wide;
 };
 
 /// The working memory of camera_setup, reused from evaluation to evaluation on each thread.
 struct SetupWork {
-  std::vector<VertexView> vertices;
-  std::vector<double> tilt;  ///< per triangle of the current object: det / scale, 0 when flat
+  std::vector<VertexView> vertices;  ///< per vertex of the current object, once viewed
+  std::vector<std::uint32_t> vertex_stamp;
+  std::uint32_t vertex_visit = 0;
+  /// Per triangle of the current object, once its cluster's tilts are computed: det / scale, 0
+  /// when flat.
+  std::vector<double> tilt;
   std::vector<std::uint8_t> flat;
-  std::vector<SlotBounds> bounds;  ///< per slot; x0 = NaN: not wholly in front
+  std::vector<std::uint8_t> facing;  ///< per cluster: facing_cluster (when the object is culled)
+  std::vector<std::uint8_t> group_projected;  ///< per slot group: its slots projected
+  std::vector<GroupBins> bins;                ///< per slot group
+  std::vector<int> deferred;  ///< the current cluster's triangles not wholly in front
   std::vector<int> fill;
-  std::vector<int> members;  ///< one chunk's binned slots (chunk_candidates)
-  std::vector<int> binned;   ///< per object: its binned slots
+  std::vector<int> members;  ///< one chunk's slot groups (chunk_candidates)
 };
 
-/// Counting sort of the slots of one chunk (`members`, ascending) into the bins of `grid`:
-/// `range(slot)` gives the bins a slot covers.
+/// Counting sort of the slot groups of one chunk (`members`, ascending) into the bins of `grid`:
+/// `range(group)` gives the bins a group covers.
 template <class Range>
 void sort_into_bins(const BinGrid& grid, const std::vector<int>& members, const Range& range,
                     std::vector<int>& fill, BinLists& lists) {
@@ -147,11 +155,12 @@ void sort_into_bins(const BinGrid& grid, const std::vector<int>& members, const 
   }
 }
 
-/// Slots per bin of the chunk with most slots, on average, above which the bins get finer than
-/// the grid's resolution gives (place_bins), and at most how many bins there are then. Center
-/// mode looks up one bin per voxel centre; conservative mode every bin under a box's projection,
-/// or for a small box one wide bin (4 times as many bins per chunk): fewer, larger bins. Measured
-/// on fine meshes (bench/scale_bench, instructions per evaluation): 8 against 2 and 4.
+/// Slot groups per bin of the chunk with most groups, on average, above which the bins get finer
+/// than the grid's resolution gives (place_bins), and at most how many bins there are then.
+/// Center mode looks up one bin per voxel centre; conservative mode every bin under a box's
+/// projection, or for a small box one wide bin (4 times as many bins per chunk): fewer, larger
+/// bins. Measured on fine meshes when the bins held single slots (bench/scale_bench,
+/// instructions per evaluation): 8 against 2 and 4; not measured again for groups.
 constexpr double kCenterPerBin = 4.0, kConservativePerBin = 8.0;
 constexpr double kCenterMaxBins = 1 << 18, kConservativeMaxBins = 1 << 14;
 
@@ -169,51 +178,126 @@ BinGrid grid_over(const std::array<double, 2>& lo, const std::array<double, 2>& 
   return grid;
 }
 
-/// Each vertex of `mesh` once, seen from the camera: its offset, length and projection (the same
+/// Vertex p seen from the camera.
+VertexView view_point(const Vec3& p, const CameraSetup& cam) {
+  VertexView vv;
+  vv.q = p - cam.c;
+  vv.norm = vv.q.norm();
+  const double z = vv.q.dot(cam.axis);
+  vv.in_front = z > kMargin * vv.norm;
+  if (vv.in_front) {
+    vv.x = vv.q.dot(cam.ex) / z;
+    vv.y = vv.q.dot(cam.ey) / z;
+  }
+  return vv;
+}
+
+/// The vertices of cluster k's triangles not yet seen from the camera for this object
+/// (work.vertex_stamp ≠ work.vertex_visit), each once: its offset, length and projection (the same
 /// numbers per triangle corner as computed from the triangle).
-void view_vertices(const core::TriangleMesh& mesh, const CameraSetup& cam,
-                   std::vector<VertexView>& out) {
-  out.resize(mesh.vertices.size());
-  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
-    VertexView& vv = out[v];
-    vv.q = mesh.vertices[v] - cam.c;
-    vv.norm = vv.q.norm();
-    const double z = vv.q.dot(cam.axis);
-    vv.in_front = z > kMargin * vv.norm;
-    if (vv.in_front) {
-      vv.x = vv.q.dot(cam.ex) / z;
-      vv.y = vv.q.dot(cam.ey) / z;
+void view_vertices(const ObjectInfo& info, const detail::TriangleCluster& k, const CameraSetup& cam,
+                   SetupWork& work) {
+  const core::TriangleMesh& mesh = *info.mesh;
+  for (int n = k.begin; n < k.end; ++n) {
+    for (int v : mesh.triangles[info.cluster_order[n]]) {
+      if (work.vertex_stamp[v] == work.vertex_visit) continue;
+      work.vertex_stamp[v] = work.vertex_visit;
+      work.vertices[v] = view_point(mesh.vertices[v], cam);
     }
   }
 }
 
-/// The camera's tilt against each triangle's plane (det / scale; 0 when the camera lies in it,
-/// flat: the cone has no volume), into work.tilt and work.flat, and whether the object's back
-/// faces are culled (both modes; docs/design/labelling.md L3): det > 0 means the camera is behind
-/// the triangle's plane. An object is culled only when it is oriented outward, the camera is
-/// outside it and clear of its surface, and no triangle is near edge-on; a near miss of a culled
-/// object's front face makes judge_conservative() test its back faces too. The surface's clearance
-/// is measured per triangle only when the bounding sphere does not prove it (a sphere gap of twice
-/// the bound leaves room for any rounding of either).
-bool cull_back_faces(const ObjectInfo& info, bool camera_inside, const Triangles& triangles,
-                     const Vec3& c, SetupWork& work) {
+/// The camera's tilt against the plane of each triangle of cluster k (det / scale; 0 when the
+/// camera lies in it, flat: the cone has no volume), into work.tilt and work.flat (with its
+/// vertices' views); whether every one is clear of edge-on (|tilt| > 1e-9).
+bool tilts(const ObjectInfo& info, const detail::TriangleCluster& k, const CameraSetup& cam,
+           SetupWork& work) {
+  view_vertices(info, k, cam, work);
   const core::TriangleMesh& mesh = *info.mesh;
-  const int n = info.triangle_count;
-  work.tilt.assign(n, 0.0);
-  work.flat.assign(n, 0);
-  bool clear_tilts = true;
-  for (int i = 0; i < n; ++i) {
+  bool clear = true;
+  for (int n = k.begin; n < k.end; ++n) {
+    const int i = info.cluster_order[n];
     const auto& tv = mesh.triangles[i];
     const VertexView &a = work.vertices[tv[0]], &b = work.vertices[tv[1]],
                      &e = work.vertices[tv[2]];
     const double det = a.q.dot(b.q.cross(e.q));
     const double scale = a.norm * b.norm * e.norm;
     work.flat[i] = !(std::abs(det) > 1e-12 * scale);
-    if (!work.flat[i]) work.tilt[i] = det / scale;
-    clear_tilts = clear_tilts && std::abs(work.tilt[i]) > 1e-9;
+    work.tilt[i] = work.flat[i] ? 0.0 : det / scale;
+    clear = clear && std::abs(work.tilt[i]) > 1e-9;
   }
+  return clear;
+}
+
+/// How every triangle of a cluster faces the camera (facing_cluster).
+constexpr std::uint8_t kMixed = 0, kBehind = 1, kInFront = 2;
+
+/// kBehind when the camera at c lies behind the plane of every triangle of cluster k, kInFront
+/// when in front of every one, each tilt (as tilts() computes it) of magnitude above 1e-9, proven
+/// from the cluster's bounds; else kMixed. For a triangle with unit normal n (within the
+/// cluster's normal cone), |cross| ≥ min_cross, corner a in the ball (m, R):
+/// det = (a − c)·cross, ±n·(a − c) ≥ |m − c| cos(φ + θ) − R (φ: the angle of m − c to the cone's
+/// axis, turned by ±, θ the cone's half angle), and scale ≤ (|m − c| + R)³. The bound asks 4
+/// times the threshold: far above the rounding of either.
+std::uint8_t facing_cluster(const detail::TriangleCluster& k, const Vec3& c) {
+  if (!(k.normal_cos > 0.0) || !(k.min_cross > 0.0)) return kMixed;
+  const Vec3 v = k.ball.center - c;
+  const double dist = v.norm();
+  if (!(dist > k.ball.radius)) return kMixed;
+  const double cos_phi = std::clamp(k.normal_axis.dot(v) / dist, -1.0, 1.0);
+  const double sin_phi = std::sqrt(1.0 - cos_phi * cos_phi);
+  const double sin_theta = std::sqrt(1.0 - k.normal_cos * k.normal_cos);
+  const double far = dist + k.ball.radius;
+  const double needed = 4e-9 * far * far * far / k.min_cross;
+  for (const double sign : {1.0, -1.0}) {
+    const double plane =
+        dist * (sign * cos_phi * k.normal_cos - sin_phi * sin_theta) - k.ball.radius;
+    if (plane > 0.0 && plane > needed) return sign > 0 ? kBehind : kInFront;
+  }
+  return kMixed;
+}
+
+/// Whether the object's back faces are culled (both modes; docs/design/labelling.md L3), with
+/// the tilts of its triangles (tilts()) into work, and how its clusters face the camera
+/// (work.facing; all kMixed unless culled): det > 0 means the camera is behind the triangle's
+/// plane. An object is culled only when it is oriented outward, the camera is outside it and
+/// clear of its surface, and no triangle is near edge-on; a near miss of a culled object's front
+/// face makes judge_conservative() test its back faces too. A cluster that faces the camera one
+/// way (facing_cluster) needs no tilt per triangle when the object is culled. The surface's
+/// clearance is measured per triangle only when the bounding sphere does not prove it (a sphere
+/// gap of twice the bound leaves room for any rounding of either).
+bool cull_back_faces(const ObjectInfo& info, bool camera_inside, const Triangles& triangles,
+                     const CameraSetup& cam, SetupWork& work) {
+  const Vec3& c = cam.c;
+  const int n = info.triangle_count;
+  const std::size_t clusters = info.clusters.size();
+  work.tilt.resize(n);
+  work.flat.resize(n);
+  work.vertices.resize(info.mesh->vertices.size());
+  work.vertex_stamp.resize(info.mesh->vertices.size(), 0);
+  if (++work.vertex_visit == 0) {
+    std::fill(work.vertex_stamp.begin(), work.vertex_stamp.end(), 0);
+    work.vertex_visit = 1;
+  }
+  work.facing.assign(clusters, kMixed);
+  const bool may_cull = info.outward && !camera_inside;
+  bool clear_tilts = true;
+  for (std::size_t k = 0; k < clusters; ++k) {
+    if (may_cull) work.facing[k] = facing_cluster(info.clusters[k], c);
+    if (work.facing[k] == kMixed) {
+      clear_tilts = tilts(info, info.clusters[k], cam, work) && clear_tilts;
+    }
+  }
+  auto not_culled = [&] {
+    // Every triangle's tilt is needed.
+    for (std::size_t k = 0; k < clusters; ++k) {
+      if (work.facing[k] != kMixed) tilts(info, info.clusters[k], cam, work);
+      work.facing[k] = kMixed;
+    }
+    return false;
+  };
   const double scale = (info.center - c).norm() + info.radius;
-  if (!(info.outward && !camera_inside && clear_tilts)) return false;
+  if (!(may_cull && clear_tilts)) return not_culled();
   if ((info.center - c).norm() - info.radius > 2e-9 * scale) return true;
   double clearance = std::numeric_limits<double>::infinity();
   for (int i = 0; i < n; ++i) {
@@ -221,90 +305,159 @@ bool cull_back_faces(const ObjectInfo& info, bool camera_inside, const Triangles
     clearance =
         std::min(clearance, std::sqrt(core::point_triangle_sq_distance(c, tri[0], tri[1], tri[2])));
   }
-  return clearance > 1e-9 * scale;
+  return clearance > 1e-9 * scale || not_culled();
+}
+
+/// Slot s's projection from its triangle's corners seen from the camera: its rectangle
+/// (padded) and, in center mode, its edge lines (padded like the rectangle; invalid for a nearly
+/// degenerate projection). False when the rectangle lies outside the FOV's section: no box or ray
+/// the labeller tests projects onto it (the triangle is no slot).
+bool project_slot(const VertexView* const v[3], const CameraSetup& cam, bool conservative, int s) {
+  const double xlo = std::min({v[0]->x, v[1]->x, v[2]->x});
+  const double xhi = std::max({v[0]->x, v[1]->x, v[2]->x});
+  const double ylo = std::min({v[0]->y, v[1]->y, v[2]->y});
+  const double yhi = std::max({v[0]->y, v[1]->y, v[2]->y});
+  const double pad_x = 2 * kMargin * (1.0 + std::max(std::abs(xlo), std::abs(xhi)));
+  const double pad_y = 2 * kMargin * (1.0 + std::max(std::abs(ylo), std::abs(yhi)));
+  const std::array<double, 4> r{xlo - pad_x, xhi + pad_x, ylo - pad_y, yhi + pad_y};
+  if (r[1] < cam.view[0] || r[0] > cam.view[1] || r[3] < cam.view[2] || r[2] > cam.view[3]) {
+    return false;
+  }
+  cam.rect[s] = r;
+  if (conservative) return true;
+  detail::EdgeLines& lines = cam.lines[s];
+  const double px[3] = {v[0]->x, v[1]->x, v[2]->x}, py[3] = {v[0]->y, v[1]->y, v[2]->y};
+  const double area = (px[1] - px[0]) * (py[2] - py[0]) - (py[1] - py[0]) * (px[2] - px[0]);
+  const double size = std::max(xhi - xlo, yhi - ylo);
+  lines.valid = std::abs(area) > 1e-9 * size * size;
+  if (!lines.valid) return true;
+  const double pad = std::max(pad_x, pad_y);
+  for (int ed = 0; ed < 3; ++ed) {
+    const int f = (ed + 1) % 3;
+    double la = -(py[f] - py[ed]), lb = px[f] - px[ed];
+    if (area < 0) {
+      la = -la;
+      lb = -lb;
+    }
+    const double norm = std::sqrt(la * la + lb * lb);
+    la /= norm;
+    lb /= norm;
+    lines.line[ed] = {la, lb, -(la * px[ed] + lb * py[ed]) + pad};
+  }
+  return true;
+}
+
+/// A rectangle (padded) of image coordinates holding the projection of every point of the ball,
+/// padded twice as much as a slot's: it holds the rectangle of each triangle inside; or nothing
+/// when the ball is not wholly in front of the camera, every vertex inside clearly passing
+/// VertexView's in_front test.
+std::optional<std::array<double, 4>> ball_rectangle(const detail::Ball& ball,
+                                                    const CameraSetup& cam) {
+  const Vec3 v = ball.center - cam.c;
+  const double z = v.dot(cam.axis), r = ball.radius;
+  if (!(z - r > 4 * kMargin * (v.norm() + r))) return std::nullopt;
+  auto p = detail::box_projection(v.dot(cam.ex), v.dot(cam.ey), z, r, r, r);
+  const double pad_x = 4 * kMargin * (1.0 + std::max(std::abs(p[0]), std::abs(p[1])));
+  const double pad_y = 4 * kMargin * (1.0 + std::max(std::abs(p[2]), std::abs(p[3])));
+  return std::array<double, 4>{p[0] - pad_x, p[1] + pad_x, p[2] - pad_y, p[3] + pad_y};
 }
 
 /// The slots of object o: its triangles that can decide a label (not culled back faces; in
 /// conservative mode not flat; projecting into the FOV's section or not wholly in front of the
-/// camera), with their padded rectangles and, in center mode, edge lines.
+/// camera), cluster by cluster (ObjectInfo::clusters), with their padded rectangles and, in center
+/// mode, edge lines. Per cluster, its slots wholly in front of the camera form a group (binned),
+/// then come the others (candidates everywhere). A culled object's cluster proven wholly in front
+/// (work.facing) and in front of the camera is a group of all its triangles, projected on first
+/// use (project_group); one whose rectangle misses the FOV's section has no slot.
 void add_slots(int o, const ObjectInfo& info, bool cull, bool conservative, CameraSetup& cam,
                SetupWork& work) {
   const double inf = std::numeric_limits<double>::infinity();
   const core::TriangleMesh& mesh = *info.mesh;
-  for (int i = 0; i < info.triangle_count; ++i) {
-    const int t = info.first_triangle + i;
-    if (cull && work.tilt[i] > 0) {
-      cam.back[t] = 1;
-      continue;
-    }
-    if (conservative && work.flat[i]) continue;
-    const auto& tv = mesh.triangles[i];
-    const VertexView* v[3] = {&work.vertices[tv[0]], &work.vertices[tv[1]], &work.vertices[tv[2]]};
-    if (!(v[0]->in_front && v[1]->in_front && v[2]->in_front)) {
-      // Not wholly in front of the camera: a candidate everywhere.
-      cam.slot_triangle.push_back(t);
-      cam.slot_object.push_back(o);
-      cam.rect.push_back({-inf, inf, -inf, inf});
-      if (!conservative) cam.lines.emplace_back();
-      work.bounds.push_back({std::numeric_limits<double>::quiet_NaN(), 0, 0, 0, {}, {}});
-      continue;
-    }
-    const double xlo = std::min({v[0]->x, v[1]->x, v[2]->x});
-    const double xhi = std::max({v[0]->x, v[1]->x, v[2]->x});
-    const double ylo = std::min({v[0]->y, v[1]->y, v[2]->y});
-    const double yhi = std::max({v[0]->y, v[1]->y, v[2]->y});
-    const double pad_x = 2 * kMargin * (1.0 + std::max(std::abs(xlo), std::abs(xhi)));
-    const double pad_y = 2 * kMargin * (1.0 + std::max(std::abs(ylo), std::abs(yhi)));
-    const std::array<double, 4> r{xlo - pad_x, xhi + pad_x, ylo - pad_y, yhi + pad_y};
-    // Outside the FOV's section: no box or ray the labeller tests projects onto it.
-    if (r[1] < cam.view[0] || r[0] > cam.view[1] || r[3] < cam.view[2] || r[2] > cam.view[3]) {
-      continue;
-    }
+  auto add_slot = [&](int t) {
     cam.slot_triangle.push_back(t);
     cam.slot_object.push_back(o);
-    cam.rect.push_back(r);
-    work.bounds.push_back({xlo, xhi, ylo, yhi, {}, {}});
-    if (conservative) continue;
-    // The projected triangle's edge lines, inside ≥ 0, unit normals, padded like the
-    // rectangle; none for a (nearly) degenerate projection.
-    detail::EdgeLines& lines = cam.lines.emplace_back();
-    const double px[3] = {v[0]->x, v[1]->x, v[2]->x}, py[3] = {v[0]->y, v[1]->y, v[2]->y};
-    const double area = (px[1] - px[0]) * (py[2] - py[0]) - (py[1] - py[0]) * (px[2] - px[0]);
-    const double size = std::max(xhi - xlo, yhi - ylo);
-    lines.valid = std::abs(area) > 1e-9 * size * size;
-    if (!lines.valid) continue;
-    const double pad = std::max(pad_x, pad_y);
-    for (int ed = 0; ed < 3; ++ed) {
-      const int f = (ed + 1) % 3;
-      double la = -(py[f] - py[ed]), lb = px[f] - px[ed];
-      if (area < 0) {
-        la = -la;
-        lb = -lb;
+    return static_cast<int>(cam.slot_triangle.size()) - 1;
+  };
+  for (std::size_t k = 0; k < info.clusters.size(); ++k) {
+    const detail::TriangleCluster& cluster = info.clusters[k];
+    if (cull && work.facing[k] == kBehind) {
+      // Back faces all (facing_cluster): no slots.
+      for (int n = cluster.begin; n < cluster.end; ++n) {
+        cam.back[info.first_triangle + info.cluster_order[n]] = 1;
       }
-      const double norm = std::sqrt(la * la + lb * lb);
-      la /= norm;
-      lb /= norm;
-      lines.line[ed] = {la, lb, -(la * px[ed] + lb * py[ed]) + pad};
+      continue;
+    }
+    const double near = detail::nearest_in_ball(cluster.ball, cam.c);
+    if (cull && work.facing[k] == kInFront) {
+      const auto rect = ball_rectangle(cluster.ball, cam);
+      if (rect) {
+        const auto& r = *rect;
+        if (r[1] < cam.view[0] || r[0] > cam.view[1] || r[3] < cam.view[2] || r[2] > cam.view[3]) {
+          continue;  // neither is any of its triangles'
+        }
+        const int first = static_cast<int>(cam.slot_triangle.size());
+        for (int n = cluster.begin; n < cluster.end; ++n) {
+          add_slot(info.first_triangle + info.cluster_order[n]);
+        }
+        work.group_projected.push_back(0);
+        cam.groups.push_back({first, first + cluster.end - cluster.begin, r, near});
+        continue;
+      }
+    }
+    work.deferred.clear();
+    const int first = static_cast<int>(cam.slot_triangle.size());
+    std::array<double, 4> group_rect{inf, -inf, inf, -inf};
+    for (int n = cluster.begin; n < cluster.end; ++n) {
+      const int i = info.cluster_order[n];
+      const int t = info.first_triangle + i;
+      if (cull && work.tilt[i] > 0) {
+        cam.back[t] = 1;
+        continue;
+      }
+      if (conservative && work.flat[i]) continue;
+      const auto& tv = mesh.triangles[i];
+      const VertexView* v[3] = {&work.vertices[tv[0]], &work.vertices[tv[1]],
+                                &work.vertices[tv[2]]};
+      if (!(v[0]->in_front && v[1]->in_front && v[2]->in_front)) {
+        work.deferred.push_back(t);
+        continue;
+      }
+      const int s = static_cast<int>(cam.slot_triangle.size());
+      if (!project_slot(v, cam, conservative, s)) continue;
+      add_slot(t);
+      const auto& r = cam.rect[s];
+      group_rect = {std::min(group_rect[0], r[0]), std::max(group_rect[1], r[1]),
+                    std::min(group_rect[2], r[2]), std::max(group_rect[3], r[3])};
+    }
+    const int last = static_cast<int>(cam.slot_triangle.size());
+    if (last > first) {
+      work.group_projected.push_back(1);
+      cam.groups.push_back({first, last, group_rect, near});
+    }
+    // Not wholly in front of the camera: a candidate everywhere.
+    for (int t : work.deferred) {
+      const int s = add_slot(t);
+      cam.everywhere.push_back(s);
+      cam.rect[s] = {-inf, inf, -inf, inf};
+      if (!conservative) cam.lines[s].valid = false;
     }
   }
 }
 
-/// The bins: they cover the slots' (padded) rectangles within the FOV's section, at bin width
-/// `width`, finer where a chunk has more slots than a few per bin (`per_chunk`: the binned slots
+/// The bins: they cover the slot groups' (padded) rectangles within the FOV's section, at bin
+/// width `width`, finer where a chunk has more groups than a few per bin (`per_chunk`: the groups
 /// of the chunk that has most), so that the candidates per voxel stay bounded as meshes get finer.
 /// A box or ray whose projection misses that rectangle has no binned candidate
 /// (detail::outside_bins). Conservative mode: wide bins twice as fine with every rectangle
 /// widened by half a coarse bin, so that a box whose projection is at most one coarse bin wide
-/// finds every slot it can meet in the bin of its rectangle's centre, each once (no repeats to
-/// skip). Then each slot's bin ranges, into work.bounds.
+/// finds every group it can meet in the bin of its rectangle's centre, each once (no repeats to
+/// skip). Then each group's bin ranges, into work.bins.
 void place_bins(const std::array<double, 2>& width, int per_chunk, bool conservative,
                 CameraSetup& cam, SetupWork& work) {
   const double inf = std::numeric_limits<double>::infinity();
-  const int slots = static_cast<int>(cam.slot_triangle.size());
   std::array<double, 2> lo{inf, inf}, hi{-inf, -inf};
-  for (int s = 0; s < slots; ++s) {
-    if (std::isnan(work.bounds[s].x0)) continue;
-    const auto& r = cam.rect[s];
+  for (const detail::SlotGroup& g : cam.groups) {
+    const auto& r = g.rect;
     lo = {std::min(lo[0], r[0]), std::min(lo[1], r[2])};
     hi = {std::max(hi[0], r[1]), std::max(hi[1], r[3])};
   }
@@ -329,35 +482,35 @@ void place_bins(const std::array<double, 2>& width, int per_chunk, bool conserva
                                       {hi[0] + cam.widen[0], hi[1] + cam.widen[1]},
                                       {0.5 * w[0], 0.5 * w[1]}, 2 * kMaxBins)
                           : BinGrid{};
-  for (int s = 0; s < slots; ++s) {
-    SlotBounds& b = work.bounds[s];
-    if (std::isnan(b.x0)) continue;
-    b.coarse = detail::bin_range(cam.coarse, b.x0, b.x1, b.y0, b.y1);
+  work.bins.resize(cam.groups.size());
+  for (std::size_t g = 0; g < cam.groups.size(); ++g) {
+    const auto& r = cam.groups[g].rect;
+    GroupBins& b = work.bins[g];
+    b.coarse = detail::bins_under(cam.coarse, r[0], r[1], r[2], r[3]);
     if (!conservative) continue;
-    const auto& r = cam.rect[s];
     b.wide = detail::bins_under(cam.wide, r[0] - cam.widen[0], r[1] + cam.widen[0],
                                 r[2] - cam.widen[1], r[3] + cam.widen[1]);
   }
 }
 
-/// One chunk's candidates: the slots of its objects (`objects`, ascending: their slots are
-/// consecutive and ascending, cam.object_slots), sorted into the bins, or in `everywhere`. Only
-/// the chunk's own slots are visited: with many states, each chunk holds few of the objects.
+/// One chunk's candidates: the slot groups of its objects (`objects`, ascending), sorted into the
+/// bins, and their slots not wholly in front of the camera in `everywhere`. Only the chunk's own
+/// groups are visited: with many states, each chunk holds few of the objects.
 void chunk_candidates(const CameraSetup& cam, const std::vector<int>& objects, bool conservative,
                       SetupWork& work, ChunkCandidates& out) {
   work.members.clear();
   out.everywhere.clear();
   for (int o : objects) {
-    for (int s = cam.object_slots[o]; s < cam.object_slots[o + 1]; ++s) {
-      (std::isnan(work.bounds[s].x0) ? out.everywhere : work.members).push_back(s);
-    }
+    for (int g = cam.object_groups[o]; g < cam.object_groups[o + 1]; ++g) work.members.push_back(g);
+    out.everywhere.insert(out.everywhere.end(), cam.everywhere.begin() + cam.everywhere_start[o],
+                          cam.everywhere.begin() + cam.everywhere_start[o + 1]);
   }
   sort_into_bins(
-      cam.coarse, work.members, [&](int s) -> const BinRange& { return work.bounds[s].coarse; },
+      cam.coarse, work.members, [&](int g) -> const BinRange& { return work.bins[g].coarse; },
       work.fill, out.coarse);
   if (conservative) {
     sort_into_bins(
-        cam.wide, work.members, [&](int s) -> const BinRange& { return work.bounds[s].wide; },
+        cam.wide, work.members, [&](int g) -> const BinRange& { return work.bins[g].wide; },
         work.fill, out.wide);
   } else {
     out.wide.start.assign(cam.wide.count() + 1, 0);
@@ -366,6 +519,29 @@ void chunk_candidates(const CameraSetup& cam, const std::vector<int>& objects, b
 }
 
 }  // namespace
+
+void VoxelEvaluator::Impl::project_group(const CameraSetup& cam, int g) const {
+  std::atomic<std::uint8_t>& state = cam.group_state[g];
+  std::uint8_t expected = detail::kConeMissing;
+  if (!state.compare_exchange_strong(expected, detail::kConeMaking, std::memory_order_acq_rel)) {
+    while (state.load(std::memory_order_acquire) != detail::kConeReady) std::this_thread::yield();
+    return;
+  }
+  // The numbers add_slots computes from the vertices' views (triangles holds the same vertices),
+  // of triangles that lie wholly in front of the camera (ball_rectangle) and face it.
+  const double inf = std::numeric_limits<double>::infinity();
+  const detail::SlotGroup& group = cam.groups[g];
+  for (int s = group.first; s < group.last; ++s) {
+    const auto& tri = triangles[cam.slot_triangle[s]];
+    const VertexView views[3] = {view_point(tri[0], cam), view_point(tri[1], cam),
+                                 view_point(tri[2], cam)};
+    CAMPLACE_ASSERT(views[0].in_front && views[1].in_front && views[2].in_front);
+    const VertexView* const v[3] = {&views[0], &views[1], &views[2]};
+    // Outside the FOV's section: an empty rectangle, which no box's meets.
+    if (!project_slot(v, cam, conservative, s)) cam.rect[s] = {inf, -inf, inf, -inf};
+  }
+  state.store(detail::kConeReady, std::memory_order_release);
+}
 
 const TriangleCone& VoxelEvaluator::Impl::make_cone_of(const CameraSetup& cam, int slot) const {
   std::atomic<std::uint8_t>& state = cam.cone_state[slot];
@@ -419,18 +595,32 @@ void VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera,
   cam.culled.assign(objects.size(), 0);
   cam.slot_triangle.clear();
   cam.slot_object.clear();
-  cam.rect.clear();
-  cam.lines.clear();
-  work.bounds.clear();
-  cam.object_slots.assign(objects.size() + 1, 0);
+  // Written per slot (at most one per triangle), projected groups on first use.
+  if (cam.rect.size() < triangles.size()) cam.rect.resize(triangles.size());
+  if (!conservative && cam.lines.size() < triangles.size()) cam.lines.resize(triangles.size());
+  cam.groups.clear();
+  work.group_projected.clear();
+  cam.everywhere.clear();
+  cam.object_groups.assign(objects.size() + 1, 0);
+  cam.everywhere_start.assign(objects.size() + 1, 0);
   for (std::size_t o = 0; o < objects.size(); ++o) {
-    cam.object_slots[o] = static_cast<int>(cam.slot_triangle.size());
-    view_vertices(*objects[o].mesh, cam, work.vertices);
-    const bool cull = cull_back_faces(objects[o], cam.inside_object[o], triangles, cam.c, work);
+    cam.object_groups[o] = static_cast<int>(cam.groups.size());
+    cam.everywhere_start[o] = static_cast<int>(cam.everywhere.size());
+    const bool cull = cull_back_faces(objects[o], cam.inside_object[o], triangles, cam, work);
     cam.culled[o] = cull;
     add_slots(static_cast<int>(o), objects[o], cull, conservative, cam, work);
   }
-  cam.object_slots[objects.size()] = static_cast<int>(cam.slot_triangle.size());
+  cam.object_groups[objects.size()] = static_cast<int>(cam.groups.size());
+  cam.everywhere_start[objects.size()] = static_cast<int>(cam.everywhere.size());
+  const std::size_t groups = cam.groups.size();
+  if (cam.group_capacity < groups) {
+    cam.group_capacity = std::max(groups, 2 * cam.group_capacity);
+    cam.group_state.reset(new std::atomic<std::uint8_t>[cam.group_capacity]);
+  }
+  for (std::size_t g = 0; g < groups; ++g) {
+    cam.group_state[g].store(work.group_projected[g] ? detail::kConeReady : detail::kConeMissing,
+                             std::memory_order_relaxed);
+  }
   if (conservative) {
     // The cones are made on first use (cone_of): a fine mesh has many slots that no box tests.
     const std::size_t slots = cam.slot_triangle.size();
@@ -447,17 +637,11 @@ void VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera,
                               std::memory_order_relaxed);
     }
   }
-  // The binned slots of the chunk that has most (an object may belong to several chunks).
-  work.binned.assign(objects.size(), 0);
-  for (std::size_t o = 0; o < objects.size(); ++o) {
-    for (int s = cam.object_slots[o]; s < cam.object_slots[o + 1]; ++s) {
-      work.binned[o] += !std::isnan(work.bounds[s].x0);
-    }
-  }
+  // The slot groups of the chunk that has most (an object may belong to several chunks).
   int per_chunk = 0;
   for (const std::vector<int>& chunk : chunk_objects) {
     int count = 0;
-    for (int o : chunk) count += work.binned[o];
+    for (int o : chunk) count += cam.object_groups[o + 1] - cam.object_groups[o];
     per_chunk = std::max(per_chunk, count);
   }
   place_bins(width, per_chunk, conservative, cam, work);

@@ -70,4 +70,64 @@ inline std::array<double, 4> box_projection(double x, double y, double z, double
           y1 * (y1 >= 0 ? i_lo : i_hi)};
 }
 
+/// The projection of a box wholly in front of the camera: the convex hull of its 8 corners'
+/// image coordinates, as outward edge lines n·(x − p) ≤ 0 (counter-clockwise; at most 6 edges,
+/// none when the hull is degenerate).
+struct BoxOutline {
+  int edges = 0;
+  std::array<std::array<double, 4>, 8> line{};  ///< n_x, n_y, n·p, margin
+};
+
+/// The outline of the box with centre at w from the camera and half extents `half` (world
+/// axes), every corner in front of the camera (positive depth).
+inline void box_outline(const CameraSetup& cam, const core::Vec3& w, const core::Vec3& half,
+                        BoxOutline& out) {
+  std::array<std::array<double, 2>, 8> p;
+  for (int i = 0; i < 8; ++i) {
+    const core::Vec3 q =
+        w + core::Vec3((i & 1) ? half.x() : -half.x(), (i & 2) ? half.y() : -half.y(),
+                       (i & 4) ? half.z() : -half.z());
+    const double z = q.dot(cam.axis);
+    p[i] = {q.dot(cam.ex) / z, q.dot(cam.ey) / z};
+  }
+  // Andrew's monotone chain: lower then upper hull, counter-clockwise.
+  std::sort(p.begin(), p.end());
+  std::array<std::array<double, 2>, 16> hull;
+  int k = 0;
+  auto turn = [](const std::array<double, 2>& o, const std::array<double, 2>& a,
+                 const std::array<double, 2>& b) {
+    return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+  };
+  for (int i = 0; i < 8; ++i) {
+    while (k >= 2 && turn(hull[k - 2], hull[k - 1], p[i]) <= 0) --k;
+    hull[k++] = p[i];
+  }
+  for (int i = 6, lower = k + 1; i >= 0; --i) {
+    while (k >= lower && turn(hull[k - 2], hull[k - 1], p[i]) <= 0) --k;
+    hull[k++] = p[i];
+  }
+  out.edges = 0;
+  if (k - 1 < 3) return;
+  for (int i = 0; i + 1 < k && out.edges < 8; ++i) {
+    const double dx = hull[i + 1][0] - hull[i][0], dy = hull[i + 1][1] - hull[i][1];
+    const double nx = dy, ny = -dx;
+    const double scale = 1.0 + std::max(std::abs(hull[i][0]), std::abs(hull[i][1]));
+    out.line[out.edges++] = {nx, ny, nx * hull[i][0] + ny * hull[i][1],
+                             4 * kMargin * scale * (std::abs(nx) + std::abs(ny))};
+  }
+}
+
+/// Whether the rectangle r (x0, x1, y0, y1) lies outside the outline by more than its margin
+/// (far above the rounding of either): no point of it is in the box's projection, so the cone
+/// over a triangle in front of the camera whose rectangle it is misses the box clearly.
+inline bool outside_outline(const BoxOutline& outline, const std::array<double, 4>& r) {
+  for (int e = 0; e < outline.edges; ++e) {
+    const auto& l = outline.line[e];
+    // The rectangle's corner deepest inside this edge.
+    const double x = l[0] >= 0.0 ? r[0] : r[1], y = l[1] >= 0.0 ? r[2] : r[3];
+    if (l[0] * x + l[1] * y - l[2] > l[3]) return true;
+  }
+  return false;
+}
+
 }  // namespace camplace::voxel::detail

@@ -58,6 +58,34 @@ void parallel_for(int count, int threads, const Body& body) {
 using StateMask = std::uint64_t;
 constexpr int kChunk = 64;
 
+/// A ball (world frame, m) holding a triangle or a cluster of triangles.
+struct Ball {
+  core::Vec3 center = core::Vec3::Zero();
+  double radius = 0.0;
+};
+
+/// A lower bound of the distance from c (m) of the triangles in `ball`, as
+/// core::point_triangle_sq_distance gives it (its root): the ball's distance less a margin far
+/// above the rounding of either.
+inline double nearest_in_ball(const Ball& ball, const core::Vec3& c) {
+  const double to_center = (ball.center - c).norm();
+  const double margin = 1e-9 * (to_center + ball.radius + c.norm() + ball.center.norm());
+  return to_center - ball.radius - margin;
+}
+
+/// A cluster of an object's triangles near each other (set-up, cluster_triangles): its range of
+/// ObjectInfo::cluster_order and a ball holding every one of its vertices.
+struct TriangleCluster {
+  int begin = 0, end = 0;
+  Ball ball;
+  /// The triangles' unit normals (of cross = (b − a) × (e − a)) lie within the cone about
+  /// normal_axis whose half angle has cosine normal_cos (≤ 0: no such cone); min_cross: the
+  /// least |cross|.
+  core::Vec3 normal_axis = core::Vec3::Zero();
+  double normal_cos = -1.0;
+  double min_cross = 0.0;
+};
+
 /// One object of the scene with its fixed role (SPEC §3: what a first hit on it means).
 struct ObjectInfo {
   const core::TriangleMesh* mesh = nullptr;
@@ -67,6 +95,10 @@ struct ObjectInfo {
   int first_triangle = 0;
   int triangle_count = 0;
   bool outward = false;  ///< signed volume > 0: the mesh is oriented outward (back-face culling)
+  /// The object's triangles (indices into mesh->triangles) cluster by cluster, and the clusters:
+  /// each camera numbers its slots in this order and bins them per cluster (camera_setup).
+  std::vector<int> cluster_order;
+  std::vector<TriangleCluster> clusters;
 };
 
 /// Per camera and candidate triangle (conservative mode): the infinite cone from the camera over
@@ -101,27 +133,40 @@ struct BinGrid {
   int count() const { return n[0] * n[1]; }
 };
 
-/// The candidate lists of one chunk of 64 states: per bin of a BinGrid the slots (ascending)
-/// whose rectangle covers it, as offsets (count() + 1) into items.
+/// The candidate lists of one chunk of 64 states: per bin of a BinGrid the slot groups
+/// (ascending) whose rectangle covers it, as offsets (count() + 1) into items.
 struct BinLists {
   std::vector<int> start;
   std::vector<int> items;
 };
 
-/// One chunk's candidates: the coarse bins, the wide bins (conservative mode) and the slots not
-/// wholly in front of the camera, which are candidates everywhere. Only slots of objects that
-/// belong to a state of the chunk.
+/// One chunk's candidates: the coarse bins and the wide bins (conservative mode) of slot groups,
+/// and the slots not wholly in front of the camera, which are candidates everywhere. Only slots
+/// of objects that belong to a state of the chunk.
 struct ChunkCandidates {
-  BinLists coarse, wide;
+  BinLists coarse, wide;  ///< of groups (CameraSetup::groups)
   std::vector<int> everywhere;
+};
+
+/// The binned slots of one cluster of triangles (consecutive slots first .. last − 1, of one
+/// object), with what holds for each of them: the union of their (padded) rectangles, and a lower
+/// bound of their triangles' distance from the camera (TriangleCone::near_distance, as computed;
+/// −∞ when none is known). A box that misses the rectangle, or lies nearer than `near` to a
+/// non-occupying group, has none of them as a candidate.
+struct SlotGroup {
+  int first = 0, last = 0;
+  std::array<double, 4> rect{};
+  double near = 0.0;
 };
 
 /// Everything about one camera that one evaluation needs and that does not depend on the
 /// voxel: the FOV test, and the triangles that can decide a label (the candidates: in front of
 /// the camera or across its plane, not culled, projecting into the FOV; in conservative mode not
 /// flat), numbered as slots in triangle order, each with its projection's rectangle and, per
-/// mode, its edge lines or its cone, sorted into bins of the image plane per chunk of 64 states
-/// (a slot is a candidate for a voxel only when their projections' rectangles share a bin).
+/// mode, its edge lines or its cone; the slots in front of the camera are grouped by cluster of
+/// triangles and the groups sorted into bins of the image plane per chunk of 64 states (a slot
+/// is a candidate for a voxel only when its group's rectangle and the voxel's projection share a
+/// bin).
 /// Rebuilt in place for every evaluation (its memory is reused, camera_setup).
 struct CameraSetup {
   core::CameraSetting setting;
@@ -150,13 +195,24 @@ struct CameraSetup {
   // Per slot.
   std::vector<int> slot_triangle;
   std::vector<int> slot_object;
-  /// Per object o: its slots are object_slots[o] .. object_slots[o + 1] − 1 (objects.size() + 1
-  /// offsets; slots are numbered in object order).
-  std::vector<int> object_slots;
+  /// Slots are numbered object by object, cluster by cluster. Per object o: its groups are
+  /// object_groups[o] .. object_groups[o + 1] − 1 (objects.size() + 1 offsets).
+  std::vector<SlotGroup> groups;
+  std::vector<int> object_groups;
+  /// The slots not wholly in front of the camera, per object o from everywhere_start[o] on.
+  std::vector<int> everywhere;
+  std::vector<int> everywhere_start;
+  /// Per group: kConeReady when its slots' rectangles (and edge lines) are known, else they are
+  /// computed on first use (VoxelEvaluator::Impl::ensure_projected; kConeMissing → kConeMaking →
+  /// kConeReady).
+  mutable std::unique_ptr<std::atomic<std::uint8_t>[]> group_state;
+  std::size_t group_capacity = 0;
   /// The projection's bounding rectangle (x0, x1, y0, y1), padded; infinite for the slots not
-  /// wholly in front of the camera.
-  std::vector<std::array<double, 4>> rect;
-  std::vector<EdgeLines> lines;  ///< center mode; when projectable and not degenerate
+  /// wholly in front of the camera, empty (x0 = ∞) for those of a group projected on first use
+  /// that lie outside the FOV's section (no slots of the others). At least one entry per slot.
+  mutable std::vector<std::array<double, 4>> rect;
+  /// Center mode; when projectable and not degenerate.
+  mutable std::vector<EdgeLines> lines;
   /// Conservative mode: per slot its cone, made on first use by whichever thread needs it first
   /// (VoxelEvaluator::Impl::cone_of; cone_state kConeMissing → kConeMaking → kConeReady).
   mutable std::unique_ptr<TriangleCone[]> cones;
@@ -179,7 +235,7 @@ struct StateInfo {
 
 /// Per-call working memory of the labeller (evaluate() is const and runs on several threads).
 struct Scratch {
-  std::vector<std::uint32_t> stamp;  ///< per slot (any camera's): last visit that tested it
+  std::vector<std::uint32_t> stamp;  ///< per slot group (any camera's): last visit that tested it
   std::uint32_t visit = 0;
   struct Hit {
     double t;
@@ -279,6 +335,7 @@ struct SceneTables {
   std::vector<detail::ObjectInfo> objects;
   std::vector<std::array<core::Vec3, 3>> triangles;  ///< all objects' triangles, world frame
   std::vector<int> triangle_object;                  ///< object of each triangle
+  std::vector<detail::Ball> triangle_balls;          ///< a ball holding each triangle
   std::vector<detail::StateInfo> states;
   /// Per chunk of 64 states: the states (bits) each object belongs to, and each time step's.
   std::vector<std::vector<detail::StateMask>> chunk_object_states;
@@ -531,6 +588,18 @@ struct VoxelEvaluator::Impl : detail::SceneTables,
     return make_cone_of(cam, slot);
   }
   const detail::TriangleCone& make_cone_of(const detail::CameraSetup& cam, int slot) const;
+  /// Whether the cone of the camera's slot is made.
+  static bool cone_ready(const detail::CameraSetup& cam, int slot) {
+    return cam.cone_state[slot].load(std::memory_order_acquire) == detail::kConeReady;
+  }
+  /// Slot group g's slots projected (rectangles and edge lines), on first use (thread-safe;
+  /// project_group in camera_setup.cpp).
+  void ensure_projected(const detail::CameraSetup& cam, int g) const {
+    if (cam.group_state[g].load(std::memory_order_acquire) != detail::kConeReady) {
+      project_group(cam, g);
+    }
+  }
+  void project_group(const detail::CameraSetup& cam, int g) const;
 };
 
 }  // namespace camplace::voxel

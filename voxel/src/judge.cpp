@@ -26,35 +26,50 @@ using detail::TriangleCone;
 using detail::Verdict;
 namespace {
 
-/// The candidate slots of judge_conservative() in order, until `done`.
-template <class Test, class Done>
+/// The candidate slots of judge_conservative() in order, until `done`: those of the slot groups
+/// in the bins under the box's projection that `open` does not rule out as a whole (each group
+/// once), then the slots everywhere. `test(s)`: true when the verdict changed.
+template <class Test, class Open, class Done>
 void judge_candidates(const CameraSetup& cam, const detail::ChunkCandidates& cand, double vx0,
-                      double vx1, double vy0, double vy1, double z_lo, Test& test,
-                      const Done& done) {
+                      double vx1, double vy0, double vy1, double z_lo, Scratch& scratch, Test& test,
+                      const Open& open, const Done& done) {
+  auto group = [&](int g) {
+    if (!open(g)) return false;
+    const detail::SlotGroup& slots = cam.groups[g];
+    for (int s = slots.first; s < slots.last; ++s) {
+      if (test(s) && done()) return true;
+    }
+    return false;
+  };
   auto everywhere = [&] {
     for (int s : cand.everywhere) {
-      if (test(s, true) && done()) return;
+      if (test(s) && done()) return;
     }
   };
   if (z_lo > 0.0 && detail::outside_bins(cam.coarse, vx0, vx1, vy0, vy1)) return everywhere();
   if (z_lo > 0.0 && vx1 - vx0 <= 2.0 * cam.widen[0] && vy1 - vy0 <= 2.0 * cam.widen[1]) {
-    // A slot whose rectangle overlaps the voxel's has its widened rectangle around the voxel
+    // A group whose rectangle overlaps the voxel's has its widened rectangle around the voxel
     // rectangle's centre: one wide bin holds every candidate, once.
     const int b = bin_of(cam.wide, 0.5 * (vy0 + vy1), 1) * cam.wide.n[0] +
                   bin_of(cam.wide, 0.5 * (vx0 + vx1), 0);
     for (int n = cand.wide.start[b]; n < cand.wide.start[b + 1]; ++n) {
-      if (test(cand.wide.items[n], true) && done()) return;
+      if (group(cand.wide.items[n])) return;
     }
     return everywhere();
   }
-  // The bins under the box's projection (all of them when it is not wholly in front).
+  // The bins under the box's projection (all of them when it is not wholly in front); their
+  // lists repeat groups.
   const BinRange bins = z_lo > 0.0 ? detail::bins_under(cam.coarse, vx0, vx1, vy0, vy1)
                                    : BinRange{0, cam.coarse.n[0] - 1, 0, cam.coarse.n[1] - 1};
+  ++scratch.visit;
   for (int by = bins.y0; by <= bins.y1; ++by) {
     for (int bx = bins.x0; bx <= bins.x1; ++bx) {
       const int b = by * cam.coarse.n[0] + bx;
       for (int n = cand.coarse.start[b]; n < cand.coarse.start[b + 1]; ++n) {
-        if (test(cand.coarse.items[n], false) && done()) return;
+        const int g = cand.coarse.items[n];
+        if (scratch.stamp[g] == scratch.visit) continue;
+        scratch.stamp[g] = scratch.visit;
+        if (group(g)) return;
       }
     }
   }
@@ -123,12 +138,19 @@ Verdict VoxelEvaluator::Impl::judge_center(const CameraSetup& cam, const Vec3& w
       for (int bx = bins.x0; bx <= bins.x1; ++bx) {
         const int b = by * cam.coarse.n[0] + bx;
         for (int n = cand.coarse.start[b]; n < cand.coarse.start[b + 1]; ++n) {
-          const int s = cand.coarse.items[n];
+          const int g = cand.coarse.items[n];
           if (!single) {
-            if (scratch.stamp[s] == scratch.visit) continue;
-            scratch.stamp[s] = scratch.visit;
+            if (scratch.stamp[g] == scratch.visit) continue;
+            scratch.stamp[g] = scratch.visit;
           }
-          test(s);
+          const detail::SlotGroup& group = cam.groups[g];
+          // The group's rectangle holds each of its slots' (test's first test).
+          if (projected) {
+            const auto& r = group.rect;
+            if (px < r[0] || px > r[1] || py < r[2] || py > r[3]) continue;
+          }
+          ensure_projected(cam, g);
+          for (int s = group.first; s < group.last; ++s) test(s);
         }
       }
     }
@@ -184,38 +206,73 @@ Verdict VoxelEvaluator::Impl::judge_conservative(const CameraSetup& cam, const V
     vy0 = r[2];
     vy1 = r[3];
   }
+  // The box's outline in the image, once a triangle whose rectangle meets the box's has no cone
+  // yet (none when the box is not wholly in front): a triangle in front of the camera whose
+  // rectangle lies clearly outside it has a cone that misses the box clearly (cone_test's
+  // Cone::miss, L10); groups are tested against it once it is known.
+  detail::BoxOutline outline;
+  bool outlined = z_lo <= 0.0;
+  auto outside = [&](const std::array<double, 4>& r) {
+    if (!outlined) {
+      detail::box_outline(cam, w, size.half, outline);
+      outlined = true;
+    }
+    return detail::outside_outline(outline, r);
+  };
   // Needed only once a triangle gets to the cone test.
   Vec3 wc;            // the previous labeller's dir · dist
   double far = -1.0;  // the box's farthest distance, once an occluding triangle needs it
   bool exact_ready = false;
-  ++scratch.visit;  // the coarse bins' lists repeat slots; `everywhere` holds others
-  // True when `out` changed. `once`: slot s cannot come up again for this voxel (no stamp
-  // needed). Inlined into judge_candidates' loops (GCC and Clang): 5% of an evaluation at
-  // 36×27×27.
-  auto test = [&](int s, bool once) __attribute__((always_inline)) {
-    if (!once) {
-      if (scratch.stamp[s] == scratch.visit) return false;
-      scratch.stamp[s] = scratch.visit;
+  // The states of object o still open for a test of its triangles: states already decided need
+  // no more tests (occupied wins over undetectable).
+  auto open_states = [&](int o, bool occupying) {
+    const StateMask m = object_states[o] & interest;
+    return m & ((free_only || !occupying) ? ~(out.occupied | out.blocked) : ~out.occupied);
+  };
+  // Whether slot group g may hold a triangle that changes `out`: one whose rectangle meets the
+  // box's, of an object with open states, and if blocking, not wholly beyond the box (test's
+  // tests, on the group's bounds).
+  auto open = [&](int g) {
+    const detail::SlotGroup& group = cam.groups[g];
+    const auto& r = group.rect;
+    if (r[0] > vx1 || r[1] < vx0 || r[2] > vy1 || r[3] < vy0) return false;
+    const int o = cam.slot_object[group.first];
+    const bool occupying = objects[o].occupying;
+    if (!open_states(o, occupying)) return false;
+    if (!occupying) {
+      if (far < 0.0) far = (w.cwiseAbs() + size.half).norm();
+      if (!(group.near < far)) return false;
     }
+    if (outlined && outside(r)) return false;
+    ensure_projected(cam, g);
+    return true;
+  };
+  // True when `out` changed. Inlined into judge_candidates' loops (GCC and Clang): 5% of an
+  // evaluation at 36×27×27.
+  auto test = [&](int s) __attribute__((always_inline)) {
     const int o = cam.slot_object[s];
     const bool occupying = objects[o].occupying;
-    StateMask m = object_states[o] & interest;
-    // States already decided need no more tests (occupied wins over undetectable).
-    m &= (free_only || !occupying) ? ~(out.occupied | out.blocked) : ~out.occupied;
+    const StateMask m = open_states(o, occupying);
     if (!m) return false;
     // (The edge lines of the projection would repeat the cone-plane test of cone_test.)
     const auto& r = cam.rect[s];
     if (r[0] > vx1 || r[1] < vx0 || r[2] > vy1 || r[3] < vy0) return false;
+    if (!occupying && far < 0.0) far = (w.cwiseAbs() + size.half).norm();
+    if (!cone_ready(cam, s)) {
+      // Before a cone is made: clearly outside the box's outline, or wholly beyond the box.
+      if (outside(r)) return false;
+      if (!occupying &&
+          detail::nearest_in_ball(triangle_balls[cam.slot_triangle[s]], cam.c) >= far) {
+        return false;
+      }
+    }
     const TriangleCone& tc = cone_of(cam, s);
     if (!exact_ready) {
       if (d < 0.0) d = w.norm();
       wc = (w / d) * d;
       exact_ready = true;
     }
-    if (!occupying) {
-      if (far < 0.0) far = (w.cwiseAbs() + size.half).norm();
-      if (tc.near_distance >= far) return false;
-    }
+    if (!occupying && tc.near_distance >= far) return false;
     const Cone cone = cone_test(tc, wc, size);
     if (cone == Cone::near_miss && cam.culled[o]) {
       // A culled object touching the voxel within rounding: its back faces decide as they
@@ -254,8 +311,8 @@ Verdict VoxelEvaluator::Impl::judge_conservative(const CameraSetup& cam, const V
     int* witness = witnesses->triangles;
     // A repeated test finds the states it decides decided: it changes nothing.
     const auto plain = test;
-    auto test = [&, plain](int s, bool once) {
-      if (!plain(s, once)) return false;
+    auto test = [&, plain](int s) {
+      if (!plain(s)) return false;
       // Most recent first, each slot once.
       int at = 0;
       while (at < detail::kWitnesses - 1 && witness[at] != s) ++at;
@@ -266,12 +323,12 @@ Verdict VoxelEvaluator::Impl::judge_conservative(const CameraSetup& cam, const V
     int first[detail::kWitnesses];
     std::copy(witness, witness + detail::kWitnesses, first);
     for (int s : first) {
-      if (s >= 0 && test(s, true) && done()) return out;
+      if (s >= 0 && test(s) && done()) return out;
     }
-    judge_candidates(cam, cand, vx0, vx1, vy0, vy1, z_lo, test, done);
+    judge_candidates(cam, cand, vx0, vx1, vy0, vy1, z_lo, scratch, test, open, done);
     return out;
   }
-  judge_candidates(cam, cand, vx0, vx1, vy0, vy1, z_lo, test, done);
+  judge_candidates(cam, cand, vx0, vx1, vy0, vy1, z_lo, scratch, test, open, done);
   return out;
 }
 
@@ -369,11 +426,32 @@ StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& 
   const double far = (w.cwiseAbs() + half).norm() * (1.0 + 1e-12);
   const double scale = 2.0 * kTouch * (d + half.sum());
   // True when slot s may decide some voxel of the block.
+  // The block's outline in the image (once a triangle whose rectangle meets the block's has no
+  // cone yet): a triangle whose rectangle lies clearly outside it decides no voxel of the block
+  // (L10); groups are tested against it once it is known.
+  detail::BoxOutline outline;
+  bool outlined = false;
+  auto outside = [&](const std::array<double, 4>& rect) {
+    if (!outlined) {
+      detail::box_outline(cam, w, half, outline);
+      outlined = true;
+    }
+    return detail::outside_outline(outline, rect);
+  };
   auto decides = [&](int s) {
     const auto& rect = cam.rect[s];
     if (rect[0] > vx1 || rect[1] < vx0 || rect[2] > vy1 || rect[3] < vy0) return false;
+    const bool occupying = objects[cam.slot_object[s]].occupying;
+    if (!cone_ready(cam, s)) {
+      // Before a cone is made: clearly outside the block's outline, or wholly beyond the block.
+      if (outside(rect)) return false;
+      if (!occupying &&
+          detail::nearest_in_ball(triangle_balls[cam.slot_triangle[s]], cam.c) >= far) {
+        return false;
+      }
+    }
     const TriangleCone& tc = cone_of(cam, s);
-    if (!objects[cam.slot_object[s]].occupying && tc.near_distance >= far) return false;
+    if (!occupying && tc.near_distance >= far) return false;
     for (int i = 0; i < 3; ++i) {
       if (tc.normal[i].dot(w) + tc.normal[i].cwiseAbs().dot(half) < -scale) return false;
     }
@@ -385,15 +463,10 @@ StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& 
     return true;
   };
   StateMask clear = open;
-  // The coarse bins' lists repeat slots: a slot that did not decide the block once does not
-  // the next time (decides depends on the slot and the block only), and one that did has no
-  // state left in `clear`; so each is tested once.
-  ++scratch.visit;
   // True when no state is left.
   auto pass = [&](int s) {
     const StateMask m = object_states[cam.slot_object[s]] & clear;
-    if (!m || scratch.stamp[s] == scratch.visit) return false;
-    scratch.stamp[s] = scratch.visit;
+    if (!m) return false;
     if (decides(s)) clear &= ~m;
     return !clear;
   };
@@ -401,12 +474,31 @@ StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& 
     if (pass(s)) return 0;
   }
   if (detail::outside_bins(cam.coarse, vx0, vx1, vy0, vy1)) return clear;
+  // The coarse bins' lists repeat groups: a slot that did not decide the block once does not
+  // the next time (decides depends on the slot and the block only), and one that did has no
+  // state left in `clear`; so each group is visited once.
+  ++scratch.visit;
   const BinRange bins = bin_range(cam.coarse, vx0, vx1, vy0, vy1);
   for (int by = bins.y0; by <= bins.y1; ++by) {
     for (int bx = bins.x0; bx <= bins.x1; ++bx) {
       const int b = by * cam.coarse.n[0] + bx;
       for (int n = cand.coarse.start[b]; n < cand.coarse.start[b + 1]; ++n) {
-        if (pass(cand.coarse.items[n])) return 0;
+        const int g = cand.coarse.items[n];
+        if (scratch.stamp[g] == scratch.visit) continue;
+        scratch.stamp[g] = scratch.visit;
+        // decides' first tests on the group's bounds: its rectangle holds each slot's, `near`
+        // is at most each triangle's near_distance.
+        const detail::SlotGroup& group = cam.groups[g];
+        const auto& rect = group.rect;
+        if (rect[0] > vx1 || rect[1] < vx0 || rect[2] > vy1 || rect[3] < vy0) continue;
+        const int o = cam.slot_object[group.first];
+        if (!(object_states[o] & clear)) continue;
+        if (!objects[o].occupying && group.near >= far) continue;
+        if (outlined && outside(rect)) continue;
+        ensure_projected(cam, g);
+        for (int s = group.first; s < group.last; ++s) {
+          if (pass(s)) return 0;
+        }
       }
     }
   }

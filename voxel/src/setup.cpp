@@ -22,6 +22,96 @@ namespace {
 // triangle hierarchy finds the near triangles without that bound, whose scan of every vertex
 // cost more than the distance itself on fine meshes.
 constexpr double kNoCutoff = std::numeric_limits<double>::infinity();
+
+/// Triangles per cluster at most (cluster_triangles): a choice (a group's ball stays near the size
+/// of its triangles), not measured against others.
+constexpr int kClusterSize = 16;
+
+Box3 empty_box() {
+  const double inf = std::numeric_limits<double>::infinity();
+  return {Vec3::Constant(inf), Vec3::Constant(-inf)};
+}
+void extend(Box3& box, const Vec3& p) {
+  box.min = box.min.cwiseMin(p);
+  box.max = box.max.cwiseMax(p);
+}
+
+/// The clusters of `mesh`'s triangles into info.cluster_order and info.clusters: the triangles
+/// split at the median of their centroids along the longest axis of the centroids' box, until at
+/// most kClusterSize remain; each cluster with the ball about its vertices' box centre that holds
+/// them all. Any split is correct (the labeller tests every triangle of a cluster it does not
+/// rule out as a whole); near triangles in one cluster let it rule out more.
+void cluster_triangles(const core::TriangleMesh& mesh, detail::ObjectInfo& info) {
+  const int n = static_cast<int>(mesh.triangles.size());
+  std::vector<Vec3> centroid(n);
+  for (int t = 0; t < n; ++t) {
+    const auto& tv = mesh.triangles[t];
+    centroid[t] = (mesh.vertices[tv[0]] + mesh.vertices[tv[1]] + mesh.vertices[tv[2]]) / 3.0;
+  }
+  info.cluster_order.resize(n);
+  for (int t = 0; t < n; ++t) info.cluster_order[t] = t;
+  info.clusters.clear();
+  std::vector<std::pair<int, int>> stack{{0, n}};
+  while (!stack.empty()) {
+    const auto [begin, end] = stack.back();
+    stack.pop_back();
+    if (end - begin > kClusterSize) {
+      Box3 box = empty_box();
+      for (int i = begin; i < end; ++i) extend(box, centroid[info.cluster_order[i]]);
+      int axis = 0;
+      (box.max - box.min).maxCoeff(&axis);
+      const int mid = begin + (end - begin) / 2;
+      std::nth_element(info.cluster_order.begin() + begin, info.cluster_order.begin() + mid,
+                       info.cluster_order.begin() + end, [&](int a, int b) {
+                         return centroid[a][axis] < centroid[b][axis] ||
+                                (centroid[a][axis] == centroid[b][axis] && a < b);
+                       });
+      // Second half pushed first: clusters come out in the order of the splits.
+      stack.push_back({mid, end});
+      stack.push_back({begin, mid});
+      continue;
+    }
+    detail::TriangleCluster cluster;
+    cluster.begin = begin;
+    cluster.end = end;
+    Box3 box = empty_box();
+    for (int i = begin; i < end; ++i) {
+      for (int v : mesh.triangles[info.cluster_order[i]]) extend(box, mesh.vertices[v]);
+    }
+    cluster.ball.center = box.center();
+    for (int i = begin; i < end; ++i) {
+      for (int v : mesh.triangles[info.cluster_order[i]]) {
+        cluster.ball.radius =
+            std::max(cluster.ball.radius, (mesh.vertices[v] - cluster.ball.center).norm());
+      }
+    }
+    // The normal cone, widened against rounding (θ by at least ~1e-6).
+    Vec3 sum = Vec3::Zero();
+    cluster.min_cross = std::numeric_limits<double>::infinity();
+    for (int i = begin; i < end; ++i) {
+      const auto& tv = mesh.triangles[info.cluster_order[i]];
+      const Vec3 cross = (mesh.vertices[tv[1]] - mesh.vertices[tv[0]])
+                             .cross(mesh.vertices[tv[2]] - mesh.vertices[tv[0]]);
+      const double length = cross.norm();
+      cluster.min_cross = std::min(cluster.min_cross, length);
+      if (length > 0.0) sum += cross / length;
+    }
+    if (cluster.min_cross > 0.0 && sum.norm() > 0.0) {
+      cluster.normal_axis = sum.normalized();
+      double cos = 1.0;
+      for (int i = begin; i < end; ++i) {
+        const auto& tv = mesh.triangles[info.cluster_order[i]];
+        const Vec3 cross = (mesh.vertices[tv[1]] - mesh.vertices[tv[0]])
+                               .cross(mesh.vertices[tv[2]] - mesh.vertices[tv[0]]);
+        cos = std::min(cos, cluster.normal_axis.dot(cross.normalized()));
+      }
+      cluster.normal_cos = cos - 1e-12;
+    } else {
+      cluster.min_cross = 0.0;
+    }
+    info.clusters.push_back(cluster);
+  }
+}
 }  // namespace
 
 int VoxelEvaluator::Impl::add_object(const core::SceneObject& object, core::ObjectRole role) {
@@ -47,12 +137,18 @@ int VoxelEvaluator::Impl::add_object(const core::SceneObject& object, core::Obje
     info.radius = std::max(info.radius, (v - info.center).norm());
   }
   info.outward = core::signed_volume(object.mesh) > 0.0;
+  cluster_triangles(object.mesh, info);
   info.first_triangle = static_cast<int>(triangles.size());
   info.triangle_count = static_cast<int>(object.mesh.triangles.size());
   for (const auto& t : object.mesh.triangles) {
     triangles.push_back(
         {object.mesh.vertices[t[0]], object.mesh.vertices[t[1]], object.mesh.vertices[t[2]]});
     triangle_object.push_back(static_cast<int>(objects.size()));
+    const auto& tri = triangles.back();
+    detail::Ball ball;
+    ball.center = (tri[0] + tri[1] + tri[2]) / 3.0;
+    for (const Vec3& v : tri) ball.radius = std::max(ball.radius, (v - ball.center).norm());
+    triangle_balls.push_back(ball);
   }
   objects.push_back(info);
   return static_cast<int>(objects.size()) - 1;
