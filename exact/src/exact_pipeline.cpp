@@ -209,8 +209,12 @@ ExactEvaluation evaluate_exact(const core::Scene& scene, const core::CameraConfi
       std::optional<Pipeline> pipeline;
       for (std::size_t t = next_task++; t < tasks.size(); t = next_task++) {
         if (!pipeline) pipeline.emplace(scene, config, options.face_cones, options.reuse_poses);
-        for (std::size_t i : tasks[t])
+        for (std::size_t i : tasks[t]) {
           outputs[i] = evaluate_state(*pipeline, scene, states[i], options.export_dir, camera_done);
+          // A model's Nef polyhedron is large and its results are in outputs[i].result: held
+          // until the end only when asked for, so the memory does not grow with the states.
+          if (!options.keep_models) outputs[i].model.reset();
+        }
       }
     } catch (...) {
       const std::lock_guard<std::mutex> lock(error_mutex);
