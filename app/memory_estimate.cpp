@@ -1,6 +1,7 @@
 #include "memory_estimate.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -146,10 +147,10 @@ ExactWork exact_work(const core::Scene& scene, int threads) {
 }
 
 double exact_memory_bytes(const ExactWork& w) {
-  constexpr double kBase = 96.0 * 1024 * 1024, kPerStateTriangle = 24e3, kPerPoseTriangle = 6e3;
-  return kBase + static_cast<double>(w.threads) * w.cameras *
-                     (kPerStateTriangle * static_cast<double>(w.state_triangles) +
-                      kPerPoseTriangle * static_cast<double>(w.pose_triangles));
+  // Fitted to two cells (docs/development.md, "Memory of the exact pipeline").
+  constexpr double kMiB = 1024.0 * 1024.0, kBase = 96.0 * kMiB, kA = 3.8 * kMiB, kP = 0.38;
+  const double t = static_cast<double>(w.state_triangles + w.pose_triangles);
+  return kBase + static_cast<double>(w.threads) * w.cameras * kA * std::pow(std::max(t, 1.0), kP);
 }
 
 void check_exact_memory(const ExactWork& work) {

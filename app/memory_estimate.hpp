@@ -59,10 +59,10 @@ struct ExactWork {
 ExactWork exact_work(const core::Scene& scene, int threads);
 
 /// Bytes the exact pipeline holds at most for `work`, fitted to the peak resident memory of
-/// `evaluate --pipeline exact` (docs/development.md, "Memory of the exact pipeline"):
-/// 96 MiB + K·C·(24 kB·state_triangles + 6 kB·pose_triangles), K threads, C cameras: each
-/// thread keeps one step's free region per camera (whose size grows with the triangles the
-/// cameras see) and the targets' cones per camera and pose.
+/// `evaluate --pipeline exact` on two cells (docs/development.md, "Memory of the exact
+/// pipeline"): 96 MiB + K·C·3.8 MiB·T^0.38, K threads, C cameras, T = state_triangles +
+/// pose_triangles: each thread keeps per camera one step's free region and the targets' cones
+/// per pose, whose size grows with the triangles the cameras see, more slowly than linearly.
 double exact_memory_bytes(const ExactWork& work);
 
 /// Throws std::runtime_error "the exact pipeline with 6 cameras, 2 threads and up to 7,138

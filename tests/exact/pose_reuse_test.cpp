@@ -51,9 +51,9 @@ core::Scene repeated_pose_scene(core::DynamicMode mode) {
   const double robot_y[3] = {1.5, 0.5, 1.45};
   for (int h = 0; h < 3; ++h) {
     core::TimeStep step;
-    step.dynamic_obstacles.push_back(mesh_object(
-        "robot", testing::ellipsoid(Vec3(2.0, robot_y[h], 1.0), Vec3(0.12, 0.12, 0.6), 8, 4,
-                                    Eigen::Matrix3d::Identity())));
+    step.dynamic_obstacles.push_back(
+        mesh_object("robot", testing::ellipsoid(Vec3(2.0, robot_y[h], 1.0), Vec3(0.12, 0.12, 0.6),
+                                                8, 4, Eigen::Matrix3d::Identity())));
     step.critical = step.dynamic_obstacles;
     for (int l = 0; l < 2; ++l) {
       core::Event e;
@@ -95,8 +95,7 @@ TEST(PoseReuse, StatesOfTheSamePoseGiveTheSameFractionsAsComputingEachState) {
         EXPECT_EQ(a.states[s].d_model_sq_exact, b.states[s].d_model_sq_exact) << "state " << s;
         EXPECT_EQ(a.states[s].model_volume_exact, b.states[s].model_volume_exact) << "state " << s;
         EXPECT_EQ(a.states[s].components, b.states[s].components) << "state " << s;
-        EXPECT_EQ(a.states[s].components_removed, b.states[s].components_removed)
-            << "state " << s;
+        EXPECT_EQ(a.states[s].components_removed, b.states[s].components_removed) << "state " << s;
       }
       EXPECT_EQ(a.err, b.err);
     }
