@@ -37,7 +37,7 @@ std::string resolution_name(const std::array<int, 3>& n) {
 }
 
 /// The memory estimate of each resolution's voxel pipeline (the finest refinement level, the
-/// largest need) against what is available; `option` sized the grids.
+/// largest need) and of the exact pipeline against what is available; `option` sized the grids.
 void check_compare_memory(const core::Scene& scene, std::vector<std::array<int, 3>> resolutions,
                           const std::vector<int>& levels, const std::string& option,
                           const std::string& command) {
@@ -49,6 +49,7 @@ void check_compare_memory(const core::Scene& scene, std::vector<std::array<int, 
                              std::to_string(scene.cameras.domains.size()) + " cameras" +
                              (level > 0 ? ", --refine up to " + std::to_string(level) : ""));
   for (const auto& n : resolutions) check_memory(voxel_work(scene, n, level, 1, false), option);
+  check_exact_memory(exact_work(scene, 0));  // the exact pipeline with one thread per core
 }
 
 /// "0,1,3" → refinement levels, each 0..voxel::kMaxRefine; an empty list or item is an error.

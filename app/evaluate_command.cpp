@@ -221,11 +221,14 @@ void run_evaluate(const EvaluateArgs& args) {
                              (args.refine > 0 ? ", --refine " + std::to_string(args.refine) : "") +
                              ", --pipeline " + args.pipeline);
   if (want_voxel) check_memory(work, resolution_option);
+  if (want_exact) check_exact_memory(exact_work(scene, args.threads));
   jobs::ProgressLine progress("evaluate", args.progress);
   if (progress.enabled()) {
     options.on_progress = [&progress](const std::string& stage, int done, int total) {
       if (total > 0) {
-        progress.update(stage + ", states", done, total);
+        progress.update(
+            stage + (stage == "exact evaluation" ? ", (state, camera) steps" : ", states"), done,
+            total);
       } else {
         progress.stage(stage);
       }

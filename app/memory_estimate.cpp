@@ -1,11 +1,14 @@
 #include "memory_estimate.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <stdexcept>
 #include <string>
+#include <thread>
+#include <unordered_set>
 
 #include "camplace/voxel/evaluator.hpp"
 
@@ -76,6 +79,90 @@ void check_memory(const VoxelWork& work, const std::string& option) {
                 need / unit, unit_name, *available / unit, unit_name,
                 work.refine > 0 ? " or fewer levels" : "");
   throw std::runtime_error(text);
+}
+
+namespace {
+
+long triangles_of(const std::vector<core::SceneObject>& objects) {
+  long n = 0;
+  for (const auto& o : objects) n += static_cast<long>(o.mesh.triangles.size());
+  return n;
+}
+
+/// A hash of a mesh's vertices and triangles (equal meshes, equal hashes).
+std::size_t mesh_hash(const core::TriangleMesh& mesh) {
+  std::size_t h = mesh.vertices.size() * 1000003u + mesh.triangles.size();
+  auto mix = [&h](double x) { h = (h ^ std::hash<double>{}(x)) * 1099511628211ull; };
+  for (const auto& v : mesh.vertices) {
+    mix(v.x());
+    mix(v.y());
+    mix(v.z());
+  }
+  for (const auto& t : mesh.triangles)
+    for (int i : t) mix(i);
+  return h;
+}
+
+/// GiB from 0.1 GiB on, MiB below (a test's tiny fake MemAvailable).
+std::string size_text(double bytes, double other) {
+  const bool gib = std::max(bytes, other) >= 0.1 * 1024 * 1024 * 1024;
+  char text[64];
+  std::snprintf(text, sizeof text, "%.2f %s", bytes / (gib ? 1024.0 * 1024 * 1024 : 1024.0 * 1024),
+                gib ? "GiB" : "MiB");
+  return text;
+}
+
+/// 7138 → "7,138".
+std::string thousands(long n) {
+  std::string digits = std::to_string(n), out;
+  for (std::size_t i = 0; i < digits.size(); ++i) {
+    if (i > 0 && (digits.size() - i) % 3 == 0) out += ',';
+    out += digits[i];
+  }
+  return out;
+}
+
+}  // namespace
+
+ExactWork exact_work(const core::Scene& scene, int threads) {
+  ExactWork w;
+  w.cameras = static_cast<int>(scene.cameras.domains.size());
+  const int cores = static_cast<int>(std::max(std::thread::hardware_concurrency(), 1u));
+  w.threads = std::max(1, std::min(threads > 0 ? threads : cores,
+                                   std::max(1, static_cast<int>(scene.time_steps.size()))));
+  const long statics = triangles_of(scene.static_obstacles);
+  std::unordered_set<std::size_t> poses;
+  for (const auto& step : scene.time_steps) {
+    const long step_triangles = statics + triangles_of(step.dynamic_obstacles);
+    for (const auto& event : step.events) {
+      w.state_triangles = std::max(w.state_triangles, step_triangles + triangles_of(event.targets));
+      for (const auto& t : event.targets) {
+        if (poses.insert(mesh_hash(t.mesh)).second) {
+          w.pose_triangles += static_cast<long>(t.mesh.triangles.size());
+        }
+      }
+    }
+  }
+  return w;
+}
+
+double exact_memory_bytes(const ExactWork& w) {
+  // Fitted to two cells (docs/development.md, "Memory of the exact pipeline").
+  constexpr double kMiB = 1024.0 * 1024.0, kBase = 96.0 * kMiB, kA = 3.8 * kMiB, kP = 0.38;
+  const double t = static_cast<double>(w.state_triangles + w.pose_triangles);
+  return kBase + static_cast<double>(w.threads) * w.cameras * kA * std::pow(std::max(t, 1.0), kP);
+}
+
+void check_exact_memory(const ExactWork& work) {
+  const std::optional<double> available = available_memory_bytes();
+  const double need = exact_memory_bytes(work);
+  if (!available || need <= *available) return;
+  throw std::runtime_error(
+      "the exact pipeline with " + std::to_string(work.cameras) + " cameras, " +
+      std::to_string(work.threads) + (work.threads == 1 ? " thread" : " threads") + " and up to " +
+      thousands(work.state_triangles) + " triangles per state needs about " +
+      size_text(need, *available) + ", more than the " + size_text(*available, need) +
+      " available; use fewer threads (--threads) or coarser meshes");
 }
 
 }  // namespace camplace::app

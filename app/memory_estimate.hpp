@@ -3,6 +3,7 @@
 /// has available: a command refuses work that would not fit instead of ending in
 /// std::bad_alloc after minutes.
 #include <array>
+#include <cstddef>
 #include <optional>
 #include <string>
 
@@ -44,5 +45,29 @@ std::optional<double> available_memory_bytes();
 /// `option`: the option that sized the grid ("--resolution", or "the scene's voxels" when none
 /// was given).
 void check_memory(const VoxelWork& work, const std::string& option);
+
+/// What sizes the exact pipeline's memory (exact::evaluate_exact).
+struct ExactWork {
+  int cameras = 0;
+  int threads = 1;           ///< states evaluated at a time, each thread with its own caches
+  long state_triangles = 0;  ///< the most triangles of one state (static, dynamic, targets)
+  long pose_triangles = 0;   ///< the triangles of the distinct target meshes (cached cones)
+};
+
+/// The exact work of `scene` with `threads` worker threads (0: one per core), capped at the
+/// number of time steps (each thread takes whole steps unless there are fewer steps than threads).
+ExactWork exact_work(const core::Scene& scene, int threads);
+
+/// Bytes the exact pipeline holds at most for `work`, fitted to the peak resident memory of
+/// `evaluate --pipeline exact` on two cells (docs/development.md, "Memory of the exact
+/// pipeline"): 96 MiB + K·C·3.8 MiB·T^0.38, K threads, C cameras, T = state_triangles +
+/// pose_triangles: each thread keeps per camera one step's free region and the targets' cones
+/// per pose, whose size grows with the triangles the cameras see, more slowly than linearly.
+double exact_memory_bytes(const ExactWork& work);
+
+/// Throws std::runtime_error "the exact pipeline with 6 cameras, 2 threads and up to 7,138
+/// triangles per state needs about N GiB, more than the M GiB available; ..." when
+/// exact_memory_bytes(work) exceeds what is available.
+void check_exact_memory(const ExactWork& work);
 
 }  // namespace camplace::app

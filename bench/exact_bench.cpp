@@ -8,7 +8,9 @@
 //   cameras    paper_basic with 3, 6 and 12 cameras (the corners, then 6 more at mid height), 1
 //              state
 //   cell       (outlines only) paper_basic's 6 states with each robot one ellipsoid of 5,000
-//              triangles and each person one of 2,000
+//              triangles and each person one of 2,000; with the targets' cones shared between
+//              states of the same pose (ExactOptions::reuse_poses, the default) and without
+//              (`outline-each-state`)
 // One iteration each (a full evaluation takes seconds to minutes); prints the figures, the
 // growth exponents (least-squares slope of log CPU time against log N) and the peak memory.
 //   build/release/bench/exact_bench
@@ -119,10 +121,11 @@ std::pair<core::Scene, core::CameraConfig> camera_scene(int cameras) {
 }
 
 void run(benchmark::State& state, const core::Scene& scene, const core::CameraConfig& config,
-         bool face_cones) {
+         bool face_cones, bool reuse_poses = true) {
   exact::ExactOptions options;
   options.threads = 1;
   options.face_cones = face_cones;
+  options.reuse_poses = reuse_poses;
   for (auto _ : state) {
     const exact::ExactEvaluation e = exact::evaluate_exact(scene, config, options);
     benchmark::DoNotOptimize(e.err);
@@ -157,14 +160,21 @@ void register_families() {
       }
     }
     if (!faces) {
-      benchmark::RegisterBenchmark("cell/outline/robot:5000/person:2000/states:6",
-                                   [](benchmark::State& state) {
-                                     run(state, fine_cell_scene(5000, 2000), corners(), false);
-                                   })
-          ->Iterations(1)
-          ->Unit(benchmark::kMillisecond)
-          ->MeasureProcessCPUTime()
-          ->UseRealTime();
+      // With the targets' cones shared between the states of the same pose (the default; the
+      // people stand at the same places in both time steps) and built for every state.
+      for (const bool reuse : {true, false}) {
+        benchmark::RegisterBenchmark(
+            (std::string(reuse ? "cell/outline" : "cell/outline-each-state") +
+             "/robot:5000/person:2000/states:6")
+                .c_str(),
+            [reuse](benchmark::State& state) {
+              run(state, fine_cell_scene(5000, 2000), corners(), false, reuse);
+            })
+            ->Iterations(1)
+            ->Unit(benchmark::kMillisecond)
+            ->MeasureProcessCPUTime()
+            ->UseRealTime();
+      }
     }
     for (const int n : {3, 6, 12}) {
       benchmark::RegisterBenchmark(

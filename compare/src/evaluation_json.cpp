@@ -279,6 +279,11 @@ nlohmann::json exact_result(const core::Scene& scene, const core::CameraConfig& 
   exact::ExactOptions exact_options;
   exact_options.export_dir = options.export_dir;
   exact_options.threads = options.threads;
+  if (options.on_progress) {
+    exact_options.on_progress = [&options](long done, long total) {
+      options.on_progress("exact evaluation", static_cast<int>(done), static_cast<int>(total));
+    };
+  }
   return exact_json(exact::evaluate_exact(scene, config, exact_options), options.exact_fractions);
 }
 #else
@@ -354,9 +359,8 @@ EvaluationJson evaluate_json(const core::Scene& scene, const core::CameraConfig&
     }
   }
   if (want_exact) {
-    progress("exact evaluation", 0, state_count);
+    // Progress in (state, camera) steps, from the exact pipeline's worker threads.
     ex = exact_result(scene, config, options);
-    progress("exact evaluation", state_count, state_count);
   }
   // One shape for every pipeline (docs/files.md): "voxel", "exact" and "differences" always,
   // null where nothing ran; one pipeline's members also at the top level.

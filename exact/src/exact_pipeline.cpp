@@ -15,6 +15,7 @@
 #include <cmath>
 #include <exception>
 #include <filesystem>
+#include <functional>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -102,10 +103,11 @@ struct StateOutput {
 };
 
 StateOutput evaluate_state(Pipeline& pipeline, const core::Scene& scene, const core::StateIndex& s,
-                           const std::string& export_dir) {
+                           const std::string& export_dir,
+                           const std::function<void()>& camera_done) {
   StateOutput out;
   auto t0 = Clock::now();
-  auto [m, discarded] = pipeline.model(s);
+  auto [m, discarded] = pipeline.model(s, camera_done);
   out.labelling_ms = ms_since(t0);
 
   t0 = Clock::now();
@@ -179,10 +181,23 @@ ExactEvaluation evaluate_exact(const core::Scene& scene, const core::CameraConfi
   core::check_configuration(scene, config);
   if (!options.export_dir.empty()) {
     std::filesystem::create_directories(options.export_dir);
-    export_fovs(Pipeline(scene, config, options.face_cones), options.export_dir);
+    export_fovs(Pipeline(scene, config, options.face_cones, options.reuse_poses),
+                options.export_dir);
   }
   const std::vector<core::StateIndex> states = core::states(scene);
   const auto tasks = make_tasks(states, options.threads);
+  // Progress in (state, camera) steps, reported one call at a time.
+  const long total_steps = long(states.size()) * long(config.size());
+  long steps_done = 0;
+  std::mutex progress_mutex;
+  std::function<void()> camera_done;
+  if (options.on_progress) {
+    options.on_progress(0, total_steps);
+    camera_done = [&] {
+      const std::lock_guard<std::mutex> lock(progress_mutex);
+      options.on_progress(++steps_done, total_steps);
+    };
+  }
   std::vector<StateOutput> outputs(states.size());
   // Each thread owns its Pipeline: CGAL's lazy exact numbers and Nef polyhedra are never shared
   // between threads; a model built by a worker is handed over when the worker has joined.
@@ -193,9 +208,13 @@ ExactEvaluation evaluate_exact(const core::Scene& scene, const core::CameraConfi
     try {
       std::optional<Pipeline> pipeline;
       for (std::size_t t = next_task++; t < tasks.size(); t = next_task++) {
-        if (!pipeline) pipeline.emplace(scene, config, options.face_cones);
-        for (std::size_t i : tasks[t])
-          outputs[i] = evaluate_state(*pipeline, scene, states[i], options.export_dir);
+        if (!pipeline) pipeline.emplace(scene, config, options.face_cones, options.reuse_poses);
+        for (std::size_t i : tasks[t]) {
+          outputs[i] = evaluate_state(*pipeline, scene, states[i], options.export_dir, camera_done);
+          // A model's Nef polyhedron is large and its results are in outputs[i].result: held
+          // until the end only when asked for, so the memory does not grow with the states.
+          if (!options.keep_models) outputs[i].model.reset();
+        }
       }
     } catch (...) {
       const std::lock_guard<std::mutex> lock(error_mutex);
@@ -228,7 +247,7 @@ ExactEvaluation evaluate_exact(const core::Scene& scene, const core::CameraConfi
 
 ExactModel build_exact_model(const core::Scene& scene, const core::CameraConfig& config,
                              const core::StateIndex& state, const ExactOptions& options) {
-  Pipeline pipeline(scene, config, options.face_cones);
+  Pipeline pipeline(scene, config, options.face_cones, options.reuse_poses);
   return ExactModel(cluster(pipeline.model(state).nef, scene.plausibility));
 }
 

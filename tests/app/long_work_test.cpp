@@ -86,6 +86,26 @@ TEST(LongWork, MemoryEstimateRefusesWhatExceedsTheAvailableMemory) {
       << exported.output;
 }
 
+// The exact pipeline's estimate (app/memory_estimate.hpp) for paper_basic with one thread: C = 6
+// cameras, T = 28 triangles of the largest state (2 static tetrahedra, 3 robot tetrahedra, 2
+// person tetrahedra) + 24 of the 6 distinct person tetrahedra = 52;
+//   96 MiB + 1·6·3.8 MiB·52^0.38 = 207967325 B = 0.19 GiB (198.3 MiB).
+// So 150,000 kB (0.14 GiB) refuses it before any work and 250,000 kB lets it run.
+TEST(LongWork, ExactMemoryEstimateRefusesWhatExceedsTheAvailableMemory) {
+  const CommandResult refused =
+      run_with_memory("150000", "evaluate " + kBasic + " --pipeline exact --threads 1");
+  EXPECT_EQ(refused.exit_code, 1) << refused.output;
+  EXPECT_TRUE(has(refused.output,
+                  "error: the exact pipeline with 6 cameras, 1 thread and up to 28 triangles per "
+                  "state needs about 0.19 GiB, more than the 0.14 GiB available; use fewer "
+                  "threads (--threads) or coarser meshes"))
+      << refused.output;
+  EXPECT_FALSE(has(refused.output, "Err"));
+  const CommandResult ran =
+      run_with_memory("250000", "evaluate " + kBasic + " --pipeline exact --threads 1");
+  EXPECT_EQ(ran.exit_code, 0) << ran.output;
+}
+
 /// Starts `camplace args...` with stdout and stderr into `log`.
 template <class... Args>
 pid_t start(const std::string& log, Args... args) {

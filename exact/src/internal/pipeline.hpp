@@ -11,7 +11,20 @@
 //       outline_cone); a convex solid nothing hides, or every solid as a reference
 //       (ExactOptions::face_cones), by occupied_cone (one hull, or one cone per face).
 //   M = reg(S ∖ obstacles ∖ ∪_c Free_c) (SPEC §4, regularised: closure of the interior).
+//
+// What is computed once and reused (per Pipeline, i.e. per worker thread):
+//   static part   FOV ∩ clip box minus the static obstacles' shadows, per camera;
+//   step part     that minus the step's dynamic obstacles' shadows or cones, per camera and step
+//                 (dropped when the pipeline moves on to another step);
+//   target cones  the union V of a state's targets, per camera and per pose: states whose targets
+//                 have the same meshes (vertex for vertex) and whose occluders have the same
+//                 meshes share it (a person standing at the same place in every time step);
+//   step area     S minus the step's obstacles, per step (dropped likewise).
 #include <cmath>
+#include <cstddef>
+#include <cstring>
+#include <functional>
+#include <map>
 #include <optional>
 #include <unordered_map>
 #include <vector>
@@ -31,8 +44,11 @@ class Pipeline {
  public:
   /// Throws core::InputError when the configuration does not match the scene. `face_cones`: the
   /// reference construction of the silhouette cones (ExactOptions::face_cones).
-  Pipeline(const core::Scene& scene, const core::CameraConfig& config, bool face_cones = false)
-      : scene_(scene), face_cones_(face_cones) {
+  /// `reuse_poses`: share the targets' cones between states of the same pose (off: the reference
+  /// for tests, ExactOptions::reuse_poses).
+  Pipeline(const core::Scene& scene, const core::CameraConfig& config, bool face_cones = false,
+           bool reuse_poses = true)
+      : scene_(scene), face_cones_(face_cones), reuse_poses_(reuse_poses) {
     core::check_configuration(scene, config);
     area_ = box_nef(scene.area);
     // The FOVs are clipped to a box a little larger than S rather than to S itself: the model's
@@ -44,7 +60,10 @@ class Pipeline {
                           scene.area.max + core::Vec3::Constant(margin)};
     const Nef clip_box = box_nef(clip);
     auto add = [this](const std::vector<core::SceneObject>& objects) {
-      for (const auto& o : objects) solids_.try_emplace(&o, o.mesh);
+      for (const auto& o : objects) {
+        solids_.try_emplace(&o, o.mesh);
+        shape_.emplace(&o, shape_id(o.mesh));
+      }
     };
     add(scene.static_obstacles);
     for (const auto& step : scene.time_steps) {
@@ -77,15 +96,26 @@ class Pipeline {
   /// smaller than the union). Between cameras, the pieces that the filter will certainly remove
   /// are discarded (on paper_basic most of the model's vertices, so the later booleans cost
   /// ~40% less).
-  StateModel model(const core::StateIndex& s) {
+  /// `camera_done` (may be empty) is called after each camera's step, also for the cameras
+  /// skipped because the model is already empty.
+  StateModel model(const core::StateIndex& s, const std::function<void()>& camera_done = {}) {
     const auto objects = core::state_objects(scene_, s);
+    // A step's caches are dropped when the pipeline moves on to another step: the worker threads
+    // take whole time steps (or slices of one), so a thread holds one step's at a time, not every
+    // step's (at worst a step is visited again and its part recomputed: the same sets).
+    if (current_step_ >= 0 && current_step_ != s.time_step) release_step(current_step_);
+    current_step_ = s.time_step;
     StateModel out;
     Nef m = step_area(s.time_step, objects);
-    for (std::size_t c = 0; c < cameras_.size() && !m.is_empty(); ++c) {
+    std::size_t c = 0;
+    for (; c < cameras_.size() && !m.is_empty(); ++c) {
       const Nef free = state_free(c, s, objects);
       if (!free.is_empty()) m -= free;
       if (c + 1 < cameras_.size()) out.discarded += discard_implausible(m, scene_.plausibility);
+      if (camera_done) camera_done();
     }
+    for (; c < cameras_.size(); ++c)
+      if (camera_done) camera_done();
     out.nef = m.regularization();
     return out;
   }
@@ -131,14 +161,11 @@ class Pipeline {
     return out;
   }
 
-  /// `free` minus what camera c cannot see past among the state's objects of one kind: shadows
-  /// of the occluding ones, silhouette cones of the occupying ones. Empty when c lies inside one
-  /// of them.
-  Nef remove_hidden(std::size_t c, Nef free, const std::vector<core::StateObject>& objects,
-                    core::ObjectKind kind) const {
+  /// What camera c cannot see past among the state's objects of one kind: shadows of the
+  /// occluding ones, silhouette cones of the occupying ones (c outside all of them).
+  Nef hidden(std::size_t c, const std::vector<core::StateObject>& objects,
+             core::ObjectKind kind) const {
     const ViewPoint& cam = cameras_[c].view;
-    if (free.is_empty()) return free;
-    if (camera_inside(cam, of_kind(objects, kind))) return Nef();
     const auto blockers = occluders(objects);
     std::vector<Nef> parts;
     std::vector<const Faces*> occupying;
@@ -159,7 +186,16 @@ class Pipeline {
       const std::vector<const Faces*> blocking(blockers.begin(), blockers.end());
       parts.push_back(outline_cone(cam, occupied_outline(cameras_[c].image, occupying, blocking)));
     }
-    const Nef removed = union_all(std::move(parts));
+    return union_all(std::move(parts));
+  }
+
+  /// `free` minus what camera c cannot see past among the state's objects of one kind (hidden).
+  /// Empty when c lies inside one of them.
+  Nef remove_hidden(std::size_t c, Nef free, const std::vector<core::StateObject>& objects,
+                    core::ObjectKind kind) const {
+    if (free.is_empty()) return free;
+    if (camera_inside(cameras_[c].view, of_kind(objects, kind))) return Nef();
+    const Nef removed = hidden(c, objects, kind);
     if (!removed.is_empty()) free -= removed;
     return free;
   }
@@ -187,10 +223,61 @@ class Pipeline {
     return *slot[h];
   }
 
-  /// Free_c of SPEC §3 for one state.
+  /// Free_c of SPEC §3 for one state: step_free minus the targets' cones, which depend only on
+  /// the camera, the targets' meshes and the occluders' meshes (hidden; targets never occlude),
+  /// so states of the same pose share them (target_cones_).
   Nef state_free(std::size_t c, const core::StateIndex& s,
                  const std::vector<core::StateObject>& objects) {
-    return remove_hidden(c, step_free(c, s.time_step, objects), objects, core::ObjectKind::target);
+    const Nef& free = step_free(c, s.time_step, objects);
+    if (!reuse_poses_) return remove_hidden(c, free, objects, core::ObjectKind::target);
+    if (free.is_empty()) return free;
+    if (camera_inside(cameras_[c].view, of_kind(objects, core::ObjectKind::target))) return Nef();
+    // The key: the camera, the targets' shapes in order, a separator, the occluders' shapes.
+    std::vector<int> key{int(c)};
+    for (const auto& o : objects)
+      if (o.kind == core::ObjectKind::target) key.push_back(shape_.at(o.object));
+    key.push_back(-1);
+    for (const auto& o : objects)
+      if (o.role == core::ObjectRole::occluding) key.push_back(shape_.at(o.object));
+    auto it = target_cones_.find(key);
+    if (it == target_cones_.end())
+      it = target_cones_.emplace(key, hidden(c, objects, core::ObjectKind::target)).first;
+    if (it->second.is_empty()) return free;
+    return free - it->second;
+  }
+
+  /// The id of a mesh's shape: meshes with the same vertices (bit for bit) and triangles get the
+  /// same id.
+  int shape_id(const core::TriangleMesh& mesh) {
+    std::size_t h = mesh.vertices.size() * 1000003u + mesh.triangles.size();
+    auto mix = [&h](const void* data, std::size_t bytes) {
+      for (std::size_t i = 0; i < bytes; ++i)
+        h = (h ^ static_cast<const unsigned char*>(data)[i]) * 1099511628211ull;
+    };
+    for (const auto& v : mesh.vertices) {
+      const double xyz[3] = {v.x(), v.y(), v.z()};
+      mix(xyz, sizeof xyz);
+    }
+    for (const auto& t : mesh.triangles) mix(t.data(), sizeof(int) * 3);
+    auto& bucket = shapes_by_hash_[h];
+    for (const auto& [other, id] : bucket) {
+      if (other->triangles != mesh.triangles || other->vertices.size() != mesh.vertices.size())
+        continue;
+      bool same = true;
+      for (std::size_t i = 0; i < mesh.vertices.size() && same; ++i)
+        same = std::memcmp(mesh.vertices[i].data(), other->vertices[i].data(),
+                           3 * sizeof(double)) == 0;
+      if (same) return id;
+    }
+    bucket.emplace_back(&mesh, next_shape_);
+    return next_shape_++;
+  }
+
+  /// Drops the caches of time step h.
+  void release_step(int h) {
+    for (auto& slot : step_free_)
+      if (std::size_t(h) < slot.size()) slot[h].reset();
+    step_area_[h].reset();
   }
 
   /// S minus the obstacles of step h (cached per step; targets are no obstacles, SPEC §4).
@@ -209,11 +296,18 @@ class Pipeline {
 
   const core::Scene& scene_;
   bool face_cones_ = false;
+  bool reuse_poses_ = true;
+  std::unordered_map<const core::SceneObject*, int> shape_;
+  std::unordered_map<std::size_t, std::vector<std::pair<const core::TriangleMesh*, int>>>
+      shapes_by_hash_;
+  int next_shape_ = 0;
+  std::map<std::vector<int>, Nef> target_cones_;
   Nef area_;
   std::unordered_map<const core::SceneObject*, Solid> solids_;
   std::vector<Camera> cameras_;
   std::vector<std::vector<std::optional<Nef>>> step_free_;
   std::vector<std::optional<Nef>> step_area_;
+  int current_step_ = -1;
 };
 
 }  // namespace camplace::exact::internal

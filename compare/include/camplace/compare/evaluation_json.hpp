@@ -35,9 +35,11 @@ struct EvaluationOptions {
   std::string cameras_file;
   /// Voxel pipeline: also return each state's filtered model (Evaluation::voxel_models).
   bool voxel_models = false;
-  /// Called from the calling thread as the work advances: the stage ("voxel set-up 16x12x12",
-  /// "voxel evaluation", "voxel diagnostics", "exact evaluation"), the states done in it and
-  /// their total (0: the stage reports no count). Empty: none.
+  /// Called as the work advances: the stage ("voxel set-up 16x12x12", "voxel evaluation",
+  /// "voxel diagnostics", "exact evaluation"), the steps done in it and their total (0: the stage
+  /// reports no count): states, and for "exact evaluation" (state, camera) steps, reported from
+  /// the exact pipeline's worker threads one call at a time; the others from the calling thread.
+  /// Empty: none.
   std::function<void(const std::string& stage, int done, int total)> on_progress;
 };
 

@@ -2,6 +2,7 @@
 /// The exact reference pipeline of SPEC §6: the model of SPEC §3–4 built with CGAL Nef polyhedra
 /// (Epeck) on the inscribed k-sided camera pyramids, exact component volumes and z-extents for the
 /// plausibility filter, exact squared distances. No CGAL type appears here.
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -29,6 +30,14 @@ struct ExactOptions {
   /// construction: the same model exactly, much slower on fine meshes; a reference for tests and
   /// benchmarks) instead of the cones over the objects' outlines in each camera's image plane.
   bool face_cones = false;
+  /// Share the targets' silhouette cones between the states whose targets have the same meshes
+  /// (vertex for vertex) and whose occluding objects have the same meshes, e.g. a person standing
+  /// at the same place in every time step. Off: every state builds its own (the reference for
+  /// tests). The results do not depend on it.
+  bool reuse_poses = true;
+  /// Called as the work advances with the (state, camera) steps done and their total (states ×
+  /// cameras); from the worker threads, one call at a time. Empty: none.
+  std::function<void(long done, long total)> on_progress;
 };
 
 /// One connected component of a model (connected through interiors), before the filter.
