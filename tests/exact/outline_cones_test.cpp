@@ -24,14 +24,6 @@ namespace {
 
 using core::Vec3;
 
-core::SceneObject object(const std::string& name, core::TriangleMesh mesh) {
-  core::SceneObject o;
-  o.name = o.entry = name;
-  o.mesh = std::move(mesh);
-  o.bounds = core::bounding_box(o.mesh);
-  return o;
-}
-
 /// An ellipsoid of 50–800 triangles with semi-axes `radii` (at most 0.4 m), randomly turned.
 core::TriangleMesh random_ellipsoid(std::mt19937& rng, const Vec3& center, const Vec3& radii) {
   int slices = 0, stacks = 0;
@@ -67,15 +59,15 @@ core::Scene fine_mesh_scene(std::mt19937& rng, bool filter) {
   {
     const Vec3 c = cell_center(), h(0.2 + 0.2 * unit(rng), 0.2 + 0.2 * unit(rng), 0.4);
     scene.static_obstacles.push_back(
-        object("shelf", testing::subdivided_box(c - h, c + h, 2 + int(rng() % 5))));
+        testing::mesh_object("shelf", testing::subdivided_box(c - h, c + h, 2 + int(rng() % 5))));
   }
   core::TimeStep& step = scene.time_steps[0];
   step.events.clear();
   const Vec3 robot = cell_center();
-  step.dynamic_obstacles.push_back(
-      object("robot base", random_ellipsoid(rng, robot, Vec3(0.15 + 0.2 * unit(rng), 0.15, 0.35))));
+  step.dynamic_obstacles.push_back(testing::mesh_object(
+      "robot base", random_ellipsoid(rng, robot, Vec3(0.15 + 0.2 * unit(rng), 0.15, 0.35))));
   if (unit(rng) < 0.5)
-    step.dynamic_obstacles.push_back(object(
+    step.dynamic_obstacles.push_back(testing::mesh_object(
         "robot arm", random_ellipsoid(rng, robot + Vec3(0.1, 0, 0.2), Vec3(0.3, 0.08, 0.08))));
   step.critical = step.dynamic_obstacles;
   const int events = 1 + int(rng() % 2);
@@ -83,14 +75,15 @@ core::Scene fine_mesh_scene(std::mt19937& rng, bool filter) {
     core::Event e;
     e.weight = 1.0 / events;
     const Vec3 c = cell_center();
-    e.targets.push_back(object("torso", random_ellipsoid(rng, c, Vec3(0.25, 0.15, 0.4))));
     e.targets.push_back(
-        object("head", random_ellipsoid(rng, c + Vec3(0, 0, 0.45), Vec3(0.12, 0.12, 0.15))));
+        testing::mesh_object("torso", random_ellipsoid(rng, c, Vec3(0.25, 0.15, 0.4))));
+    e.targets.push_back(testing::mesh_object(
+        "head", random_ellipsoid(rng, c + Vec3(0, 0, 0.45), Vec3(0.12, 0.12, 0.15))));
     if (unit(rng) < 0.5) {
       const Vec3 b = cell_center(), h(0.15, 0.15, 0.25);
-      e.targets.push_back(
-          object("bag", testing::moved(testing::subdivided_box(-h, h, 2 + int(rng() % 4)),
-                                       testing::random_rotation(rng), b)));
+      e.targets.push_back(testing::mesh_object(
+          "bag", testing::moved(testing::subdivided_box(-h, h, 2 + int(rng() % 4)),
+                                testing::random_rotation(rng), b)));
     }
     step.events.push_back(std::move(e));
   }

@@ -19,14 +19,7 @@ namespace camplace {
 namespace {
 
 using core::Vec3;
-
-core::SceneObject mesh_object(const std::string& name, core::TriangleMesh mesh) {
-  core::SceneObject o;
-  o.name = o.entry = name;
-  o.mesh = std::move(mesh);
-  o.bounds = core::bounding_box(o.mesh);
-  return o;
-}
+using testing::mesh_object;
 
 /// A person of two ellipsoids (torso, head) standing at (x, y).
 std::vector<core::SceneObject> person(double x, double y) {

@@ -72,12 +72,16 @@ core::TriangleMesh ellipsoid_mesh(const core::Box3& box, int triangles) {
   return mesh;
 }
 
-core::SceneObject ellipsoid_object(const std::string& name, const core::Box3& box, int triangles) {
+core::SceneObject mesh_object(const std::string& name, core::TriangleMesh mesh) {
   core::SceneObject o;
   o.name = o.entry = name;
-  o.mesh = ellipsoid_mesh(box, triangles);
+  o.mesh = std::move(mesh);
   o.bounds = core::bounding_box(o.mesh);
   return o;
+}
+
+core::SceneObject ellipsoid_object(const std::string& name, const core::Box3& box, int triangles) {
+  return mesh_object(name, ellipsoid_mesh(box, triangles));
 }
 
 core::SceneObject tetra_object(const std::string& name, const Vec3& a, const Vec3& b, const Vec3& c,

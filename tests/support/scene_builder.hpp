@@ -19,6 +19,8 @@ core::SceneObject box_object(const std::string& name, const core::Vec3& min, con
 /// `triangles` is odd or below 6 (m ≥ 3) or the box is empty along an axis.
 core::TriangleMesh ellipsoid_mesh(const core::Box3& box, int triangles);
 /// An object of ellipsoid_mesh(box, triangles), bounds set.
+/// An object named `name` (its entry too) of the given mesh, with its bounds.
+core::SceneObject mesh_object(const std::string& name, core::TriangleMesh mesh);
 core::SceneObject ellipsoid_object(const std::string& name, const core::Box3& box, int triangles);
 /// Tetrahedron object, oriented outward whatever the order of the points.
 core::SceneObject tetra_object(const std::string& name, const core::Vec3& a, const core::Vec3& b,
