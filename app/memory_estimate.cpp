@@ -10,6 +10,7 @@
 #include <thread>
 #include <unordered_set>
 
+#include "camplace/core/table_text.hpp"
 #include "camplace/voxel/evaluator.hpp"
 
 namespace camplace::app {
@@ -61,24 +62,32 @@ std::optional<double> available_memory_bytes() {
   return std::nullopt;
 }
 
+namespace {
+
+/// `bytes` as "1.25 GiB", in GiB when it or `other` (the figure printed beside it) reaches
+/// 0.1 GiB, else in MiB (a test's tiny fake MemAvailable).
+std::string size_text(double bytes, double other) {
+  const bool gib = std::max(bytes, other) >= 0.1 * 1024 * 1024 * 1024;
+  char text[64];
+  std::snprintf(text, sizeof text, "%.2f %s", bytes / (gib ? 1024.0 * 1024 * 1024 : 1024.0 * 1024),
+                gib ? "GiB" : "MiB");
+  return text;
+}
+
+}  // namespace
+
 void check_memory(const VoxelWork& work, const std::string& option) {
   const std::optional<double> available = available_memory_bytes();
   const double need = voxel_memory_bytes(work);
   if (!available || need <= *available) return;
-  // GiB from 0.1 GiB on, MiB below (a test's tiny fake MemAvailable).
-  const bool gib = std::max(need, *available) >= 0.1 * 1024 * 1024 * 1024;
-  const double unit = gib ? 1024.0 * 1024.0 * 1024.0 : 1024.0 * 1024.0;
-  const char* unit_name = gib ? "GiB" : "MiB";
   const std::string refine =
       work.refine > 0 ? " and --refine " + std::to_string(work.refine) : std::string();
-  char text[512];
-  std::snprintf(text, sizeof text,
-                "%s %dx%dx%d with %d cameras%s needs about %.2f %s, more than the %.2f %s "
-                "available; use a coarser grid%s",
-                option.c_str(), work.n[0], work.n[1], work.n[2], work.cameras, refine.c_str(),
-                need / unit, unit_name, *available / unit, unit_name,
-                work.refine > 0 ? " or fewer levels" : "");
-  throw std::runtime_error(text);
+  throw std::runtime_error(option + " " + std::to_string(work.n[0]) + "x" +
+                           std::to_string(work.n[1]) + "x" + std::to_string(work.n[2]) + " with " +
+                           std::to_string(work.cameras) + " cameras" + refine + " needs about " +
+                           size_text(need, *available) + ", more than the " +
+                           size_text(*available, need) + " available; use a coarser grid" +
+                           (work.refine > 0 ? " or fewer levels" : ""));
 }
 
 namespace {
@@ -101,25 +110,6 @@ std::size_t mesh_hash(const core::TriangleMesh& mesh) {
   for (const auto& t : mesh.triangles)
     for (int i : t) mix(i);
   return h;
-}
-
-/// GiB from 0.1 GiB on, MiB below (a test's tiny fake MemAvailable).
-std::string size_text(double bytes, double other) {
-  const bool gib = std::max(bytes, other) >= 0.1 * 1024 * 1024 * 1024;
-  char text[64];
-  std::snprintf(text, sizeof text, "%.2f %s", bytes / (gib ? 1024.0 * 1024 * 1024 : 1024.0 * 1024),
-                gib ? "GiB" : "MiB");
-  return text;
-}
-
-/// 7138 → "7,138".
-std::string thousands(long n) {
-  std::string digits = std::to_string(n), out;
-  for (std::size_t i = 0; i < digits.size(); ++i) {
-    if (i > 0 && (digits.size() - i) % 3 == 0) out += ',';
-    out += digits[i];
-  }
-  return out;
 }
 
 }  // namespace
@@ -160,7 +150,7 @@ void check_exact_memory(const ExactWork& work) {
   throw std::runtime_error(
       "the exact pipeline with " + std::to_string(work.cameras) + " cameras, " +
       std::to_string(work.threads) + (work.threads == 1 ? " thread" : " threads") + " and up to " +
-      thousands(work.state_triangles) + " triangles per state needs about " +
+      core::thousands(work.state_triangles) + " triangles per state needs about " +
       size_text(need, *available) + ", more than the " + size_text(*available, need) +
       " available; use fewer threads (--threads) or coarser meshes");
 }

@@ -11,6 +11,7 @@
 #include <cstdio>
 
 #include "camplace/core/error.hpp"
+#include "camplace/core/table_text.hpp"
 #include "mesh_checks.hpp"
 #include "scene_format.hpp"
 #include "scene_limits.hpp"
@@ -57,15 +58,6 @@ constexpr double kMinStature = 0.5, kMaxStature = 2.5;
 constexpr double kDefaultHeightLo = 1.535, kDefaultHeightHi = 1.855;  // DIN 33402-2:2005
 
 std::string fmt(double v) { return format_number(v); }
-
-std::string thousands(long long n) {
-  std::string digits = std::to_string(n), out;
-  for (std::size_t i = 0; i < digits.size(); ++i) {
-    if (i > 0 && (digits.size() - i) % 3 == 0) out += ',';
-    out += digits[i];
-  }
-  return out;
-}
 
 bool boxes_meet(const Box3& a, const Box3& b) {
   return (a.min.array() <= b.max.array()).all() && (b.min.array() <= a.max.array()).all();

@@ -4,19 +4,9 @@
 
 #include "camplace/core/json_reader.hpp"
 #include "camplace/core/scene.hpp"
+#include "camplace/core/table_text.hpp"
 
 namespace camplace::core {
-
-namespace {
-
-/// 1980 -> "1,980".
-std::string with_thousands(int n) {
-  std::string digits = std::to_string(n < 0 ? -static_cast<long long>(n) : n);
-  for (int i = static_cast<int>(digits.size()) - 3; i > 0; i -= 3) digits.insert(i, ",");
-  return n < 0 ? "-" + digits : digits;
-}
-
-}  // namespace
 
 std::vector<std::string> repair_warnings(const Scene& scene) {
   std::vector<std::string> lines;
@@ -25,8 +15,7 @@ std::vector<std::string> repair_warnings(const Scene& scene) {
     std::string line =
         scene.file + ": " + r.entry + ": mesh \"" + r.object + "\" repaired by " + r.method + " (";
     if (r.method == "wrap") line += "offset " + format_number(r.offset) + " m, ";
-    line += with_thousands(r.triangles_before) + " → " + with_thousands(r.triangles_after) +
-            " triangles): ";
+    line += thousands(r.triangles_before) + " → " + thousands(r.triangles_after) + " triangles): ";
     line += r.defect.empty() ? "it passed the checks, repaired because \"always\" is true"
                              : "it failed the checks (" + r.defect + ")";
     const std::string role = r.role.empty() ? "object" : r.role;

@@ -4,6 +4,12 @@
 
 namespace camplace::core {
 
+std::string thousands(long long n) {
+  std::string digits = std::to_string(n < 0 ? -(n + 1) + 1ull : static_cast<unsigned long long>(n));
+  for (int i = static_cast<int>(digits.size()) - 3; i > 0; i -= 3) digits.insert(i, ",");
+  return n < 0 ? "-" + digits : digits;
+}
+
 std::vector<std::vector<std::string>> csv_records(const std::string& text) {
   std::vector<std::vector<std::string>> records;
   std::vector<std::string> record;

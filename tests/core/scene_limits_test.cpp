@@ -110,6 +110,16 @@ TEST(TableText, CsvFieldsAreQuotedAsRfc4180Says) {
   EXPECT_EQ(core::csv_field(" padded"), "\" padded\"");
 }
 
+TEST(TableText, ThousandsAreGroupedByCommas) {
+  EXPECT_EQ(core::thousands(0), "0");
+  EXPECT_EQ(core::thousands(999), "999");
+  EXPECT_EQ(core::thousands(1000), "1,000");
+  EXPECT_EQ(core::thousands(7138), "7,138");
+  EXPECT_EQ(core::thousands(-1980), "-1,980");
+  EXPECT_EQ(core::thousands(1234567890123LL), "1,234,567,890,123");
+  EXPECT_EQ(core::thousands(-9223372036854775807LL - 1), "-9,223,372,036,854,775,808");
+}
+
 TEST(TableText, CsvRecordsReadBackEveryFieldTheWriterQuotes) {
   // Every awkward field, written by csv_field, comes back as it was (the records by hand).
   const std::vector<std::string> fields = {"plain",    "",        "a,b", "say \"hi\"", "two\nlines",

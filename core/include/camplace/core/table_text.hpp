@@ -42,6 +42,9 @@ inline std::string md_cell(const std::string& text) {
   return out;
 }
 
+/// `n` with its thousands grouped by commas: 7138 → "7,138", −1980 → "-1,980".
+std::string thousands(long long n);
+
 /// The records of a CSV text as RFC 4180 writes them (csv_field): fields split on commas outside
 /// double quotes, `""` inside quotes read as one quote, and line breaks (LF or CR LF) inside
 /// quotes kept as part of the field. A final line break ends the last record; an empty text has
