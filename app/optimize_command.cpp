@@ -395,9 +395,7 @@ void register_optimize_command(CLI::App& app) {
   cmd->add_option("--algorithm", args->algorithm, "solver (see below)")
       ->check(CLI::IsMember(optimize::algorithm_names()));
   cmd->add_option("--objective", args->objective,
-                  "what the solvers minimise: err (Err alone) or err+volume (Err, its ties on "
-                  "the plateau broken by the model's volume); runs report the true Err either "
-                  "way")
+                  "what the solvers minimise (see below); runs report the true Err either way")
       ->check(CLI::IsMember(optimize::objective_names()));
   cmd->add_option("--seed", args->seed, "seed of the first run; run i uses seed+i");
   cmd->add_option("--runs", args->runs, "number of runs R")->check(in_range(1, 100000));

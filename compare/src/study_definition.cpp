@@ -15,12 +15,38 @@
 #include "camplace/voxel/evaluator.hpp"
 
 namespace camplace::compare::detail {
+namespace {
+
+/// A `refine` entry (of the study or of one examination): a level voxel::kMaxRefine allows, and
+/// only in conservative mode.
+int read_refine(const core::JsonNode& node, core::LabelMode mode) {
+  const int refine = node.integer_in(0, voxel::kMaxRefine);
+  if (refine > 0 && mode != core::LabelMode::conservative) {
+    node.fail("refinement needs \"mode\": \"conservative\"");
+  }
+  return refine;
+}
+
+/// An `objective` entry: one of optimize::objective_names().
+std::string read_objective(const core::JsonNode& node) {
+  const std::string objective = node.string();
+  const std::vector<std::string>& names = optimize::objective_names();
+  if (std::find(names.begin(), names.end(), objective) == names.end()) {
+    std::string list;
+    for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+    node.fail("unknown objective \"" + objective + "\" (expected one of: " + list + ")");
+  }
+  return objective;
+}
+
+}  // namespace
 
 StudySpec parse_study(const std::string& path) {
   const nlohmann::json doc = core::read_json_file(path);
   const core::JsonNode root(doc, path, "");
-  root.only_keys({"description", "base", "algorithm", "mode", "refine", "runs_per_group", "threads",
-                  "first_seed", "scene_seed", "time_limit_s", "max_evaluations", "examinations"});
+  root.only_keys({"description", "base", "algorithm", "objective", "mode", "refine",
+                  "runs_per_group", "threads", "first_seed", "scene_seed", "time_limit_s",
+                  "max_evaluations", "examinations"});
   StudySpec s;
   s.name = std::filesystem::path(path).stem().string();
   s.file = path;
@@ -57,12 +83,8 @@ StudySpec parse_study(const std::string& path) {
     if (!parsed) root.at("mode").fail("expected " + core::names_listed<core::LabelMode>());
     s.mode = *parsed;
   }
-  if (root.has("refine")) {
-    s.refine = root.at("refine").integer_in(0, voxel::kMaxRefine);
-    if (s.refine > 0 && s.mode != core::LabelMode::conservative) {
-      root.at("refine").fail("refinement needs \"mode\": \"conservative\"");
-    }
-  }
+  if (root.has("refine")) s.refine = read_refine(root.at("refine"), s.mode);
+  if (root.has("objective")) s.objective = read_objective(root.at("objective"));
   s.runs_per_group = root.at("runs_per_group").integer_in(1, 1000);
   if (root.has("threads")) s.threads = root.at("threads").integer_in(1, 256);
   if (root.has("first_seed")) s.first_seed = root.at("first_seed").integer_in(0, 1 << 30);
@@ -82,8 +104,10 @@ StudySpec parse_study(const std::string& path) {
   }
   for (std::size_t i = 0; i < list.array_size(); ++i) {
     const core::JsonNode e = list.at(i);
-    e.only_keys({"name", "family", "params"});
+    e.only_keys({"name", "family", "params", "refine", "objective"});
     Examination ex;
+    if (e.has("refine")) ex.refine = read_refine(e.at("refine"), s.mode);
+    if (e.has("objective")) ex.objective = read_objective(e.at("objective"));
     ex.family = e.at("family").string();
     ex.name = e.has("name") ? e.at("name").string() : ex.family;
     const auto [named, fresh_name] = name_entry.emplace(ex.name, e.pointer());
@@ -121,7 +145,8 @@ StudySpec parse_study(const std::string& path) {
       } catch (const core::InputError& err) {
         e.fail(err.reason());
       }
-      if (s.refine > 0) {
+      const int refine = refine_of(s, ex);
+      if (refine > 0) {
         // The memory estimate at the group's resolution, before any run starts.
         // refine_problem() reads the resolution and the counts of time steps and events.
         const nlohmann::json generated = nlohmann::json::parse(text);
@@ -133,14 +158,24 @@ StudySpec parse_study(const std::string& path) {
         }
         voxel::VoxelOptions options;
         options.mode = s.mode;
-        options.refine = s.refine;
+        options.refine = refine;
         const std::string problem = voxel::refine_problem(scene, options);
-        if (!problem.empty()) root.at("refine").fail(group_name(ex, param) + ": " + problem);
+        if (!problem.empty()) {
+          (ex.refine ? e : root).at("refine").fail(group_name(ex, param) + ": " + problem);
+        }
       }
     }
     s.examinations.push_back(ex);
   }
   return s;
+}
+
+int refine_of(const StudySpec& spec, const Examination& e) {
+  return e.refine.value_or(spec.refine);
+}
+
+const std::string& objective_of(const StudySpec& spec, const Examination& e) {
+  return e.objective ? *e.objective : spec.objective;
 }
 
 std::string group_name(const Examination& e, const std::optional<int>& param) {

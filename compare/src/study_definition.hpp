@@ -14,12 +14,16 @@ namespace camplace::compare::detail {
 struct Examination {
   std::string name, family;
   std::vector<std::optional<int>> params;  ///< one empty entry for families without a param
+  /// The study's `refine` and `objective` for this examination's runs, when it sets its own.
+  std::optional<int> refine;
+  std::optional<std::string> objective;
 };
 
 /// The study: its examinations and the budget of every run.
 struct StudySpec {
   std::string name;  ///< the study file's name without its extension (the report's title)
   std::string description, algorithm = "gaco";
+  std::string objective = "err";  ///< optimize::OptimizeOptions::objective of every run
   core::LabelMode mode = core::LabelMode::conservative;
   int refine = 0;  ///< voxel::VoxelOptions::refine of every run (conservative mode)
   int runs_per_group = 3, threads = 2;
@@ -40,6 +44,11 @@ struct StudySpec {
 /// and `refine` one voxel::refine_problem() accepts for every group's scene. Throws
 /// core::InputError naming the study file, the entry and the reason.
 StudySpec parse_study(const std::string& path);
+
+/// The refinement level of the examination's runs: its own `refine`, else the study's.
+int refine_of(const StudySpec& spec, const Examination& e);
+/// What the examination's runs minimise: its own `objective`, else the study's.
+const std::string& objective_of(const StudySpec& spec, const Examination& e);
 
 /// The group's name: "<family>-<param>", or the family alone.
 std::string group_name(const Examination& e, const std::optional<int>& param);

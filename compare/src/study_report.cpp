@@ -448,6 +448,30 @@ std::string exact_check_section(const std::vector<GroupStats>& groups,
   return md.str();
 }
 
+/// A study setting that examinations may set for themselves (`refine`, `objective`): the
+/// study's value, then "; X for <examination>, …" for those that differ.
+template <typename Of>
+std::string setting_text(const StudySpec& spec, const std::string& study_value, Of of) {
+  std::string text = study_value;
+  for (const detail::Examination& e : spec.examinations) {
+    const std::string own = of(e);
+    if (own != study_value) text += "; " + own + " for \"" + e.name + "\"";
+  }
+  return text;
+}
+
+std::string refine_text(const StudySpec& spec) {
+  return setting_text(spec, std::to_string(spec.refine), [&spec](const detail::Examination& e) {
+    return std::to_string(detail::refine_of(spec, e));
+  });
+}
+
+std::string objective_text(const StudySpec& spec) {
+  return setting_text(spec, spec.objective, [&spec](const detail::Examination& e) {
+    return detail::objective_of(spec, e);
+  });
+}
+
 /// The report's provenance header: the study file, the base scene and the groups' scenes with
 /// their SHA-256, the study's resolved settings, host and start time.
 std::string study_header(const StudySpec& spec, const std::vector<RunRow>& rows,
@@ -468,8 +492,9 @@ std::string study_header(const StudySpec& spec, const std::vector<RunRow>& rows,
   std::vector<std::pair<std::string, std::string>> options = {
       {"study file", "`" + spec.file + "`"},
       {"mode", core::name_of(spec.mode)},
-      {"refine", std::to_string(spec.refine)},
+      {"refine", refine_text(spec)},
       {"algorithm", spec.algorithm},
+      {"objective", objective_text(spec)},
       {"runs per group", std::to_string(spec.runs_per_group)},
       {"seeds", seed_range},
       {"scene seed", std::to_string(spec.scene_seed)},
@@ -518,10 +543,11 @@ void write_study_report(const StudySpec& spec, const std::vector<RunRow>& rows,
              : "")
      << ", or " << spec.max_evaluations << " evaluations, or " << num(spec.time_limit, 0)
      << " s | tolerance 0.046 m², or 3 h |\n"
-     << "| solver | pagmo `" << spec.algorithm << "`, " << spec.threads << " threads | MIDACO |\n"
+     << "| solver | pagmo `" << spec.algorithm << "`, " << spec.threads
+     << " threads, objective " << objective_text(spec) << " | MIDACO |\n"
      << "| machine (writing this report) | " << machine_text() << " | 2.8 GHz Opteron |\n"
      << "| voxel labelling | " << core::name_of(spec.mode)
-     << (spec.refine > 0 ? ", refined " + std::to_string(spec.refine) + " levels (`refine`)" : "")
+     << (refine_text(spec) != "0" ? ", refined (`refine`, levels) " + refine_text(spec) : "")
      << " | centre of voxel |\n\n"
      << clock_note(rows);
   md << "## Groups\n\n| examination | param | scene | runs | "

@@ -88,8 +88,10 @@ std::string time_limit_arg(const detail::StudySpec& spec) {
 /// The arguments of `camplace optimize` for one run: one seed, the study's budget, the run
 /// file and summary in `run_dir`. `--out=` and `--` keep any directory or scene name (one
 /// starting with '-', say) a value.
-std::vector<std::string> optimize_args(const detail::StudySpec& spec, const std::string& scene,
-                                       unsigned seed, const std::string& run_dir) {
+std::vector<std::string> optimize_args(const detail::StudySpec& spec,
+                                       const detail::Examination& examination,
+                                       const std::string& scene, unsigned seed,
+                                       const std::string& run_dir) {
   std::vector<std::string> args = {"--algorithm",  spec.algorithm,
                                    "--seed",       std::to_string(seed),
                                    "--runs",       "1",
@@ -97,9 +99,15 @@ std::vector<std::string> optimize_args(const detail::StudySpec& spec, const std:
                                    "--time-limit", time_limit_arg(spec),
                                    "--max-evals",  std::to_string(spec.max_evaluations),
                                    "--mode",       core::name_of(spec.mode)};
-  if (spec.refine > 0) {
+  const int refine = detail::refine_of(spec, examination);
+  if (refine > 0) {
     args.push_back("--refine");
-    args.push_back(std::to_string(spec.refine));
+    args.push_back(std::to_string(refine));
+  }
+  const std::string& objective = detail::objective_of(spec, examination);
+  if (objective != optimize::kDefaultObjective) {
+    args.push_back("--objective");
+    args.push_back(objective);
   }
   for (std::string a : {std::string("--quiet"), "--out=" + run_dir, std::string("--"), scene}) {
     args.push_back(std::move(a));
@@ -184,7 +192,8 @@ void check_resume(const detail::StudySpec& spec, const std::vector<Group>& group
     now.scene_file = group.scene_path;
     now.scene = core::combine_scene_hashes(core::sha256_hex(group.scene_text), {});
     now.mode = core::name_of(spec.mode);
-    now.refine = spec.refine;
+    now.refine = detail::refine_of(spec, *group.examination);
+    now.objective = detail::objective_of(spec, *group.examination);
     now.algorithm = spec.algorithm;
     now.start = "random";
     now.time_limit = std::stod(time_limit_arg(spec));
@@ -275,6 +284,7 @@ int discard_study(const std::vector<Group>& groups, const std::string& dir) {
 struct PlannedRun {
   int index = 0;  ///< k in the canonical order, from 0
   RunRow row;     ///< the group's scene; the result once the run is finished
+  const detail::Examination* examination = nullptr;
   std::string run_dir, run_file, scene_path;
   double cost = 0.0;  ///< PendingRun::cost
   std::optional<optimize::RunResult> before;
@@ -360,6 +370,7 @@ StudyOutcome run_study(const StudyOptions& options) {
       run.index = k;
       run.row = shape;
       run.row.seed = spec.first_seed + r;
+      run.examination = g.examination;
       run.run_dir = g.run_dir;
       run.scene_path = g.scene_path;
       run.run_file = g.run_dir + "/run-" + std::to_string(run.row.seed) + ".json";
@@ -441,7 +452,8 @@ StudyOutcome run_study(const StudyOptions& options) {
                    run->index + 1, total_runs);
       prepare(*run);
       settle(*run,
-             options.launch({optimize_args(spec, run->scene_path, run->row.seed, run->run_dir),
+             options.launch({optimize_args(spec, *run->examination, run->scene_path, run->row.seed,
+                                           run->run_dir),
                              output_file(*run)}));
     }
   } else if (!todo.empty()) {
@@ -454,7 +466,8 @@ StudyOutcome run_study(const StudyOptions& options) {
     for (const PlannedRun* run : order) {
       prepare(*run);
       pending.push_back(
-          {{optimize_args(spec, run->scene_path, run->row.seed, run->run_dir), output_file(*run)},
+          {{optimize_args(spec, *run->examination, run->scene_path, run->row.seed,
+                                           run->run_dir), output_file(*run)},
            run->run_file,
            run_label(run->row),
            run->cost});

@@ -9,14 +9,18 @@
 namespace camplace::optimize {
 
 const std::vector<std::string>& objective_names() {
-  static const std::vector<std::string> names = {"err", "err+volume"};
+  static const std::vector<std::string> names = {"err", "err+volume", "err+touching-volume"};
   return names;
 }
 
 std::string objective_help() {
   return "  err         Err alone (the paper's objective), default\n"
          "  err+volume  Err; on the plateau where the model touches the critical objects in every\n"
-         "              state, ties of Err ordered by the model's volume (smaller first)\n";
+         "              state, ties of Err ordered by the model's volume (smaller first)\n"
+         "  err+touching-volume  Err, plus for each state whose model touches the critical\n"
+         "              objects (d_model = 0) its term ω·d_true² once more, scaled by the fraction\n"
+         "              of S its model fills: where some states' model touches the robot whatever\n"
+         "              the cameras, the solver still sees which cameras carve more of it\n";
 }
 
 double tie_break_fitness(double err, double tie_breaker) {

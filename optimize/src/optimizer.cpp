@@ -212,8 +212,7 @@ RunResult optimize(const core::Scene& scene, const Objective& objective,
   Solver solver = detail::make_solver(options.algorithm, options.seed, options.population,
                                       encoding.dimension());
   const double lower_bound = options.stop_at_lower_bound ? objective.err_lower_bound() : 0.0;
-  auto state = std::make_shared<RunState>(objective, encoding, options, tolerance, lower_bound,
-                                          options.objective == "err+volume");
+  auto state = std::make_shared<RunState>(objective, encoding, options, tolerance, lower_bound);
   const pagmo::problem problem{detail::CameraProblem{state}};
 
   RunResult result;

@@ -15,13 +15,13 @@
 namespace camplace::optimize::detail {
 
 RunState::RunState(const Objective& objective, const Encoding& encoding,
-                   const OptimizeOptions& options, double tolerance, double lower_bound,
-                   bool tie_break)
+                   const OptimizeOptions& options, double tolerance, double lower_bound)
     : objective_(objective),
       encoding_(encoding),
       tolerance_(tolerance),
       lower_bound_(lower_bound),
-      tie_break_(tie_break),
+      tie_break_(options.objective == "err+volume"),
+      touching_(options.objective == "err+touching-volume"),
       max_evaluations_(options.max_evaluations),
       interrupt_(options.interrupt),
       on_progress_(options.on_progress),
@@ -62,7 +62,9 @@ void RunState::stop(StopReason reason) {
 }
 
 double RunState::fitness(const Score& score) const {
-  return tie_break_ ? tie_break_fitness(score.err, score.tie_breaker) : score.err;
+  if (tie_break_) return tie_break_fitness(score.err, score.tie_breaker);
+  if (touching_) return score.err + score.touching_excess;
+  return score.err;
 }
 
 double checked_err(double err) {

@@ -38,15 +38,15 @@ class RunState {
   using Clock = std::chrono::steady_clock;
 
   RunState(const Objective& objective, const Encoding& encoding, const OptimizeOptions& options,
-           double tolerance, double lower_bound, bool tie_break);
+           double tolerance, double lower_bound);
   ~RunState();
 
   const Encoding& encoding() const { return encoding_; }
   const Objective& objective() const { return objective_; }
   tbb::task_arena& arena() const { return *arena_; }
   int threads() const { return threads_; }
-  /// The value the solvers minimise for a score: tie_break_fitness() when the run breaks ties
-  /// (objective "err+volume"), else the Err itself.
+  /// The value the solvers minimise for a score (OptimizeOptions::objective): tie_break_fitness()
+  /// for "err+volume", Err + Score::touching_excess for "err+touching-volume", else Err itself.
   double fitness(const Score& score) const;
 
   /// Interrupt or time limit, checked without the lock (cheap; called per evaluation).
@@ -79,6 +79,7 @@ class RunState {
   double tolerance_;
   double lower_bound_;  ///< stop when the best Err reaches it; 0 = never
   bool tie_break_;      ///< objective "err+volume"
+  bool touching_;       ///< objective "err+touching-volume"
   std::uint64_t max_evaluations_;
   const std::atomic<bool>* interrupt_;
   std::function<void(const Progress&)> on_progress_;

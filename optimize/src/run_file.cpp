@@ -224,7 +224,9 @@ RunFile run_from_json(const nlohmann::json& j, const std::string& file) {
     run.objective = objective.string();
     const std::vector<std::string>& names = objective_names();
     if (std::find(names.begin(), names.end(), run.objective) == names.end()) {
-      objective.fail("unknown objective \"" + run.objective + "\" (expected err+volume or err)");
+      std::string list;
+      for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+      objective.fail("unknown objective \"" + run.objective + "\" (expected one of: " + list + ")");
     }
   }
   if (root.has("tie_breaker")) run.tie_breaker = root.at("tie_breaker").number_in(0.0, 1.0);

@@ -158,6 +158,9 @@ void print_summary(std::ostream& out, const std::vector<RunResult>& runs) {
   const RunResult& first = runs.front();
   if (first.objective == "err+volume") {
     out << "objective err+volume: ties of Err broken by the model's volume (tie_breaker)\n";
+  } else if (first.objective == "err+touching-volume") {
+    out << "objective err+touching-volume: the solver minimised Err plus the touching states' "
+           "volume term; Err above is Err alone\n";
   }
   if (first.err_lower_bound > first.tolerance) {
     // Conservative mode: voxels touching a target are always in the model (SPEC §5), so Err

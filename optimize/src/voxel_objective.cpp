@@ -18,7 +18,9 @@ double VoxelObjective::evaluate(const core::CameraConfig& config, core::Timing& 
 Score VoxelObjective::score(const core::CameraConfig& config, core::Timing& timing) const {
   const core::Evaluation evaluation = evaluator_.evaluate(config);
   timing = evaluation.timing;
-  return {evaluation.err, volume_fraction(evaluation.states, evaluator_.scene().area)};
+  const core::Box3& area = evaluator_.scene().area;
+  return {evaluation.err, volume_fraction(evaluation.states, area),
+          touching_volume_excess(evaluation.states, area)};
 }
 
 double VoxelObjective::default_tolerance() const {
@@ -40,6 +42,19 @@ double volume_fraction(const std::vector<core::StateResult>& states, const core:
   }
   if (!(weights > 0.0 && volume > 0.0)) return 0.0;
   return std::clamp(weighted / (weights * volume), 0.0, 1.0);
+}
+
+double touching_volume_excess(const std::vector<core::StateResult>& states,
+                              const core::Box3& area) {
+  const core::Vec3 size = area.size();
+  const double volume = size.x() * size.y() * size.z();
+  if (!(volume > 0.0)) return 0.0;
+  double excess = 0.0;
+  for (const core::StateResult& s : states) {
+    if (s.weight <= 0.0 || s.d_model != 0.0) continue;
+    excess += s.weight * s.d_true * s.d_true * std::clamp(s.model_volume / volume, 0.0, 1.0);
+  }
+  return excess;
 }
 
 }  // namespace camplace::optimize

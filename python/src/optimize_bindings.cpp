@@ -214,9 +214,10 @@ void bind_optimize(py::module_& m) {
         "progress_interval"_a = 0.5,
         R"(One optimisation run of `camplace optimize` (SPEC §7) minimising the voxel Err.
 
-algorithm: a solver of algorithms(). objective: 'err' (Err alone) or 'err+volume' (Err, its
-ties on the plateau broken by the model's volume, the run file's 'tie_breaker'), as
-`--objective`; the reported Err is the true Err either way. seed: seeds the population and the solver.
+algorithm: a solver of algorithms(). objective: 'err' (Err alone), 'err+volume' (Err, its
+ties on the plateau broken by the model's volume, the run file's 'tie_breaker') or
+'err+touching-volume' (Err plus, for each state whose model touches the critical objects, its
+term once more scaled by the fraction of S its model fills), as `--objective`; the reported Err is the true Err either way. seed: seeds the population and the solver.
 time_limit: seconds of wall clock, 0 = none. max_evaluations: Err evaluations, 0 = none.
 mode, resolution, refine: the voxel pipeline's (refine: as `--refine`). tolerance: stop at Err <= tolerance (m²); None = (½ voxel
 diagonal)². start: 'random', 'corners' or a camera file's path. threads: batch evaluation,

@@ -325,6 +325,8 @@ struct FakeOptimize {
       run["context"]["mode"] = value.at("--mode");
       run["context"]["time_limit_s"] = std::stod(value.at("--time-limit"));
       run["context"]["max_evaluations"] = std::stoll(value.at("--max-evals"));
+      if (value.count("--refine")) run["context"]["refine"] = std::stoi(value.at("--refine"));
+      if (value.count("--objective")) run["objective"] = value.at("--objective");
       write_file(out + "/run-" + value.at("--seed") + ".json", run.dump(2) + "\n");
     }
     return outcome;
@@ -370,6 +372,88 @@ TEST(Study, RunStudyLaunchesEachMissingRunWithOneArgumentPerValue) {
   fake->launches.clear();
   EXPECT_EQ(compare::run_study(options).runs_done_before, 2);
   EXPECT_TRUE(fake->launches.empty());
+}
+
+TEST(Study, AnExaminationsOwnRefineAndObjectiveReachItsRunsAndTheirResume) {
+  const std::string dir = temp_dir("study-overrides");
+  auto study_text = [](const std::string& own) {
+    return R"({"algorithm": "gaco", "mode": "conservative", "refine": 1, "runs_per_group": 1,
+      "threads": 1, "time_limit_s": 120, "max_evaluations": 50,
+      "examinations": [{"name": "cameras", "family": "cameras", "params": [3])" +
+           own + R"(}, {"name": "ceiling", "family": "domain_ceiling"}]})";
+  };
+  const std::string study = write_file(
+      dir + "/study.json", study_text(R"(, "refine": 2, "objective": "err+touching-volume")"));
+  compare::StudyOptions options;
+  options.study_file = study;
+  options.out_dir = dir + "/out";
+  options.command = "test";
+  auto fake = std::make_shared<FakeOptimize>();
+  options.launch = [fake](const compare::OptimizeLaunch& l) { return (*fake)(l); };
+  compare::run_study(options);
+  ASSERT_EQ(fake->launches.size(), 2u);
+  auto value_of = [](const std::vector<std::string>& args, const std::string& option) {
+    const auto it = std::find(args.begin(), args.end(), option);
+    return it == args.end() || it + 1 == args.end() ? std::string("absent") : *(it + 1);
+  };
+  // The examination's own values, and the study's (objective err: no option) for the other.
+  EXPECT_EQ(value_of(fake->launches[0].args, "--refine"), "2");
+  EXPECT_EQ(value_of(fake->launches[0].args, "--objective"), "err+touching-volume");
+  EXPECT_EQ(value_of(fake->launches[1].args, "--refine"), "1");
+  EXPECT_EQ(value_of(fake->launches[1].args, "--objective"), "absent");
+  const std::string report = read(dir + "/out/report.md");
+  EXPECT_NE(report.find("1; 2 for \"cameras\""), std::string::npos) << report;
+  EXPECT_NE(report.find("err; err+touching-volume for \"cameras\""), std::string::npos) << report;
+
+  // Resuming checks each group against its own values: the same study launches nothing, another
+  // level for the examination is a changed setting of its runs.
+  fake->launches.clear();
+  std::filesystem::remove_all(dir + "/out/runs/domain_ceiling");  // another scene: copied file
+  compare::run_study(options);
+  ASSERT_EQ(fake->launches.size(), 1u);
+  EXPECT_EQ(value_of(fake->launches[0].args, "--seed"), "1");
+  EXPECT_NE(fake->launches[0].output_file.find("domain_ceiling"), std::string::npos);
+  std::filesystem::remove_all(dir + "/out/runs/domain_ceiling");
+  write_file(study, study_text(R"(, "refine": 3, "objective": "err+touching-volume")"));
+  try {
+    compare::run_study(options);
+    ADD_FAILURE() << "a changed examination refine was resumed";
+  } catch (const optimize::SettingsChanged& e) {
+    EXPECT_NE(std::string(e.what()).find("refine: 2 → 3"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Study, AnExaminationsOwnRefineAndObjectiveAreCheckedLikeTheStudys) {
+  const std::string dir = temp_dir("study-overrides-bad");
+  auto attempt = [&dir](const std::string& mode, const std::string& own) {
+    const std::string study = write_file(
+        dir + "/study.json", R"({"mode": ")" + mode + R"(", "runs_per_group": 1,
+          "time_limit_s": 120, "max_evaluations": 50,
+          "examinations": [{"family": "cameras", "params": [3]}, {"family": "cameras",
+          "name": "more", "params": [4], )" + own + "}]}");
+    compare::StudyOptions options;
+    options.study_file = study;
+    options.out_dir = dir + "/out";
+    options.launch = [](const compare::OptimizeLaunch&) { return compare::LaunchOutcome{}; };
+    try {
+      compare::run_study(options);
+    } catch (const core::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(attempt("center", R"("refine": 1)")
+                .find("/examinations/1/refine: refinement needs \"mode\": \"conservative\""),
+            std::string::npos);
+  EXPECT_NE(attempt("conservative", R"("refine": 11)").find("/examinations/1/refine"),
+            std::string::npos);
+  EXPECT_NE(attempt("conservative", R"("refine": 5)").find("/examinations/1/refine: cameras-4: 5 levels"),
+            std::string::npos);
+  EXPECT_NE(attempt("conservative", R"("objective": "volume")")
+                .find("/examinations/1/objective: unknown objective \"volume\""),
+            std::string::npos);
+  EXPECT_NE(attempt("conservative", R"("seeds": 3)").find("/examinations/1"), std::string::npos);
+  EXPECT_FALSE(std::filesystem::exists(dir + "/out/runs"));
 }
 
 TEST(Study, RunStudyStopsAtAnInterruptAndReportsAFailedRun) {

@@ -229,8 +229,35 @@ TEST(VoxelObjective, PaperCeilingConfigurationsTieOnErrButNotOnTheTieBreaker) {
   EXPECT_GE(distinct, on_plateau - 3);
 }
 
+TEST(TouchingVolumeExcess, TheTouchingStatesTermsScaledByTheirVolumeFractionByHand) {
+  const core::Box3 area{core::Vec3(1, 0, 0), core::Vec3(3, 2, 3)};  // 12 m³
+  auto state = [](double weight, double d_true, double d_model, double model_volume) {
+    core::StateResult s;
+    s.weight = weight;
+    s.d_true = d_true;
+    s.d_model = d_model;
+    s.model_volume = model_volume;
+    return s;
+  };
+  std::vector<core::StateResult> states = {
+      state(0.5, 0.8, 0.0, 3.0),    // touches: 0.5 · 0.64 · 3/12 = 0.08
+      state(0.25, 1.2, 0.0, 6.0),   // touches: 0.25 · 1.44 · 6/12 = 0.18
+      state(0.25, 0.9, 0.4, 9.0),   // keeps a distance: no excess
+      state(0.0, 2.0, 0.0, 12.0)};  // weight 0: no part of Err
+  EXPECT_DOUBLE_EQ(touching_volume_excess(states, area), 0.08 + 0.18);
+  // A model filling more than S (it cannot; clamped) counts as all of S: at most the term.
+  states[1].model_volume = 30.0;
+  EXPECT_DOUBLE_EQ(touching_volume_excess(states, area), 0.08 + 0.25 * 1.44);
+  states[0].d_model = 1e-9;  // the least distance ends the excess of that state
+  EXPECT_DOUBLE_EQ(touching_volume_excess(states, area), 0.25 * 1.44);
+  EXPECT_EQ(touching_volume_excess({}, area), 0.0);
+  EXPECT_EQ(touching_volume_excess(states, core::Box3{core::Vec3(0, 0, 0), core::Vec3(0, 1, 1)}),
+            0.0);
+}
+
 TEST(ObjectiveNames, DefaultFirstAndHelpNamesEach) {
-  ASSERT_EQ(objective_names(), (std::vector<std::string>{"err", "err+volume"}));
+  ASSERT_EQ(objective_names(),
+            (std::vector<std::string>{"err", "err+volume", "err+touching-volume"}));
   EXPECT_EQ(objective_names().front(), kDefaultObjective);
   for (const std::string& name : objective_names()) {
     EXPECT_NE(objective_help().find("  " + name + " "), std::string::npos) << name;

@@ -447,6 +447,49 @@ TEST(Optimizer, TieBreakerGivesTheSolversADirectionOnAPlateauAndErrStaysTheTrueE
   }
 }
 
+/// Err 1.25 where the model touches the robot, which is everywhere except a small square of
+/// camera 0's x and camera 1's x around (1, 2), where Err is 0.05; the touching excess falls
+/// toward the square: 1.25 · (|x₀ − 1| + |x₁ − 2|) / 6.
+class TouchingObjective : public Objective {
+ public:
+  double evaluate(const core::CameraConfig& config, voxel::Timing& timing) const override {
+    return score(config, timing).err;
+  }
+  Score score(const core::CameraConfig& config, voxel::Timing& timing) const override {
+    timing = voxel::Timing{};
+    const double off =
+        std::abs(config[0].position.x() - 1.0) + std::abs(config[1].position.x() - 2.0);
+    if (std::abs(config[0].position.x() - 1.0) < 0.01 &&
+        std::abs(config[1].position.x() - 2.0) < 0.01) {
+      return {0.05, 0.0, 0.0};
+    }
+    return {1.25, 0.0, 1.25 * off / 6.0};
+  }
+  double default_tolerance() const override { return 0.1; }
+};
+
+TEST(Optimizer, TouchingVolumeLeadsTheSolversOffAPartialPlateauAndReportsTheTrueErr) {
+  const core::Scene scene = small_scene();
+  const TouchingObjective objective;
+  for (const char* algorithm : {"gaco", "cmaes", "pso"}) {
+    OptimizeOptions o = budget(algorithm, 1500, 1);
+    o.tolerance = 0.1;
+    o.objective = "err+touching-volume";
+    const RunResult shaped = optimize(scene, objective, o);
+    EXPECT_EQ(shaped.objective, "err+touching-volume");
+    EXPECT_EQ(shaped.stop_reason, StopReason::tolerance) << algorithm;
+    // The reported Err is Err alone, not the fitness the solver saw.
+    EXPECT_EQ(shaped.err, 0.05) << algorithm;
+    EXPECT_EQ(shaped.start_err, 1.25) << algorithm;
+    // Err alone is flat outside the square (a random point hits it with probability 1/22,500):
+    // the same budget finds nothing.
+    o.objective = "err";
+    const RunResult plain = optimize(scene, objective, o);
+    EXPECT_EQ(plain.err, 1.25) << algorithm;
+    EXPECT_EQ(plain.stop_reason, StopReason::max_evaluations) << algorithm;
+  }
+}
+
 TEST(Optimizer, StopRulesCompareTheTrueErrNotTheRoundedFitness) {
   // Err one ulp above the tolerance: the fitness (Err rounded down to 32 significant bits, the
   // tie-breaker 0 at x₀ = 1 aside) equals the tolerance, the true Err does not reach it.

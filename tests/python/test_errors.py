@@ -101,7 +101,8 @@ def test_bad_arguments_name_the_keyword(paper):
     assert "algorithm" in message(camplace.optimize, paper, algorithm="nelder_mead",
                                   max_evaluations=10)
     assert message(camplace.optimize, paper, objective="volume", max_evaluations=10) == (
-        "option: objective: unknown objective \"volume\" (expected err, err+volume)")
+        "option: objective: unknown objective \"volume\" (expected err, err+volume, "
+        "err+touching-volume)")
 
 
 def test_a_camera_path_no_file_can_have_is_a_value_error(paper):

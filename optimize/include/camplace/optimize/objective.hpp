@@ -14,6 +14,8 @@ namespace camplace::optimize {
 struct Score {
   double err = 0.0;          ///< m² (SPEC §4)
   double tie_breaker = 0.0;  ///< dimensionless, in [0, 1]
+  /// m², ≥ 0: what objective "err+touching-volume" adds to Err (touching_volume_excess()).
+  double touching_excess = 0.0;
 };
 
 /// Err of a camera configuration (m², SPEC §4) with the time split of the evaluation.
@@ -35,8 +37,11 @@ class Objective {
 };
 
 /// What the solvers minimise (OptimizeOptions::objective): "err" (Err alone, the paper's
-/// objective) or "err+volume" (Err, ties broken by the objective's tie-breaker through
-/// tie_break_fitness()). Default first.
+/// objective), "err+volume" (Err, ties broken by the objective's tie-breaker through
+/// tie_break_fitness()) or "err+touching-volume" (Err + Score::touching_excess: the states whose
+/// model touches the critical objects weigh more the more of S their model fills, so that a
+/// search stuck where some states' model touches the robot sees which cameras carve more).
+/// Default first.
 const std::vector<std::string>& objective_names();
 /// The default objective: "err". "err+volume" was considered, but measured (README, "The
 /// plateau and the tie-breaker") it left the plateau sooner and then converged worse with gaco,

@@ -32,4 +32,12 @@ class VoxelObjective : public Objective {
 /// led gaco into worse optima on paper_basic; README, "The plateau and the tie-breaker").
 double volume_fraction(const std::vector<core::StateResult>& states, const core::Box3& area);
 
+/// Score::touching_excess of VoxelObjective (m²): Σ over the states whose model touches the
+/// critical objects (d_model = 0) of ω·d_true²·(model_volume / volume(S)), the fraction clamped
+/// to [0, 1]. Err + this excess equals Err when no state touches, lies in [Err, 2·Err], and
+/// falls as the cameras prove more of such a state's S free, before the model comes off the
+/// critical objects (Err alone is flat there: each such term is ω·d_true² whatever the cameras).
+double touching_volume_excess(const std::vector<core::StateResult>& states,
+                              const core::Box3& area);
+
 }  // namespace camplace::optimize
