@@ -543,8 +543,8 @@ void write_study_report(const StudySpec& spec, const std::vector<RunRow>& rows,
              : "")
      << ", or " << spec.max_evaluations << " evaluations, or " << num(spec.time_limit, 0)
      << " s | tolerance 0.046 m², or 3 h |\n"
-     << "| solver | pagmo `" << spec.algorithm << "`, " << spec.threads
-     << " threads, objective " << objective_text(spec) << " | MIDACO |\n"
+     << "| solver | pagmo `" << spec.algorithm << "`, " << spec.threads << " threads, objective "
+     << objective_text(spec) << " | MIDACO |\n"
      << "| machine (writing this report) | " << machine_text() << " | 2.8 GHz Opteron |\n"
      << "| voxel labelling | " << core::name_of(spec.mode)
      << (refine_text(spec) != "0" ? ", refined (`refine`, levels) " + refine_text(spec) : "")

@@ -451,10 +451,9 @@ StudyOutcome run_study(const StudyOptions& options) {
       std::fprintf(stderr, "study: %s (run %d of %d)\n", run_label(run->row).c_str(),
                    run->index + 1, total_runs);
       prepare(*run);
-      settle(*run,
-             options.launch({optimize_args(spec, *run->examination, run->scene_path, run->row.seed,
-                                           run->run_dir),
-                             output_file(*run)}));
+      settle(*run, options.launch({optimize_args(spec, *run->examination, run->scene_path,
+                                                 run->row.seed, run->run_dir),
+                                   output_file(*run)}));
     }
   } else if (!todo.empty()) {
     // Longest expected first, so the last runs to finish are short ones; ties in the canonical
@@ -466,8 +465,8 @@ StudyOutcome run_study(const StudyOptions& options) {
     for (const PlannedRun* run : order) {
       prepare(*run);
       pending.push_back(
-          {{optimize_args(spec, *run->examination, run->scene_path, run->row.seed,
-                                           run->run_dir), output_file(*run)},
+          {{optimize_args(spec, *run->examination, run->scene_path, run->row.seed, run->run_dir),
+            output_file(*run)},
            run->run_file,
            run_label(run->row),
            run->cost});

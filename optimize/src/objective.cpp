@@ -18,7 +18,8 @@ std::string objective_help() {
          "  err+volume  Err; on the plateau where the model touches the critical objects in every\n"
          "              state, ties of Err ordered by the model's volume (smaller first)\n"
          "  err+touching-volume  Err, plus for each state whose model touches the critical\n"
-         "              objects (d_model = 0) its term ω·d_true² once more, scaled by the fraction\n"
+         "              objects (d_model = 0) its term ω·d_true² once more, scaled by the "
+         "fraction\n"
          "              of S its model fills: where some states' model touches the robot whatever\n"
          "              the cameras, the solver still sees which cameras carve more of it\n";
 }

@@ -426,8 +426,8 @@ TEST(Study, AnExaminationsOwnRefineAndObjectiveReachItsRunsAndTheirResume) {
 TEST(Study, AnExaminationsOwnRefineAndObjectiveAreCheckedLikeTheStudys) {
   const std::string dir = temp_dir("study-overrides-bad");
   auto attempt = [&dir](const std::string& mode, const std::string& own) {
-    const std::string study = write_file(
-        dir + "/study.json", R"({"mode": ")" + mode + R"(", "runs_per_group": 1,
+    const std::string study = write_file(dir + "/study.json", R"({"mode": ")" + mode +
+                                                                  R"(", "runs_per_group": 1,
           "time_limit_s": 120, "max_evaluations": 50,
           "examinations": [{"family": "cameras", "params": [3]}, {"family": "cameras",
           "name": "more", "params": [4], )" + own + "}]}");
@@ -447,8 +447,9 @@ TEST(Study, AnExaminationsOwnRefineAndObjectiveAreCheckedLikeTheStudys) {
             std::string::npos);
   EXPECT_NE(attempt("conservative", R"("refine": 11)").find("/examinations/1/refine"),
             std::string::npos);
-  EXPECT_NE(attempt("conservative", R"("refine": 5)").find("/examinations/1/refine: cameras-4: 5 levels"),
-            std::string::npos);
+  EXPECT_NE(
+      attempt("conservative", R"("refine": 5)").find("/examinations/1/refine: cameras-4: 5 levels"),
+      std::string::npos);
   EXPECT_NE(attempt("conservative", R"("objective": "volume")")
                 .find("/examinations/1/objective: unknown objective \"volume\""),
             std::string::npos);

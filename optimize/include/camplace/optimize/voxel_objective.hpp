@@ -37,7 +37,6 @@ double volume_fraction(const std::vector<core::StateResult>& states, const core:
 /// to [0, 1]. Err + this excess equals Err when no state touches, lies in [Err, 2·Err], and
 /// falls as the cameras prove more of such a state's S free, before the model comes off the
 /// critical objects (Err alone is flat there: each such term is ω·d_true² whatever the cameras).
-double touching_volume_excess(const std::vector<core::StateResult>& states,
-                              const core::Box3& area);
+double touching_volume_excess(const std::vector<core::StateResult>& states, const core::Box3& area);
 
 }  // namespace camplace::optimize
