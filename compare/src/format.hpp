@@ -51,16 +51,19 @@ struct HeaderScene {
 /// options (name, value), the command, the host and the start time (ISO 8601), then a details
 /// block with every full SHA-256 (beyond the first 3 scenes one row counts the others, their
 /// hashes only in the details). `scene_note`, when not empty, is a row of its own before the
-/// scenes (e.g. a scene that has no file).
+/// scenes (e.g. a scene that has no file). `builds`, when not empty, follows the camplace row:
+/// what made the work the report reads when that is not only this build (a resumed study).
 /// Lines: "| camplace | VERSION, commit COMMIT |", "| started | TIME |", "| host | NAME |" ...
 inline std::string provenance_header(
     const std::vector<HeaderScene>& scenes,
     const std::vector<std::pair<std::string, std::string>>& options, const std::string& command,
-    const std::string& started, const std::string& scene_note = "") {
+    const std::string& started, const std::string& scene_note = "",
+    const std::string& builds = "") {
   const core::BuildInfo build = core::build_info();
   auto short_hash = [](const std::string& hex) { return "`" + hex.substr(0, 12) + "…`"; };
   std::string md = "| provenance | |\n|---|---|\n| camplace | " + build.version + ", commit `" +
                    build.commit + "` |\n";
+  if (!builds.empty()) md += "| runs made by | " + core::md_cell(builds) + " |\n";
   if (!scene_note.empty()) md += "| scene | " + scene_note + " |\n";
   for (std::size_t i = 0; i < scenes.size(); ++i) {
     const HeaderScene& s = scenes[i];

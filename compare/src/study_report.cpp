@@ -489,7 +489,7 @@ std::string study_header(const StudySpec& spec, const std::vector<RunRow>& rows,
   const std::string seed_range =
       std::to_string(spec.first_seed) + "–" +
       std::to_string(spec.first_seed + static_cast<unsigned>(spec.runs_per_group) - 1);
-  std::vector<std::pair<std::string, std::string>> options = {
+  const std::vector<std::pair<std::string, std::string>> options = {
       {"study file", "`" + spec.file + "`"},
       {"mode", core::name_of(spec.mode)},
       {"refine", refine_text(spec)},
@@ -501,11 +501,20 @@ std::string study_header(const StudySpec& spec, const std::vector<RunRow>& rows,
       {"threads", std::to_string(spec.threads)},
       {"time limit", num(spec.time_limit, 0) + " s"},
       {"max evaluations", std::to_string(spec.max_evaluations)}};
+  // The header's build is the one writing the report; the runs may have been made by others
+  // (a resumed study): each distinct one with its number of runs.
+  std::map<std::string, int> made_by;
+  for (const RunRow& r : rows) ++made_by[r.made_by.empty() ? "unrecorded" : r.made_by];
+  std::string builds;
+  for (const auto& [build, count] : made_by) {
+    builds += (builds.empty() ? "" : "; ") + build + " (" + std::to_string(count) + " runs)";
+  }
   return provenance_header(scenes, options, command,
                            spec.started.empty() ? core::now_iso8601() : spec.started,
                            spec.base ? ""
                                      : "the groups' scenes are generated from the paper's basic "
-                                       "setup (built in, as data/paper_basic.json)");
+                                       "setup (built in, as data/paper_basic.json)",
+                           builds);
 }
 
 }  // namespace

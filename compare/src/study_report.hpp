@@ -17,6 +17,8 @@ struct RunRow {
   int cameras = 0, static_objects = 0, static_facets = 0, dynamic_objects = 0, dynamic_facets = 0;
   int target_objects = 0, target_facets = 0, time_steps = 0, events = 0;
   std::string resolution;
+  /// What made the run: "0.1.0, commit <sha>" from its run file's provenance ("" without one).
+  std::string made_by;
   // the run
   double err = 0, tolerance = 0, seconds = 0;
   double target = 0;  ///< core::success_target: the tolerance, or max(tolerance, L) (conservative)

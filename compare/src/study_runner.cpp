@@ -55,8 +55,13 @@ void describe_scene(const core::Scene& scene, RunRow& row) {
   }
 }
 
-/// The run's figures as its run file records them.
-void add_result(const optimize::RunResult& run, bool conservative, RunRow& row) {
+/// The run's figures as its run file records them, and what made it.
+void add_result(const optimize::RunFile& file, bool conservative, RunRow& row) {
+  const optimize::RunResult& run = file.run;
+  if (file.context.provenance) {
+    const core::BuildInfo& build = file.context.provenance->build;
+    row.made_by = build.version + ", commit " + build.commit;
+  }
   row.stop_reason = optimize::to_string(run.stop_reason);
   row.err = run.err;
   row.tolerance = run.tolerance;
@@ -75,9 +80,9 @@ void add_result(const optimize::RunResult& run, bool conservative, RunRow& row) 
 /// The run file at `path`, or nothing when there is none yet. A damaged file, or one of a
 /// format this version does not read, is an error (core::InputError naming it): running again
 /// would overwrite what may be a finished run.
-std::optional<optimize::RunResult> existing_run(const std::string& path) {
+std::optional<optimize::RunFile> existing_run(const std::string& path) {
   if (!fs::exists(path)) return std::nullopt;
-  return optimize::read_run_file(path).run;
+  return optimize::read_run_file(path);
 }
 
 /// The study's time limit as its runs are given it (and record it).
@@ -287,7 +292,7 @@ struct PlannedRun {
   const detail::Examination* examination = nullptr;
   std::string run_dir, run_file, scene_path;
   double cost = 0.0;  ///< PendingRun::cost
-  std::optional<optimize::RunResult> before;
+  std::optional<optimize::RunFile> before;
 };
 
 std::string run_label(const RunRow& row) { return row.group + " seed " + std::to_string(row.seed); }
@@ -377,8 +382,8 @@ StudyOutcome run_study(const StudyOptions& options) {
       run.cost = static_cast<double>(shape.voxels) * shape.cameras * std::max(1, shape.events);
       run.before = existing_run(run.run_file);
       if (options.report_only && run.before &&
-          run.before->stop_reason != optimize::StopReason::interrupted) {
-        const optimize::RunFile file = optimize::read_run_file(run.run_file);
+          run.before->run.stop_reason != optimize::StopReason::interrupted) {
+        const optimize::RunFile& file = *run.before;
         voxel::VoxelOptions voxel_options;
         const auto mode = core::from_name<core::LabelMode>(file.context.mode);
         if (!mode) {
@@ -401,8 +406,8 @@ StudyOutcome run_study(const StudyOptions& options) {
       runs.push_back(std::move(run));
     }
   }
-  auto finished = [](const std::optional<optimize::RunResult>& r) {
-    return r && r->stop_reason != optimize::StopReason::interrupted;
+  auto finished = [](const std::optional<optimize::RunFile>& r) {
+    return r && r->run.stop_reason != optimize::StopReason::interrupted;
   };
   std::vector<PlannedRun*> todo;
   for (PlannedRun& run : runs) {
@@ -423,7 +428,7 @@ StudyOutcome run_study(const StudyOptions& options) {
   auto settle = [&](PlannedRun& run, const LaunchOutcome& launched) {
     // Ctrl-C ends the study after this run; the report covers the runs finished so far.
     if (launched.interrupted) outcome.interrupted = true;
-    const std::optional<optimize::RunResult> after = existing_run(run.run_file);
+    const std::optional<optimize::RunFile> after = existing_run(run.run_file);
     if (finished(after)) {
       add_result(*after, conservative, run.row);
       ++outcome.runs_done_now;

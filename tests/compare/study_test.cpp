@@ -164,6 +164,25 @@ TEST(Study, FinishesRerunsIdenticallyAndRedoesOnlyMissingRuns) {
   };
   const std::string report2 = read(dir + "/out/report.md");
   EXPECT_EQ(without_start(report2), without_start(report));
+
+  // The header names the build of every run, not only the one writing the report: a run made
+  // by another build (a study resumed after an update) is counted apart.
+  const std::string build =
+      "0.1.0, commit " +
+      nlohmann::json::parse(read(kept))["provenance"]["commit"].get<std::string>();
+  EXPECT_NE(report2.find("| runs made by | " + build + " (6 runs) |"), std::string::npos)
+      << report2;
+  nlohmann::ordered_json other = nlohmann::ordered_json::parse(read(gone));
+  other["provenance"]["commit"] = "0123456789abcdef0123456789abcdef01234567";
+  write_file(gone, other.dump(2) + "\n");
+  const CommandResult third = run_camplace(CAMPLACE_BINARY, args + " --report-only");
+  ASSERT_EQ(third.exit_code, 0) << third.output;
+  EXPECT_NE(read(dir + "/out/report.md")
+                .find("| runs made by | 0.1.0, commit 0123456789abcdef0123456789abcdef01234567 "
+                      "(1 runs); " +
+                      build + " (5 runs) |"),
+            std::string::npos)
+      << read(dir + "/out/report.md");
 }
 
 TEST(Study, InterruptedStudyResumesWithoutRepeatingOrLosingRuns) {
