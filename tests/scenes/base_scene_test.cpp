@@ -364,7 +364,7 @@ TEST(BaseScene, AStudyRunsOnTheBaseRecordsItsHashAndRefusesToResumeOnAChangedBas
   EXPECT_NE(report.find("| camplace | " + core::build_info().version + ", commit `"),
             std::string::npos)
       << report;
-  EXPECT_NE(report.find("mode center, refine 0, algorithm gaco, runs per group 1"),
+  EXPECT_NE(report.find("mode center, refine 0, algorithm gaco, objective err, runs per group 1"),
             std::string::npos)
       << report;
 
