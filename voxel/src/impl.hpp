@@ -10,6 +10,7 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -73,6 +74,19 @@ inline double nearest_in_ball(const Ball& ball, const core::Vec3& c) {
   return to_center - ball.radius - margin;
 }
 
+/// Whether triangle `tri` is a back face for a camera at c: the camera behind its plane, its
+/// tilt det / scale > 0 with det = (a − c)·((b − c) × (e − c)) and scale the product of the
+/// corners' distances, not flat (|det| > 1e-12 scale); the very arithmetic of camera set-up's
+/// tilts (camera_setup.cpp), so both find the same back faces. A culled object's back faces
+/// have no slots; judge_conservative() tests them on a near miss of a front face.
+inline bool back_face(const std::array<core::Vec3, 3>& tri, const core::Vec3& c) {
+  const core::Vec3 a = tri[0] - c, b = tri[1] - c, e = tri[2] - c;
+  const double det = a.dot(b.cross(e));
+  const double scale = a.norm() * b.norm() * e.norm();
+  const bool flat = !(std::abs(det) > 1e-12 * scale);
+  return !flat && det / scale > 0;
+}
+
 /// A cluster of an object's triangles near each other (set-up, cluster_triangles): its range of
 /// ObjectInfo::cluster_order and a ball holding every one of its vertices.
 struct TriangleCluster {
@@ -84,6 +98,18 @@ struct TriangleCluster {
   core::Vec3 normal_axis = core::Vec3::Zero();
   double normal_cos = -1.0;
   double min_cross = 0.0;
+};
+
+/// A node of the tree over an object's clusters (ObjectInfo::nodes, pre-order): the bounds of
+/// all its triangles (as a cluster's: ball, normal cone, least |cross|; `bounds.begin, end` their
+/// range of cluster_order), its clusters cluster_begin .. cluster_end − 1 (one: a leaf, whose
+/// bounds are its cluster's), and the index of the node after its subtree (its first child, if
+/// any, is the next node). Camera set-up rules out whole subtrees: behind the camera's side of
+/// every plane (back faces), or facing it and projecting outside the FOV (L10).
+struct ClusterNode {
+  TriangleCluster bounds;
+  int cluster_begin = 0, cluster_end = 0;
+  int next = 0;
 };
 
 /// One object of the scene with its fixed role (SPEC §3: what a first hit on it means).
@@ -99,6 +125,7 @@ struct ObjectInfo {
   /// each camera numbers its slots in this order and bins them per cluster (camera_setup).
   std::vector<int> cluster_order;
   std::vector<TriangleCluster> clusters;
+  std::vector<ClusterNode> nodes;  ///< the tree over the clusters, pre-order, root first
 };
 
 /// Per camera and candidate triangle (conservative mode): the infinite cone from the camera over
@@ -218,11 +245,9 @@ struct CameraSetup {
   mutable std::unique_ptr<TriangleCone[]> cones;
   mutable std::unique_ptr<std::atomic<std::uint8_t>[]> cone_state;
   std::size_t cone_capacity = 0;
-  // Per triangle and object.
-  /// Back face of an object whose back faces are culled for this camera (docs/design/labelling.md
-  /// L3).
-  std::vector<std::uint8_t> back;
-  std::vector<std::uint8_t> culled;         ///< per object: its back faces are culled
+  // Per object.
+  /// Its back faces (detail::back_face) are culled: no slots (docs/design/labelling.md L3).
+  std::vector<std::uint8_t> culled;
   std::vector<std::uint8_t> inside_object;  ///< camera inside object o (blind in its states)
 };
 

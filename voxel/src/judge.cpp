@@ -280,7 +280,7 @@ Verdict VoxelEvaluator::Impl::judge_conservative(const CameraSetup& cam, const V
       // rounded apart). Back faces are no slots: each one's cone is made here, and tested once.
       const detail::ObjectInfo& info = objects[o];
       for (int b = info.first_triangle; b < info.first_triangle + info.triangle_count; ++b) {
-        if (!cam.back[b]) continue;
+        if (!detail::back_face(triangles[b], cam.c)) continue;
         detail::TriangleCone back;
         make_cone(b, cam.c, back);
         if (!occupying && back.near_distance >= far) continue;
