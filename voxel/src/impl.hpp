@@ -142,6 +142,13 @@ struct TriangleCone {
   double near_distance;
 };
 
+/// Center mode: how many rays test a group's triangles directly (their balls, then the ray
+/// test) before the group is projected (its slots' rectangles and edge lines then rule out most
+/// triangles before the ray test). Projecting a group costs about as much as this many direct
+/// tests of it: fine meshes have many groups that few rays meet, coarse ones few that many rays
+/// meet. Chosen, not measured against others.
+inline constexpr int kDirectRays = 8;
+
 /// The states of a slot's cone in CameraSetup::cone_state.
 inline constexpr std::uint8_t kConeMissing = 0, kConeMaking = 1, kConeReady = 2;
 
@@ -233,6 +240,9 @@ struct CameraSetup {
   /// computed on first use (VoxelEvaluator::Impl::ensure_projected; kConeMissing → kConeMaking →
   /// kConeReady).
   mutable std::unique_ptr<std::atomic<std::uint8_t>[]> group_state;
+  /// Center mode, per group not projected yet: the rays that tested its triangles directly
+  /// (judge_center; it is projected once kDirectRays have).
+  mutable std::unique_ptr<std::atomic<std::uint8_t>[]> group_rays;
   std::size_t group_capacity = 0;
   /// The projection's bounding rectangle (x0, x1, y0, y1), padded; infinite for the slots not
   /// wholly in front of the camera, empty (x0 = ∞) for those of a group projected on first use

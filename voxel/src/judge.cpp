@@ -105,6 +105,22 @@ Verdict VoxelEvaluator::Impl::judge_center(const CameraSetup& cam, const Vec3& w
   Vec3 u;
   bool ray_ready = false;
   scratch.hits.clear();
+  auto ready = [&] {
+    if (!ray_ready) {
+      if (d < 0.0) d = w.norm();
+      u = w / d;
+      ray_ready = true;
+    }
+  };
+  // The ray test of slot s (states m of its object).
+  auto ray = [&](int s, int o, StateMask m) {
+    const int t = cam.slot_triangle[s];
+    const auto& tri = triangles[t];
+    const double hit = core::ray_triangle_hit(cam.c, u, tri[0], tri[1], tri[2]);
+    if (!(hit > 0.0)) return;
+    scratch.hits.push_back({hit, objects[o].occupying ? 1 : 0, t});
+    if (hit <= d) out.blocked |= m;
+  };
   auto test = [&](int s) {
     const int o = cam.slot_object[s];
     const StateMask m = object_states[o] & interest;
@@ -119,17 +135,24 @@ Verdict VoxelEvaluator::Impl::judge_center(const CameraSetup& cam, const Vec3& w
         }
       }
     }
-    if (!ray_ready) {
-      if (d < 0.0) d = w.norm();
-      u = w / d;
-      ray_ready = true;
+    ready();
+    ray(s, o, m);
+  };
+  // A group not projected yet, ray by ray: each triangle whose ball the ray's line passes near
+  // (within a margin far above the rounding of the distance) gets the ray test. The projection's
+  // tests only rule out triangles the ray misses (docs/design/labelling.md L10 e).
+  auto direct = [&](const detail::SlotGroup& group) {
+    const int o = cam.slot_object[group.first];
+    const StateMask m = object_states[o] & interest;
+    if (!m) return;
+    ready();
+    for (int s = group.first; s < group.last; ++s) {
+      const detail::Ball& ball = triangle_balls[cam.slot_triangle[s]];
+      const Vec3 v = ball.center - cam.c;
+      const double reach = ball.radius + 1e-7 * (v.norm() + ball.radius);
+      if (v.dot(u) < -reach || v.cross(u).squaredNorm() > reach * reach) continue;
+      ray(s, o, m);
     }
-    const int t = cam.slot_triangle[s];
-    const auto& tri = triangles[t];
-    const double hit = core::ray_triangle_hit(cam.c, u, tri[0], tri[1], tri[2]);
-    if (!(hit > 0.0)) return;
-    scratch.hits.push_back({hit, objects[o].occupying ? 1 : 0, t});
-    if (hit <= d) out.blocked |= m;
   };
   if (binned) {
     const bool single = bins.x0 == bins.x1 && bins.y0 == bins.y1;
@@ -148,6 +171,11 @@ Verdict VoxelEvaluator::Impl::judge_center(const CameraSetup& cam, const Vec3& w
           if (projected) {
             const auto& r = group.rect;
             if (px < r[0] || px > r[1] || py < r[2] || py > r[3]) continue;
+          }
+          if (cam.group_state[g].load(std::memory_order_acquire) != detail::kConeReady &&
+              cam.group_rays[g].fetch_add(1, std::memory_order_relaxed) < detail::kDirectRays) {
+            direct(group);
+            continue;
           }
           ensure_projected(cam, g);
           for (int s = group.first; s < group.last; ++s) test(s);
