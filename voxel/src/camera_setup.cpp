@@ -384,9 +384,9 @@ void add_slots(int o, const ObjectInfo& info, bool cull, bool conservative, Came
   const double inf = std::numeric_limits<double>::infinity();
   const core::TriangleMesh& mesh = *info.mesh;
   auto add_slot = [&](int t) {
-    cam.slot_triangle.push_back(t);
-    cam.slot_object.push_back(o);
-    return static_cast<int>(cam.slot_triangle.size()) - 1;
+    cam.slot_triangle[cam.slot_count] = t;
+    cam.slot_object[cam.slot_count] = o;
+    return cam.slot_count++;
   };
   // Cluster k's slots, the cluster facing the camera as `facing` says (kMixed: unproven; not
   // culled back faces).
@@ -398,12 +398,11 @@ void add_slots(int o, const ObjectInfo& info, bool cull, bool conservative, Came
       if (rect) {
         const auto& r = *rect;
         if (outside_view(r, cam)) return;  // neither is any of its triangles'
-        const int first = static_cast<int>(cam.slot_triangle.size());
-        for (int n = cluster.begin; n < cluster.end; ++n) {
-          add_slot(info.first_triangle + info.cluster_order[n]);
-        }
+        // Its slots are written when it is projected (fill_group).
+        const int first = cam.slot_count;
+        cam.slot_count += cluster.end - cluster.begin;
         work.group_projected.push_back(0);
-        cam.groups.push_back({first, first + cluster.end - cluster.begin, r, near});
+        cam.groups.push_back({first, cam.slot_count, r, near, o, k});
         return;
       }
       // Its triangles one by one: their tilts and views (none flat; back faces only when the
@@ -411,7 +410,7 @@ void add_slots(int o, const ObjectInfo& info, bool cull, bool conservative, Came
       tilts(info, cluster, cam, work);
     }
     work.deferred.clear();
-    const int first = static_cast<int>(cam.slot_triangle.size());
+    const int first = cam.slot_count;
     std::array<double, 4> group_rect{inf, -inf, inf, -inf};
     for (int n = cluster.begin; n < cluster.end; ++n) {
       const int i = info.cluster_order[n];
@@ -425,17 +424,17 @@ void add_slots(int o, const ObjectInfo& info, bool cull, bool conservative, Came
         work.deferred.push_back(t);
         continue;
       }
-      const int s = static_cast<int>(cam.slot_triangle.size());
+      const int s = cam.slot_count;
       if (!project_slot(v, cam, conservative, s)) continue;
       add_slot(t);
       const auto& r = cam.rect[s];
       group_rect = {std::min(group_rect[0], r[0]), std::max(group_rect[1], r[1]),
                     std::min(group_rect[2], r[2]), std::max(group_rect[3], r[3])};
     }
-    const int last = static_cast<int>(cam.slot_triangle.size());
+    const int last = cam.slot_count;
     if (last > first) {
       work.group_projected.push_back(1);
-      cam.groups.push_back({first, last, group_rect, near});
+      cam.groups.push_back({first, last, group_rect, near, o, -1});
     }
     // Not wholly in front of the camera: a candidate everywhere.
     for (int t : work.deferred) {
@@ -557,6 +556,7 @@ void VoxelEvaluator::Impl::project_group(const CameraSetup& cam, int g) const {
   // of triangles that lie wholly in front of the camera (ball_rectangle) and face it.
   const double inf = std::numeric_limits<double>::infinity();
   const detail::SlotGroup& group = cam.groups[g];
+  if (group.cluster >= 0) fill_group(cam, group);
   for (int s = group.first; s < group.last; ++s) {
     const auto& tri = triangles[cam.slot_triangle[s]];
     const VertexView views[3] = {view_point(tri[0], cam), view_point(tri[1], cam),
@@ -567,6 +567,15 @@ void VoxelEvaluator::Impl::project_group(const CameraSetup& cam, int g) const {
     if (!project_slot(v, cam, conservative, s)) cam.rect[s] = {inf, -inf, inf, -inf};
   }
   state.store(detail::kConeReady, std::memory_order_release);
+}
+
+void VoxelEvaluator::Impl::fill_group(const CameraSetup& cam,
+                                      const detail::SlotGroup& group) const {
+  for (int s = group.first; s < group.last; ++s) {
+    cam.slot_triangle[s] = group_triangle(cam, group, s);
+    cam.slot_object[s] = group.object;
+    if (conservative) cam.cone_state[s].store(detail::kConeMissing, std::memory_order_relaxed);
+  }
 }
 
 const TriangleCone& VoxelEvaluator::Impl::make_cone_of(const CameraSetup& cam, int slot) const {
@@ -618,8 +627,12 @@ void VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera,
   const std::array<double, 2> width = camera_frame(camera, model, half_step, bins, cam);
   objects_holding(objects, cam.c, cam.inside_object);
   cam.culled.assign(objects.size(), 0);
-  cam.slot_triangle.clear();
-  cam.slot_object.clear();
+  // At most one slot per triangle.
+  cam.slot_count = 0;
+  if (cam.slot_triangle.size() < triangles.size()) {
+    cam.slot_triangle.resize(triangles.size());
+    cam.slot_object.resize(triangles.size());
+  }
   // Written per slot (at most one per triangle), projected groups on first use.
   if (cam.rect.size() < triangles.size()) cam.rect.resize(triangles.size());
   if (!conservative && cam.lines.size() < triangles.size()) cam.lines.resize(triangles.size());
@@ -650,18 +663,33 @@ void VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera,
   }
   if (conservative) {
     // The cones are made on first use (cone_of): a fine mesh has many slots that no box tests.
-    const std::size_t slots = cam.slot_triangle.size();
+    const std::size_t slots = cam.slot_count;
     if (cam.cone_capacity < slots) {
       cam.cone_capacity = std::max(slots, 2 * cam.cone_capacity);
       cam.cones.reset(new TriangleCone[cam.cone_capacity]);  // uninitialised: no page touched
       cam.cone_state.reset(new std::atomic<std::uint8_t>[cam.cone_capacity]);
     }
     // Few slots for many boxes (a coarse mesh): each cone serves many tests, made up front.
-    const bool up_front = slots * 8 <= static_cast<std::size_t>(grid.count());
-    for (std::size_t s = 0; s < slots; ++s) {
-      if (up_front) make_cone(cam.slot_triangle[s], cam.c, cam.cones[s]);
-      cam.cone_state[s].store(up_front ? detail::kConeReady : detail::kConeMissing,
-                              std::memory_order_relaxed);
+    if (slots * 8 <= static_cast<std::size_t>(grid.count())) {
+      for (detail::SlotGroup& group : cam.groups) {
+        if (group.cluster >= 0) fill_group(cam, group);
+        group.cluster = -1;
+      }
+      for (std::size_t s = 0; s < slots; ++s) {
+        make_cone(cam.slot_triangle[s], cam.c, cam.cones[s]);
+        cam.cone_state[s].store(detail::kConeReady, std::memory_order_relaxed);
+      }
+    } else {
+      // The slots written now; a group of a cluster's when it is projected (fill_group).
+      for (const detail::SlotGroup& group : cam.groups) {
+        if (group.cluster >= 0) continue;
+        for (int s = group.first; s < group.last; ++s) {
+          cam.cone_state[s].store(detail::kConeMissing, std::memory_order_relaxed);
+        }
+      }
+      for (int s : cam.everywhere) {
+        cam.cone_state[s].store(detail::kConeMissing, std::memory_order_relaxed);
+      }
     }
   }
   // The slot groups of the chunk that has most (an object may belong to several chunks).

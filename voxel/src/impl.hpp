@@ -191,6 +191,11 @@ struct SlotGroup {
   int first = 0, last = 0;
   std::array<double, 4> rect{};
   double near = 0.0;
+  int object = 0;  ///< the object of its triangles
+  /// ≥ 0: the group is all of this cluster of the object's triangles (ObjectInfo::clusters), in
+  /// order, and its slots' triangles, objects and cone states are written when it is projected
+  /// (project_group); −1: written at set-up.
+  int cluster = -1;
 };
 
 /// Everything about one camera that one evaluation needs and that does not depend on the
@@ -226,9 +231,11 @@ struct CameraSetup {
   BinGrid coarse, wide;
   std::array<double, 2> widen{0.0, 0.0};  ///< per image axis
   std::vector<ChunkCandidates> chunks;
-  // Per slot.
-  std::vector<int> slot_triangle;
-  std::vector<int> slot_object;
+  // Per slot: slot_count of them (the arrays are longer, their memory reused); those of a group
+  /// of a cluster (SlotGroup::cluster) written when it is projected.
+  int slot_count = 0;
+  mutable std::vector<int> slot_triangle;
+  mutable std::vector<int> slot_object;
   /// Slots are numbered object by object, cluster by cluster. Per object o: its groups are
   /// object_groups[o] .. object_groups[o + 1] − 1 (objects.size() + 1 offsets).
   std::vector<SlotGroup> groups;
@@ -635,6 +642,16 @@ struct VoxelEvaluator::Impl : detail::SceneTables,
     }
   }
   void project_group(const detail::CameraSetup& cam, int g) const;
+  /// Writes the slots of group `group` of a cluster: their triangles, objects and (conservative
+  /// mode) cone states (camera_setup.cpp).
+  void fill_group(const detail::CameraSetup& cam, const detail::SlotGroup& group) const;
+  /// The triangle of slot s of `group`, whether or not its slots are written yet.
+  int group_triangle(const detail::CameraSetup& cam, const detail::SlotGroup& group, int s) const {
+    if (group.cluster < 0) return cam.slot_triangle[s];
+    const detail::ObjectInfo& info = objects[group.object];
+    return info.first_triangle +
+           info.cluster_order[info.clusters[group.cluster].begin + (s - group.first)];
+  }
 };
 
 }  // namespace camplace::voxel

@@ -113,8 +113,7 @@ Verdict VoxelEvaluator::Impl::judge_center(const CameraSetup& cam, const Vec3& w
     }
   };
   // The ray test of slot s (states m of its object).
-  auto ray = [&](int s, int o, StateMask m) {
-    const int t = cam.slot_triangle[s];
+  auto ray = [&](int t, int o, StateMask m) {
     const auto& tri = triangles[t];
     const double hit = core::ray_triangle_hit(cam.c, u, tri[0], tri[1], tri[2]);
     if (!(hit > 0.0)) return;
@@ -136,22 +135,23 @@ Verdict VoxelEvaluator::Impl::judge_center(const CameraSetup& cam, const Vec3& w
       }
     }
     ready();
-    ray(s, o, m);
+    ray(cam.slot_triangle[s], o, m);
   };
   // A group not projected yet, ray by ray: each triangle whose ball the ray's line passes near
   // (within a margin far above the rounding of the distance) gets the ray test. The projection's
   // tests only rule out triangles the ray misses (docs/design/labelling.md L10 e).
   auto direct = [&](const detail::SlotGroup& group) {
-    const int o = cam.slot_object[group.first];
+    const int o = group.object;
     const StateMask m = object_states[o] & interest;
     if (!m) return;
     ready();
     for (int s = group.first; s < group.last; ++s) {
-      const detail::Ball& ball = triangle_balls[cam.slot_triangle[s]];
+      const int t = group_triangle(cam, group, s);
+      const detail::Ball& ball = triangle_balls[t];
       const Vec3 v = ball.center - cam.c;
       const double reach = ball.radius + 1e-7 * (v.norm() + ball.radius);
       if (v.dot(u) < -reach || v.cross(u).squaredNorm() > reach * reach) continue;
-      ray(s, o, m);
+      ray(t, o, m);
     }
   };
   if (binned) {
@@ -264,7 +264,7 @@ Verdict VoxelEvaluator::Impl::judge_conservative(const CameraSetup& cam, const V
     const detail::SlotGroup& group = cam.groups[g];
     const auto& r = group.rect;
     if (r[0] > vx1 || r[1] < vx0 || r[2] > vy1 || r[3] < vy0) return false;
-    const int o = cam.slot_object[group.first];
+    const int o = group.object;
     const bool occupying = objects[o].occupying;
     if (!open_states(o, occupying)) return false;
     if (!occupying) {
@@ -519,7 +519,7 @@ StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& 
         const detail::SlotGroup& group = cam.groups[g];
         const auto& rect = group.rect;
         if (rect[0] > vx1 || rect[1] < vx0 || rect[2] > vy1 || rect[3] < vy0) continue;
-        const int o = cam.slot_object[group.first];
+        const int o = group.object;
         if (!(object_states[o] & clear)) continue;
         if (!objects[o].occupying && group.near >= far) continue;
         if (outlined && outside(rect)) continue;
