@@ -661,6 +661,8 @@ void VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera,
                              std::memory_order_relaxed);
     if (!conservative) cam.group_rays[g].store(0, std::memory_order_relaxed);
   }
+  cam.direct_rays =
+      static_cast<long>(groups) * detail::kRaysPerGroup > grid.count() ? detail::kDirectRays : 0;
   if (conservative) {
     // The cones are made on first use (cone_of): a fine mesh has many slots that no box tests.
     const std::size_t slots = cam.slot_count;

@@ -146,8 +146,11 @@ struct TriangleCone {
 /// test) before the group is projected (its slots' rectangles and edge lines then rule out most
 /// triangles before the ray test). Projecting a group costs about as much as this many direct
 /// tests of it: fine meshes have many groups that few rays meet, coarse ones few that many rays
-/// meet. Chosen, not measured against others.
+/// meet. Only when a camera has more than one group per kRaysPerGroup voxels (else every group
+/// is projected on its first ray). Chosen, measured only against projecting every group at once
+/// (bench/scale_bench, robot family: 3k triangles slower with direct rays, 10k faster).
 inline constexpr int kDirectRays = 8;
+inline constexpr int kRaysPerGroup = 32;
 
 /// The states of a slot's cone in CameraSetup::cone_state.
 inline constexpr std::uint8_t kConeMissing = 0, kConeMaking = 1, kConeReady = 2;
@@ -250,6 +253,7 @@ struct CameraSetup {
   /// Center mode, per group not projected yet: the rays that tested its triangles directly
   /// (judge_center; it is projected once kDirectRays have).
   mutable std::unique_ptr<std::atomic<std::uint8_t>[]> group_rays;
+  int direct_rays = 0;  ///< kDirectRays, or 0 when groups are few (kRaysPerGroup)
   std::size_t group_capacity = 0;
   /// The projection's bounding rectangle (x0, x1, y0, y1), padded; infinite for the slots not
   /// wholly in front of the camera, empty (x0 = ∞) for those of a group projected on first use

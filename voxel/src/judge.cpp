@@ -172,8 +172,9 @@ Verdict VoxelEvaluator::Impl::judge_center(const CameraSetup& cam, const Vec3& w
             const auto& r = group.rect;
             if (px < r[0] || px > r[1] || py < r[2] || py > r[3]) continue;
           }
-          if (cam.group_state[g].load(std::memory_order_acquire) != detail::kConeReady &&
-              cam.group_rays[g].fetch_add(1, std::memory_order_relaxed) < detail::kDirectRays) {
+          if (cam.direct_rays > 0 &&
+              cam.group_state[g].load(std::memory_order_acquire) != detail::kConeReady &&
+              cam.group_rays[g].fetch_add(1, std::memory_order_relaxed) < cam.direct_rays) {
             direct(group);
             continue;
           }
