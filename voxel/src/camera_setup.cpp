@@ -654,7 +654,8 @@ void VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera,
   if (cam.group_capacity < groups) {
     cam.group_capacity = std::max(groups, 2 * cam.group_capacity);
     cam.group_state.reset(new std::atomic<std::uint8_t>[cam.group_capacity]);
-    if (!conservative) cam.group_rays.reset(new std::atomic<std::uint8_t>[cam.group_capacity]);
+    // (In both modes: a thread's CameraSetup serves evaluators of either mode.)
+    cam.group_rays.reset(new std::atomic<std::uint8_t>[cam.group_capacity]);
   }
   for (std::size_t g = 0; g < groups; ++g) {
     cam.group_state[g].store(work.group_projected[g] ? detail::kConeReady : detail::kConeMissing,
