@@ -274,6 +274,23 @@ TEST(Oracle, LargeSolidsLabelsFromCamerasOnTheirSurfacesEqualReference) {
   }
 }
 
+// A thread's per-camera tables serve every evaluator it runs, of either mode: fine meshes, so
+// that center mode tests rays against groups before projecting them, evaluated after and
+// between conservative evaluations on the same thread give what they give alone.
+TEST(Oracle, EvaluatorsOfBothModesOnOneThreadGiveTheirOwnResults) {
+  std::mt19937 rng(20261206);
+  const core::Scene scene = with_fine_meshes(random_scene(rng, {8, 6, 6}), 600);
+  const core::CameraConfig config = random_config(rng, scene);
+  const voxel::VoxelEvaluator conservative(scene, {LabelMode::conservative, {0, 0, 0}});
+  const voxel::VoxelEvaluator center(scene, {LabelMode::center, {0, 0, 0}});
+  const double conservative_err = conservative.evaluate(config).err;
+  const double center_err = center.evaluate(config).err;
+  for (int round = 0; round < 2; ++round) {
+    EXPECT_EQ(conservative.evaluate(config).err, conservative_err);
+    EXPECT_EQ(center.evaluate(config).err, center_err);
+  }
+}
+
 TEST(Oracle, ConservativeModelContainsCenterModel) {
   std::mt19937 rng(99);
   for (int s = 0; s < kScenes; ++s) {
