@@ -202,6 +202,95 @@ TEST(Oracle, FineMeshLabelsFromCamerasNearObjectsEqualReference) {
   }
 }
 
+// Two large solids of fine meshes (deep trees over their clusters: camera set-up rules out whole
+// subtrees as back faces, or as facing the camera and projecting outside the FOV) and cameras on,
+// just above and along their surfaces, inside them and looking at them from anywhere, with wide
+// frusta: subtrees straddle the camera's plane, the FOV's edges and the near plane, and patches
+// of the surface in front of the camera are seen at grazing angles just ahead of it. Every label
+// of both modes equals the brute-force reference's, which tests every triangle.
+core::Scene two_large_solids(std::mt19937& rng) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const core::Box3 area{core::Vec3(0, 0, 0), core::Vec3(4, 3, 3)};
+  // A flat table-like target and an upright obstacle beside it.
+  const core::Vec3 lo(0.4 + 0.4 * unit(rng), 0.3 + 0.3 * unit(rng), 0.5 + 0.4 * unit(rng));
+  const core::Box3 table{lo, lo + core::Vec3(2.2, 1.8, 0.25 + 0.2 * unit(rng))};
+  const core::Box3 post{core::Vec3(3.1, 0.8, 0.0), core::Vec3(3.7, 2.2, 2.6)};
+  const core::SceneObject robot =
+      box_object("robot", core::Vec3(0.2, 2.5, 0.0), core::Vec3(0.6, 2.9, 1.2));
+  core::Scene scene =
+      simple_scene(area, {12, 9, 9}, 4, 45.0, {robot}, {ellipsoid_object("table", table, 1800)});
+  scene.time_steps[0].dynamic_obstacles.push_back(robot);
+  scene.static_obstacles.push_back(ellipsoid_object("post", post, 1200));
+  randomize_camera_models(rng, scene);
+  for (core::CameraModel& m : scene.cameras.models) {
+    // Wide frusta see the surface just ahead of a camera on it.
+    m.fov = core::FovShape::frustum;
+    m.horizontal = (120.0 + 50.0 * unit(rng)) * core::kPi / 180.0;
+    m.vertical = (100.0 + 60.0 * unit(rng)) * core::kPi / 180.0;
+  }
+  return scene;
+}
+
+core::CameraConfig cameras_on_surfaces(std::mt19937& rng, const core::Scene& scene) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const core::SceneObject& table = scene.time_steps[0].events[0].targets[0];
+  const core::SceneObject& post = scene.static_obstacles[0];
+  core::CameraConfig config;
+  constexpr double kToDeg = 180.0 / core::kPi;
+  for (int i = 0; i < scene.cameras.count; ++i) {
+    const double kind = unit(rng);
+    const core::SceneObject& o = kind < 0.7 ? table : post;
+    const auto& vertices = o.mesh.vertices;
+    const core::Vec3 v = vertices[static_cast<std::size_t>(unit(rng) * vertices.size())];
+    // The outward normal of the ellipsoid at v.
+    const core::Vec3 half = 0.5 * o.bounds.size();
+    const core::Vec3 n =
+        (v - o.bounds.center()).cwiseQuotient(half.cwiseProduct(half)).normalized();
+    const double offsets[] = {-0.03, 3e-3, 0.05, 0.15, 0.3};
+    const core::Vec3 p = v + offsets[static_cast<int>(unit(rng) * 5)] * n;
+    // Along the surface (turned a little toward or away from it), or at it.
+    core::Vec3 d =
+        n.cross(core::Vec3(unit(rng) - 0.5, unit(rng) - 0.5, unit(rng) - 0.5)).normalized();
+    d = (d - 0.8 * unit(rng) * n).normalized();
+    if (unit(rng) < 0.2) d = -n;
+    config.push_back(camera_at(p.cwiseMax(scene.area.min).cwiseMin(scene.area.max),
+                               std::atan2(d.y(), d.x()) * kToDeg,
+                               std::asin(std::clamp(d.z(), -1.0, 1.0)) * kToDeg));
+  }
+  randomize_rolls(rng, config);
+  return config;
+}
+
+TEST(Oracle, LargeSolidsLabelsFromCamerasOnTheirSurfacesEqualReference) {
+  for (LabelMode mode : {LabelMode::center, LabelMode::conservative}) {
+    std::mt19937 rng(20261205);
+    LabelTally t;
+    compare_labels_with_reference(rng, 3, mode, two_large_solids, cameras_on_surfaces, t);
+    // Conservative mode: ~3 % of the boxes touch a surface within the reference's margin.
+    EXPECT_GT(t.compared, 20 * t.ties);
+    EXPECT_GT(t.by_label[static_cast<int>(Label::free)], 100);  // not vacuous
+    EXPECT_GT(t.by_label[static_cast<int>(Label::undetectable)], 100);
+    EXPECT_GT(t.by_label[static_cast<int>(Label::occupied)], 100);
+  }
+}
+
+// A thread's per-camera tables serve every evaluator it runs, of either mode: fine meshes, so
+// that center mode tests rays against groups before projecting them, evaluated after and
+// between conservative evaluations on the same thread give what they give alone.
+TEST(Oracle, EvaluatorsOfBothModesOnOneThreadGiveTheirOwnResults) {
+  std::mt19937 rng(20261206);
+  const core::Scene scene = with_fine_meshes(random_scene(rng, {8, 6, 6}), 600);
+  const core::CameraConfig config = random_config(rng, scene);
+  const voxel::VoxelEvaluator conservative(scene, {LabelMode::conservative, {0, 0, 0}});
+  const voxel::VoxelEvaluator center(scene, {LabelMode::center, {0, 0, 0}});
+  const double conservative_err = conservative.evaluate(config).err;
+  const double center_err = center.evaluate(config).err;
+  for (int round = 0; round < 2; ++round) {
+    EXPECT_EQ(conservative.evaluate(config).err, conservative_err);
+    EXPECT_EQ(center.evaluate(config).err, center_err);
+  }
+}
+
 TEST(Oracle, ConservativeModelContainsCenterModel) {
   std::mt19937 rng(99);
   for (int s = 0; s < kScenes; ++s) {

@@ -123,7 +123,9 @@ struct SetupWork {
   /// when flat.
   std::vector<double> tilt;
   std::vector<std::uint8_t> flat;
-  std::vector<std::uint8_t> facing;  ///< per cluster: facing_cluster (when the object is culled)
+  /// Per node of the object's tree: facing_cluster of its bounds where the walk of
+  /// cull_back_faces stopped at it (proven; the nodes below are not visited), else kMixed.
+  std::vector<std::uint8_t> node_facing;
   std::vector<std::uint8_t> group_projected;  ///< per slot group: its slots projected
   std::vector<GroupBins> bins;                ///< per slot group
   std::vector<int> deferred;  ///< the current cluster's triangles not wholly in front
@@ -258,19 +260,19 @@ std::uint8_t facing_cluster(const detail::TriangleCluster& k, const Vec3& c) {
 }
 
 /// Whether the object's back faces are culled (both modes; docs/design/labelling.md L3), with
-/// the tilts of its triangles (tilts()) into work, and how its clusters face the camera
-/// (work.facing; all kMixed unless culled): det > 0 means the camera is behind the triangle's
-/// plane. An object is culled only when it is oriented outward, the camera is outside it and
-/// clear of its surface, and no triangle is near edge-on; a near miss of a culled object's front
-/// face makes judge_conservative() test its back faces too. A cluster that faces the camera one
-/// way (facing_cluster) needs no tilt per triangle when the object is culled. The surface's
-/// clearance is measured per triangle only when the bounding sphere does not prove it (a sphere
-/// gap of twice the bound leaves room for any rounding of either).
+/// how its triangles face the camera: down the object's tree, a node whose bounds prove how all
+/// its triangles face the camera (facing_cluster: each tilt of magnitude above 1e-9, so none
+/// flat or near edge-on) stops the descent (work.node_facing), and the clusters reached unproven
+/// get the tilts of their triangles (tilts(), into work). det > 0 means the camera is behind the
+/// triangle's plane. An object is culled only when it is oriented outward, the camera is outside
+/// it and clear of its surface, and no triangle is near edge-on; a near miss of a culled object's
+/// front face makes judge_conservative() test its back faces too. The surface's clearance is
+/// measured per triangle only when the bounding sphere does not prove it (a sphere gap of twice
+/// the bound leaves room for any rounding of either).
 bool cull_back_faces(const ObjectInfo& info, bool camera_inside, const Triangles& triangles,
                      const CameraSetup& cam, SetupWork& work) {
   const Vec3& c = cam.c;
   const int n = info.triangle_count;
-  const std::size_t clusters = info.clusters.size();
   work.tilt.resize(n);
   work.flat.resize(n);
   work.vertices.resize(info.mesh->vertices.size());
@@ -279,25 +281,23 @@ bool cull_back_faces(const ObjectInfo& info, bool camera_inside, const Triangles
     std::fill(work.vertex_stamp.begin(), work.vertex_stamp.end(), 0);
     work.vertex_visit = 1;
   }
-  work.facing.assign(clusters, kMixed);
-  const bool may_cull = info.outward && !camera_inside;
+  work.node_facing.assign(info.nodes.size(), kMixed);
   bool clear_tilts = true;
-  for (std::size_t k = 0; k < clusters; ++k) {
-    if (may_cull) work.facing[k] = facing_cluster(info.clusters[k], c);
-    if (work.facing[k] == kMixed) {
-      clear_tilts = tilts(info, info.clusters[k], cam, work) && clear_tilts;
+  for (std::size_t i = 0; i < info.nodes.size();) {
+    const detail::ClusterNode& node = info.nodes[i];
+    const std::uint8_t f = facing_cluster(node.bounds, c);
+    if (f != kMixed) {
+      work.node_facing[i] = f;
+      i = node.next;
+      continue;
     }
+    if (node.cluster_end - node.cluster_begin == 1) {
+      clear_tilts = tilts(info, info.clusters[node.cluster_begin], cam, work) && clear_tilts;
+    }
+    ++i;
   }
-  auto not_culled = [&] {
-    // Every triangle's tilt is needed.
-    for (std::size_t k = 0; k < clusters; ++k) {
-      if (work.facing[k] != kMixed) tilts(info, info.clusters[k], cam, work);
-      work.facing[k] = kMixed;
-    }
-    return false;
-  };
+  if (!(info.outward && !camera_inside && clear_tilts)) return false;
   const double scale = (info.center - c).norm() + info.radius;
-  if (!(may_cull && clear_tilts)) return not_culled();
   if ((info.center - c).norm() - info.radius > 2e-9 * scale) return true;
   double clearance = std::numeric_limits<double>::infinity();
   for (int i = 0; i < n; ++i) {
@@ -305,7 +305,7 @@ bool cull_back_faces(const ObjectInfo& info, bool camera_inside, const Triangles
     clearance =
         std::min(clearance, std::sqrt(core::point_triangle_sq_distance(c, tri[0], tri[1], tri[2])));
   }
-  return clearance > 1e-9 * scale || not_culled();
+  return clearance > 1e-9 * scale;
 }
 
 /// Slot s's projection from its triangle's corners seen from the camera: its rectangle
@@ -362,58 +362,60 @@ std::optional<std::array<double, 4>> ball_rectangle(const detail::Ball& ball,
   return std::array<double, 4>{p[0] - pad_x, p[1] + pad_x, p[2] - pad_y, p[3] + pad_y};
 }
 
+/// Whether the rectangle r (x0, x1, y0, y1) misses the FOV's section.
+bool outside_view(const std::array<double, 4>& r, const CameraSetup& cam) {
+  return r[1] < cam.view[0] || r[0] > cam.view[1] || r[3] < cam.view[2] || r[2] > cam.view[3];
+}
+
 /// The slots of object o: its triangles that can decide a label (not culled back faces; in
 /// conservative mode not flat; projecting into the FOV's section or not wholly in front of the
 /// camera), cluster by cluster (ObjectInfo::clusters), with their padded rectangles and, in center
 /// mode, edge lines. Per cluster, its slots wholly in front of the camera form a group (binned),
-/// then come the others (candidates everywhere). A culled object's cluster proven wholly in front
-/// (work.facing) and in front of the camera is a group of all its triangles, projected on first
-/// use (project_group); one whose rectangle misses the FOV's section has no slot.
+/// then come the others (candidates everywhere). A cluster proven to face the camera one way
+/// (work.node_facing, at it or a node above; none of its triangles flat), unless its triangles
+/// are culled back faces, whose ball lies in front of the camera is a group of all its triangles,
+/// projected on first use (project_group); one whose rectangle misses the FOV's section has no
+/// slot. The walk of the object's tree skips a subtree of culled back faces (no slots), or a
+/// proven subtree whose ball lies in front of the camera and whose rectangle misses the FOV's
+/// section: that rectangle holds every cluster's rectangle and every triangle's inside the ball
+/// (L10), so none of them has a slot.
 void add_slots(int o, const ObjectInfo& info, bool cull, bool conservative, CameraSetup& cam,
                SetupWork& work) {
   const double inf = std::numeric_limits<double>::infinity();
   const core::TriangleMesh& mesh = *info.mesh;
   auto add_slot = [&](int t) {
-    cam.slot_triangle.push_back(t);
-    cam.slot_object.push_back(o);
-    return static_cast<int>(cam.slot_triangle.size()) - 1;
+    cam.slot_triangle[cam.slot_count] = t;
+    cam.slot_object[cam.slot_count] = o;
+    return cam.slot_count++;
   };
-  for (std::size_t k = 0; k < info.clusters.size(); ++k) {
+  // Cluster k's slots, the cluster facing the camera as `facing` says (kMixed: unproven; not
+  // culled back faces).
+  auto cluster_slots = [&](int k, std::uint8_t facing) {
     const detail::TriangleCluster& cluster = info.clusters[k];
-    if (cull && work.facing[k] == kBehind) {
-      // Back faces all (facing_cluster): no slots.
-      for (int n = cluster.begin; n < cluster.end; ++n) {
-        cam.back[info.first_triangle + info.cluster_order[n]] = 1;
-      }
-      continue;
-    }
     const double near = detail::nearest_in_ball(cluster.ball, cam.c);
-    if (cull && work.facing[k] == kInFront) {
+    if (facing != kMixed) {
       const auto rect = ball_rectangle(cluster.ball, cam);
       if (rect) {
         const auto& r = *rect;
-        if (r[1] < cam.view[0] || r[0] > cam.view[1] || r[3] < cam.view[2] || r[2] > cam.view[3]) {
-          continue;  // neither is any of its triangles'
-        }
-        const int first = static_cast<int>(cam.slot_triangle.size());
-        for (int n = cluster.begin; n < cluster.end; ++n) {
-          add_slot(info.first_triangle + info.cluster_order[n]);
-        }
+        if (outside_view(r, cam)) return;  // neither is any of its triangles'
+        // Its slots are written when it is projected (fill_group).
+        const int first = cam.slot_count;
+        cam.slot_count += cluster.end - cluster.begin;
         work.group_projected.push_back(0);
-        cam.groups.push_back({first, first + cluster.end - cluster.begin, r, near});
-        continue;
+        cam.groups.push_back({first, cam.slot_count, r, near, o, k});
+        return;
       }
+      // Its triangles one by one: their tilts and views (none flat; back faces only when the
+      // object is not culled).
+      tilts(info, cluster, cam, work);
     }
     work.deferred.clear();
-    const int first = static_cast<int>(cam.slot_triangle.size());
+    const int first = cam.slot_count;
     std::array<double, 4> group_rect{inf, -inf, inf, -inf};
     for (int n = cluster.begin; n < cluster.end; ++n) {
       const int i = info.cluster_order[n];
       const int t = info.first_triangle + i;
-      if (cull && work.tilt[i] > 0) {
-        cam.back[t] = 1;
-        continue;
-      }
+      if (cull && work.tilt[i] > 0) continue;  // a back face (detail::back_face)
       if (conservative && work.flat[i]) continue;
       const auto& tv = mesh.triangles[i];
       const VertexView* v[3] = {&work.vertices[tv[0]], &work.vertices[tv[1]],
@@ -422,17 +424,17 @@ void add_slots(int o, const ObjectInfo& info, bool cull, bool conservative, Came
         work.deferred.push_back(t);
         continue;
       }
-      const int s = static_cast<int>(cam.slot_triangle.size());
+      const int s = cam.slot_count;
       if (!project_slot(v, cam, conservative, s)) continue;
       add_slot(t);
       const auto& r = cam.rect[s];
       group_rect = {std::min(group_rect[0], r[0]), std::max(group_rect[1], r[1]),
                     std::min(group_rect[2], r[2]), std::max(group_rect[3], r[3])};
     }
-    const int last = static_cast<int>(cam.slot_triangle.size());
+    const int last = cam.slot_count;
     if (last > first) {
       work.group_projected.push_back(1);
-      cam.groups.push_back({first, last, group_rect, near});
+      cam.groups.push_back({first, last, group_rect, near, o, -1});
     }
     // Not wholly in front of the camera: a candidate everywhere.
     for (int t : work.deferred) {
@@ -441,6 +443,29 @@ void add_slots(int o, const ObjectInfo& info, bool cull, bool conservative, Came
       cam.rect[s] = {-inf, inf, -inf, inf};
       if (!conservative) cam.lines[s].valid = false;
     }
+  };
+  // Pre-order: the nodes before proven_end lie below the proven node `proven` (facing it says).
+  int proven_end = 0;
+  std::uint8_t proven = kMixed;
+  for (int i = 0; i < static_cast<int>(info.nodes.size());) {
+    const detail::ClusterNode& node = info.nodes[i];
+    const bool leaf = node.cluster_end - node.cluster_begin == 1;
+    if (i >= proven_end && work.node_facing[i] != kMixed) {
+      proven = work.node_facing[i];
+      proven_end = node.next;
+    }
+    const std::uint8_t facing = i < proven_end ? proven : kMixed;
+    if (cull && facing == kBehind) {
+      i = node.next;  // back faces all (facing_cluster): no slots
+      continue;
+    }
+    if (facing != kMixed && !leaf) {
+      const auto rect = ball_rectangle(node.bounds.ball, cam);
+      i = rect && outside_view(*rect, cam) ? node.next : i + 1;
+      continue;
+    }
+    if (leaf) cluster_slots(node.cluster_begin, facing);
+    ++i;
   }
 }
 
@@ -531,6 +556,7 @@ void VoxelEvaluator::Impl::project_group(const CameraSetup& cam, int g) const {
   // of triangles that lie wholly in front of the camera (ball_rectangle) and face it.
   const double inf = std::numeric_limits<double>::infinity();
   const detail::SlotGroup& group = cam.groups[g];
+  if (group.cluster >= 0) fill_group(cam, group);
   for (int s = group.first; s < group.last; ++s) {
     const auto& tri = triangles[cam.slot_triangle[s]];
     const VertexView views[3] = {view_point(tri[0], cam), view_point(tri[1], cam),
@@ -541,6 +567,15 @@ void VoxelEvaluator::Impl::project_group(const CameraSetup& cam, int g) const {
     if (!project_slot(v, cam, conservative, s)) cam.rect[s] = {inf, -inf, inf, -inf};
   }
   state.store(detail::kConeReady, std::memory_order_release);
+}
+
+void VoxelEvaluator::Impl::fill_group(const CameraSetup& cam,
+                                      const detail::SlotGroup& group) const {
+  for (int s = group.first; s < group.last; ++s) {
+    cam.slot_triangle[s] = group_triangle(cam, group, s);
+    cam.slot_object[s] = group.object;
+    if (conservative) cam.cone_state[s].store(detail::kConeMissing, std::memory_order_relaxed);
+  }
 }
 
 const TriangleCone& VoxelEvaluator::Impl::make_cone_of(const CameraSetup& cam, int slot) const {
@@ -591,10 +626,13 @@ void VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera,
   const int bins = conservative ? std::clamp(n_max / 3, 8, 32) : std::clamp(n_max, 16, 64);
   const std::array<double, 2> width = camera_frame(camera, model, half_step, bins, cam);
   objects_holding(objects, cam.c, cam.inside_object);
-  cam.back.assign(triangles.size(), 0);
   cam.culled.assign(objects.size(), 0);
-  cam.slot_triangle.clear();
-  cam.slot_object.clear();
+  // At most one slot per triangle.
+  cam.slot_count = 0;
+  if (cam.slot_triangle.size() < triangles.size()) {
+    cam.slot_triangle.resize(triangles.size());
+    cam.slot_object.resize(triangles.size());
+  }
   // Written per slot (at most one per triangle), projected groups on first use.
   if (cam.rect.size() < triangles.size()) cam.rect.resize(triangles.size());
   if (!conservative && cam.lines.size() < triangles.size()) cam.lines.resize(triangles.size());
@@ -616,25 +654,45 @@ void VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera,
   if (cam.group_capacity < groups) {
     cam.group_capacity = std::max(groups, 2 * cam.group_capacity);
     cam.group_state.reset(new std::atomic<std::uint8_t>[cam.group_capacity]);
+    // (In both modes: a thread's CameraSetup serves evaluators of either mode.)
+    cam.group_rays.reset(new std::atomic<std::uint8_t>[cam.group_capacity]);
   }
   for (std::size_t g = 0; g < groups; ++g) {
     cam.group_state[g].store(work.group_projected[g] ? detail::kConeReady : detail::kConeMissing,
                              std::memory_order_relaxed);
+    if (!conservative) cam.group_rays[g].store(0, std::memory_order_relaxed);
   }
+  cam.direct_rays =
+      static_cast<long>(groups) * detail::kRaysPerGroup > grid.count() ? detail::kDirectRays : 0;
   if (conservative) {
     // The cones are made on first use (cone_of): a fine mesh has many slots that no box tests.
-    const std::size_t slots = cam.slot_triangle.size();
+    const std::size_t slots = cam.slot_count;
     if (cam.cone_capacity < slots) {
       cam.cone_capacity = std::max(slots, 2 * cam.cone_capacity);
       cam.cones.reset(new TriangleCone[cam.cone_capacity]);  // uninitialised: no page touched
       cam.cone_state.reset(new std::atomic<std::uint8_t>[cam.cone_capacity]);
     }
     // Few slots for many boxes (a coarse mesh): each cone serves many tests, made up front.
-    const bool up_front = slots * 8 <= static_cast<std::size_t>(grid.count());
-    for (std::size_t s = 0; s < slots; ++s) {
-      if (up_front) make_cone(cam.slot_triangle[s], cam.c, cam.cones[s]);
-      cam.cone_state[s].store(up_front ? detail::kConeReady : detail::kConeMissing,
-                              std::memory_order_relaxed);
+    if (slots * 8 <= static_cast<std::size_t>(grid.count())) {
+      for (detail::SlotGroup& group : cam.groups) {
+        if (group.cluster >= 0) fill_group(cam, group);
+        group.cluster = -1;
+      }
+      for (std::size_t s = 0; s < slots; ++s) {
+        make_cone(cam.slot_triangle[s], cam.c, cam.cones[s]);
+        cam.cone_state[s].store(detail::kConeReady, std::memory_order_relaxed);
+      }
+    } else {
+      // The slots written now; a group of a cluster's when it is projected (fill_group).
+      for (const detail::SlotGroup& group : cam.groups) {
+        if (group.cluster >= 0) continue;
+        for (int s = group.first; s < group.last; ++s) {
+          cam.cone_state[s].store(detail::kConeMissing, std::memory_order_relaxed);
+        }
+      }
+      for (int s : cam.everywhere) {
+        cam.cone_state[s].store(detail::kConeMissing, std::memory_order_relaxed);
+      }
     }
   }
   // The slot groups of the chunk that has most (an object may belong to several chunks).

@@ -10,6 +10,7 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -73,6 +74,19 @@ inline double nearest_in_ball(const Ball& ball, const core::Vec3& c) {
   return to_center - ball.radius - margin;
 }
 
+/// Whether triangle `tri` is a back face for a camera at c: the camera behind its plane, its
+/// tilt det / scale > 0 with det = (a − c)·((b − c) × (e − c)) and scale the product of the
+/// corners' distances, not flat (|det| > 1e-12 scale); the very arithmetic of camera set-up's
+/// tilts (camera_setup.cpp), so both find the same back faces. A culled object's back faces
+/// have no slots; judge_conservative() tests them on a near miss of a front face.
+inline bool back_face(const std::array<core::Vec3, 3>& tri, const core::Vec3& c) {
+  const core::Vec3 a = tri[0] - c, b = tri[1] - c, e = tri[2] - c;
+  const double det = a.dot(b.cross(e));
+  const double scale = a.norm() * b.norm() * e.norm();
+  const bool flat = !(std::abs(det) > 1e-12 * scale);
+  return !flat && det / scale > 0;
+}
+
 /// A cluster of an object's triangles near each other (set-up, cluster_triangles): its range of
 /// ObjectInfo::cluster_order and a ball holding every one of its vertices.
 struct TriangleCluster {
@@ -84,6 +98,18 @@ struct TriangleCluster {
   core::Vec3 normal_axis = core::Vec3::Zero();
   double normal_cos = -1.0;
   double min_cross = 0.0;
+};
+
+/// A node of the tree over an object's clusters (ObjectInfo::nodes, pre-order): the bounds of
+/// all its triangles (as a cluster's: ball, normal cone, least |cross|; `bounds.begin, end` their
+/// range of cluster_order), its clusters cluster_begin .. cluster_end − 1 (one: a leaf, whose
+/// bounds are its cluster's), and the index of the node after its subtree (its first child, if
+/// any, is the next node). Camera set-up rules out whole subtrees: behind the camera's side of
+/// every plane (back faces), or facing it and projecting outside the FOV (L10).
+struct ClusterNode {
+  TriangleCluster bounds;
+  int cluster_begin = 0, cluster_end = 0;
+  int next = 0;
 };
 
 /// One object of the scene with its fixed role (SPEC §3: what a first hit on it means).
@@ -99,6 +125,7 @@ struct ObjectInfo {
   /// each camera numbers its slots in this order and bins them per cluster (camera_setup).
   std::vector<int> cluster_order;
   std::vector<TriangleCluster> clusters;
+  std::vector<ClusterNode> nodes;  ///< the tree over the clusters, pre-order, root first
 };
 
 /// Per camera and candidate triangle (conservative mode): the infinite cone from the camera over
@@ -114,6 +141,16 @@ struct TriangleCone {
   int axis_count;  // (no initialisers: an array of cones is allocated untouched)
   double near_distance;
 };
+
+/// Center mode: how many rays test a group's triangles directly (their balls, then the ray
+/// test) before the group is projected (its slots' rectangles and edge lines then rule out most
+/// triangles before the ray test). Projecting a group costs about as much as this many direct
+/// tests of it: fine meshes have many groups that few rays meet, coarse ones few that many rays
+/// meet. Only when a camera has more than one group per kRaysPerGroup voxels (else every group
+/// is projected on its first ray). Chosen, measured only against projecting every group at once
+/// (bench/scale_bench, robot family: 3k triangles slower with direct rays, 10k faster).
+inline constexpr int kDirectRays = 8;
+inline constexpr int kRaysPerGroup = 32;
 
 /// The states of a slot's cone in CameraSetup::cone_state.
 inline constexpr std::uint8_t kConeMissing = 0, kConeMaking = 1, kConeReady = 2;
@@ -157,6 +194,11 @@ struct SlotGroup {
   int first = 0, last = 0;
   std::array<double, 4> rect{};
   double near = 0.0;
+  int object = 0;  ///< the object of its triangles
+  /// ≥ 0: the group is all of this cluster of the object's triangles (ObjectInfo::clusters), in
+  /// order, and its slots' triangles, objects and cone states are written when it is projected
+  /// (project_group); −1: written at set-up.
+  int cluster = -1;
 };
 
 /// Everything about one camera that one evaluation needs and that does not depend on the
@@ -192,9 +234,11 @@ struct CameraSetup {
   BinGrid coarse, wide;
   std::array<double, 2> widen{0.0, 0.0};  ///< per image axis
   std::vector<ChunkCandidates> chunks;
-  // Per slot.
-  std::vector<int> slot_triangle;
-  std::vector<int> slot_object;
+  // Per slot: slot_count of them (the arrays are longer, their memory reused); those of a group
+  /// of a cluster (SlotGroup::cluster) written when it is projected.
+  int slot_count = 0;
+  mutable std::vector<int> slot_triangle;
+  mutable std::vector<int> slot_object;
   /// Slots are numbered object by object, cluster by cluster. Per object o: its groups are
   /// object_groups[o] .. object_groups[o + 1] − 1 (objects.size() + 1 offsets).
   std::vector<SlotGroup> groups;
@@ -206,6 +250,10 @@ struct CameraSetup {
   /// computed on first use (VoxelEvaluator::Impl::ensure_projected; kConeMissing → kConeMaking →
   /// kConeReady).
   mutable std::unique_ptr<std::atomic<std::uint8_t>[]> group_state;
+  /// Center mode, per group not projected yet: the rays that tested its triangles directly
+  /// (judge_center; it is projected once kDirectRays have).
+  mutable std::unique_ptr<std::atomic<std::uint8_t>[]> group_rays;
+  int direct_rays = 0;  ///< kDirectRays, or 0 when groups are few (kRaysPerGroup)
   std::size_t group_capacity = 0;
   /// The projection's bounding rectangle (x0, x1, y0, y1), padded; infinite for the slots not
   /// wholly in front of the camera, empty (x0 = ∞) for those of a group projected on first use
@@ -218,11 +266,9 @@ struct CameraSetup {
   mutable std::unique_ptr<TriangleCone[]> cones;
   mutable std::unique_ptr<std::atomic<std::uint8_t>[]> cone_state;
   std::size_t cone_capacity = 0;
-  // Per triangle and object.
-  /// Back face of an object whose back faces are culled for this camera (docs/design/labelling.md
-  /// L3).
-  std::vector<std::uint8_t> back;
-  std::vector<std::uint8_t> culled;         ///< per object: its back faces are culled
+  // Per object.
+  /// Its back faces (detail::back_face) are culled: no slots (docs/design/labelling.md L3).
+  std::vector<std::uint8_t> culled;
   std::vector<std::uint8_t> inside_object;  ///< camera inside object o (blind in its states)
 };
 
@@ -600,6 +646,16 @@ struct VoxelEvaluator::Impl : detail::SceneTables,
     }
   }
   void project_group(const detail::CameraSetup& cam, int g) const;
+  /// Writes the slots of group `group` of a cluster: their triangles, objects and (conservative
+  /// mode) cone states (camera_setup.cpp).
+  void fill_group(const detail::CameraSetup& cam, const detail::SlotGroup& group) const;
+  /// The triangle of slot s of `group`, whether or not its slots are written yet.
+  int group_triangle(const detail::CameraSetup& cam, const detail::SlotGroup& group, int s) const {
+    if (group.cluster < 0) return cam.slot_triangle[s];
+    const detail::ObjectInfo& info = objects[group.object];
+    return info.first_triangle +
+           info.cluster_order[info.clusters[group.cluster].begin + (s - group.first)];
+  }
 };
 
 }  // namespace camplace::voxel

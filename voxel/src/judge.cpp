@@ -105,6 +105,21 @@ Verdict VoxelEvaluator::Impl::judge_center(const CameraSetup& cam, const Vec3& w
   Vec3 u;
   bool ray_ready = false;
   scratch.hits.clear();
+  auto ready = [&] {
+    if (!ray_ready) {
+      if (d < 0.0) d = w.norm();
+      u = w / d;
+      ray_ready = true;
+    }
+  };
+  // The ray test of slot s (states m of its object).
+  auto ray = [&](int t, int o, StateMask m) {
+    const auto& tri = triangles[t];
+    const double hit = core::ray_triangle_hit(cam.c, u, tri[0], tri[1], tri[2]);
+    if (!(hit > 0.0)) return;
+    scratch.hits.push_back({hit, objects[o].occupying ? 1 : 0, t});
+    if (hit <= d) out.blocked |= m;
+  };
   auto test = [&](int s) {
     const int o = cam.slot_object[s];
     const StateMask m = object_states[o] & interest;
@@ -119,17 +134,25 @@ Verdict VoxelEvaluator::Impl::judge_center(const CameraSetup& cam, const Vec3& w
         }
       }
     }
-    if (!ray_ready) {
-      if (d < 0.0) d = w.norm();
-      u = w / d;
-      ray_ready = true;
+    ready();
+    ray(cam.slot_triangle[s], o, m);
+  };
+  // A group not projected yet, ray by ray: each triangle whose ball the ray's line passes near
+  // (within a margin far above the rounding of the distance) gets the ray test. The projection's
+  // tests only rule out triangles the ray misses (docs/design/labelling.md L10 e).
+  auto direct = [&](const detail::SlotGroup& group) {
+    const int o = group.object;
+    const StateMask m = object_states[o] & interest;
+    if (!m) return;
+    ready();
+    for (int s = group.first; s < group.last; ++s) {
+      const int t = group_triangle(cam, group, s);
+      const detail::Ball& ball = triangle_balls[t];
+      const Vec3 v = ball.center - cam.c;
+      const double reach = ball.radius + 1e-7 * (v.norm() + ball.radius);
+      if (v.dot(u) < -reach || v.cross(u).squaredNorm() > reach * reach) continue;
+      ray(t, o, m);
     }
-    const int t = cam.slot_triangle[s];
-    const auto& tri = triangles[t];
-    const double hit = core::ray_triangle_hit(cam.c, u, tri[0], tri[1], tri[2]);
-    if (!(hit > 0.0)) return;
-    scratch.hits.push_back({hit, objects[o].occupying ? 1 : 0, t});
-    if (hit <= d) out.blocked |= m;
   };
   if (binned) {
     const bool single = bins.x0 == bins.x1 && bins.y0 == bins.y1;
@@ -148,6 +171,12 @@ Verdict VoxelEvaluator::Impl::judge_center(const CameraSetup& cam, const Vec3& w
           if (projected) {
             const auto& r = group.rect;
             if (px < r[0] || px > r[1] || py < r[2] || py > r[3]) continue;
+          }
+          if (cam.direct_rays > 0 &&
+              cam.group_state[g].load(std::memory_order_acquire) != detail::kConeReady &&
+              cam.group_rays[g].fetch_add(1, std::memory_order_relaxed) < cam.direct_rays) {
+            direct(group);
+            continue;
           }
           ensure_projected(cam, g);
           for (int s = group.first; s < group.last; ++s) test(s);
@@ -236,7 +265,7 @@ Verdict VoxelEvaluator::Impl::judge_conservative(const CameraSetup& cam, const V
     const detail::SlotGroup& group = cam.groups[g];
     const auto& r = group.rect;
     if (r[0] > vx1 || r[1] < vx0 || r[2] > vy1 || r[3] < vy0) return false;
-    const int o = cam.slot_object[group.first];
+    const int o = group.object;
     const bool occupying = objects[o].occupying;
     if (!open_states(o, occupying)) return false;
     if (!occupying) {
@@ -280,7 +309,7 @@ Verdict VoxelEvaluator::Impl::judge_conservative(const CameraSetup& cam, const V
       // rounded apart). Back faces are no slots: each one's cone is made here, and tested once.
       const detail::ObjectInfo& info = objects[o];
       for (int b = info.first_triangle; b < info.first_triangle + info.triangle_count; ++b) {
-        if (!cam.back[b]) continue;
+        if (!detail::back_face(triangles[b], cam.c)) continue;
         detail::TriangleCone back;
         make_cone(b, cam.c, back);
         if (!occupying && back.near_distance >= far) continue;
@@ -491,7 +520,7 @@ StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& 
         const detail::SlotGroup& group = cam.groups[g];
         const auto& rect = group.rect;
         if (rect[0] > vx1 || rect[1] < vx0 || rect[2] > vy1 || rect[3] < vy0) continue;
-        const int o = cam.slot_object[group.first];
+        const int o = group.object;
         if (!(object_states[o] & clear)) continue;
         if (!objects[o].occupying && group.near >= far) continue;
         if (outlined && outside(rect)) continue;

@@ -36,25 +36,77 @@ void extend(Box3& box, const Vec3& p) {
   box.max = box.max.cwiseMax(p);
 }
 
-/// The clusters of `mesh`'s triangles into info.cluster_order and info.clusters: the triangles
-/// split at the median of their centroids along the longest axis of the centroids' box, until at
-/// most kClusterSize remain; each cluster with the ball about its vertices' box centre that holds
-/// them all. Any split is correct (the labeller tests every triangle of a cluster it does not
-/// rule out as a whole); near triangles in one cluster let it rule out more.
+/// The bounds of the triangles info.cluster_order[begin .. end − 1] of `mesh` as a cluster: the
+/// ball about their vertices' box centre that holds them all, the cone of their unit normals
+/// (widened against rounding, θ by at least ~1e-6) and their least |cross|. `unit` and `length`:
+/// per triangle its cross's unit vector and length.
+detail::TriangleCluster cluster_bounds(const core::TriangleMesh& mesh,
+                                       const detail::ObjectInfo& info, int begin, int end,
+                                       const std::vector<Vec3>& unit,
+                                       const std::vector<double>& length) {
+  detail::TriangleCluster cluster;
+  cluster.begin = begin;
+  cluster.end = end;
+  Box3 box = empty_box();
+  for (int i = begin; i < end; ++i) {
+    for (int v : mesh.triangles[info.cluster_order[i]]) extend(box, mesh.vertices[v]);
+  }
+  cluster.ball.center = box.center();
+  for (int i = begin; i < end; ++i) {
+    for (int v : mesh.triangles[info.cluster_order[i]]) {
+      cluster.ball.radius =
+          std::max(cluster.ball.radius, (mesh.vertices[v] - cluster.ball.center).norm());
+    }
+  }
+  Vec3 sum = Vec3::Zero();
+  cluster.min_cross = std::numeric_limits<double>::infinity();
+  for (int i = begin; i < end; ++i) {
+    const int t = info.cluster_order[i];
+    cluster.min_cross = std::min(cluster.min_cross, length[t]);
+    if (length[t] > 0.0) sum += unit[t];
+  }
+  if (cluster.min_cross > 0.0 && sum.norm() > 0.0) {
+    cluster.normal_axis = sum.normalized();
+    double cos = 1.0;
+    for (int i = begin; i < end; ++i) {
+      cos = std::min(cos, cluster.normal_axis.dot(unit[info.cluster_order[i]]));
+    }
+    cluster.normal_cos = cos - 1e-12;
+  } else {
+    cluster.min_cross = 0.0;
+  }
+  return cluster;
+}
+
+/// The clusters of `mesh`'s triangles into info.cluster_order and info.clusters, and the tree over
+/// them into info.nodes: the triangles split at the median of their centroids along the longest
+/// axis of the centroids' box, until at most kClusterSize remain (a cluster, a leaf). Every node,
+/// leaf or not, has its triangles' bounds (cluster_bounds); nodes are stored in pre-order (a
+/// node's first child follows it, `next` is the node after its subtree), so a node's clusters are
+/// consecutive and come in the order of the splits. Any split is correct (the labeller tests every
+/// triangle of a cluster it does not rule out as a whole, and rules out a node only as it would
+/// rule out each of its triangles); near triangles in one cluster let it rule out more.
 void cluster_triangles(const core::TriangleMesh& mesh, detail::ObjectInfo& info) {
   const int n = static_cast<int>(mesh.triangles.size());
-  std::vector<Vec3> centroid(n);
+  std::vector<Vec3> centroid(n), unit(n);
+  std::vector<double> length(n);
   for (int t = 0; t < n; ++t) {
     const auto& tv = mesh.triangles[t];
     centroid[t] = (mesh.vertices[tv[0]] + mesh.vertices[tv[1]] + mesh.vertices[tv[2]]) / 3.0;
+    const Vec3 cross = (mesh.vertices[tv[1]] - mesh.vertices[tv[0]])
+                           .cross(mesh.vertices[tv[2]] - mesh.vertices[tv[0]]);
+    length[t] = cross.norm();
+    unit[t] = length[t] > 0.0 ? Vec3(cross / length[t]) : Vec3::Zero();
   }
   info.cluster_order.resize(n);
   for (int t = 0; t < n; ++t) info.cluster_order[t] = t;
   info.clusters.clear();
-  std::vector<std::pair<int, int>> stack{{0, n}};
-  while (!stack.empty()) {
-    const auto [begin, end] = stack.back();
-    stack.pop_back();
+  info.nodes.clear();
+  // Depth first, first half first: (begin, end) of the node to make.
+  auto make = [&](auto& self, int begin, int end) -> void {
+    const int at = static_cast<int>(info.nodes.size());
+    info.nodes.emplace_back();
+    info.nodes[at].cluster_begin = static_cast<int>(info.clusters.size());
     if (end - begin > kClusterSize) {
       Box3 box = empty_box();
       for (int i = begin; i < end; ++i) extend(box, centroid[info.cluster_order[i]]);
@@ -66,51 +118,19 @@ void cluster_triangles(const core::TriangleMesh& mesh, detail::ObjectInfo& info)
                          return centroid[a][axis] < centroid[b][axis] ||
                                 (centroid[a][axis] == centroid[b][axis] && a < b);
                        });
-      // Second half pushed first: clusters come out in the order of the splits.
-      stack.push_back({mid, end});
-      stack.push_back({begin, mid});
-      continue;
-    }
-    detail::TriangleCluster cluster;
-    cluster.begin = begin;
-    cluster.end = end;
-    Box3 box = empty_box();
-    for (int i = begin; i < end; ++i) {
-      for (int v : mesh.triangles[info.cluster_order[i]]) extend(box, mesh.vertices[v]);
-    }
-    cluster.ball.center = box.center();
-    for (int i = begin; i < end; ++i) {
-      for (int v : mesh.triangles[info.cluster_order[i]]) {
-        cluster.ball.radius =
-            std::max(cluster.ball.radius, (mesh.vertices[v] - cluster.ball.center).norm());
-      }
-    }
-    // The normal cone, widened against rounding (θ by at least ~1e-6).
-    Vec3 sum = Vec3::Zero();
-    cluster.min_cross = std::numeric_limits<double>::infinity();
-    for (int i = begin; i < end; ++i) {
-      const auto& tv = mesh.triangles[info.cluster_order[i]];
-      const Vec3 cross = (mesh.vertices[tv[1]] - mesh.vertices[tv[0]])
-                             .cross(mesh.vertices[tv[2]] - mesh.vertices[tv[0]]);
-      const double length = cross.norm();
-      cluster.min_cross = std::min(cluster.min_cross, length);
-      if (length > 0.0) sum += cross / length;
-    }
-    if (cluster.min_cross > 0.0 && sum.norm() > 0.0) {
-      cluster.normal_axis = sum.normalized();
-      double cos = 1.0;
-      for (int i = begin; i < end; ++i) {
-        const auto& tv = mesh.triangles[info.cluster_order[i]];
-        const Vec3 cross = (mesh.vertices[tv[1]] - mesh.vertices[tv[0]])
-                               .cross(mesh.vertices[tv[2]] - mesh.vertices[tv[0]]);
-        cos = std::min(cos, cluster.normal_axis.dot(cross.normalized()));
-      }
-      cluster.normal_cos = cos - 1e-12;
+      self(self, begin, mid);
+      self(self, mid, end);
     } else {
-      cluster.min_cross = 0.0;
+      info.clusters.push_back(cluster_bounds(mesh, info, begin, end, unit, length));
     }
-    info.clusters.push_back(cluster);
-  }
+    detail::ClusterNode& node = info.nodes[at];
+    node.bounds = info.clusters.size() == static_cast<std::size_t>(node.cluster_begin + 1)
+                      ? info.clusters.back()
+                      : cluster_bounds(mesh, info, begin, end, unit, length);
+    node.cluster_end = static_cast<int>(info.clusters.size());
+    node.next = static_cast<int>(info.nodes.size());
+  };
+  make(make, 0, n);
 }
 }  // namespace
 
