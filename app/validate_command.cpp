@@ -117,9 +117,8 @@ void run_validate(ValidateArgs& args) {
         steps = ", exact (state, camera) steps of the checks under way " +
                 std::to_string(p.exact_done) + "/" + std::to_string(p.exact_total);
       }
-      std::fprintf(stderr, "%svalidate: %d/%d runs%s, %s elapsed, ETA %s%s",
-                   tty ? "\r\033[K" : "", p.done, p.total, steps.c_str(),
-                   jobs::duration_text(p.seconds).c_str(),
+      std::fprintf(stderr, "%svalidate: %d/%d runs%s, %s elapsed, ETA %s%s", tty ? "\r\033[K" : "",
+                   p.done, p.total, steps.c_str(), jobs::duration_text(p.seconds).c_str(),
                    evaluated > 0 ? jobs::duration_text(eta).c_str() : "unknown", tty ? "" : "\n");
       std::fflush(stderr);
     };

@@ -232,8 +232,8 @@ inline std::shared_ptr<ExactModel::Impl> cluster(Nef model, const core::Plausibi
 /// nullopt when the model is empty. The reference (ExactOptions::filtered_distances off):
 /// branch and bound on box distances alone, so that every pair whose boxes are nearer than the
 /// best exact distance so far gets an exact distance.
-inline std::optional<FT> model_squared_distance_by_boxes(const ExactModel::Impl& model,
-                                                const std::vector<const Solid*>& critical) {
+inline std::optional<FT> model_squared_distance_by_boxes(
+    const ExactModel::Impl& model, const std::vector<const Solid*>& critical) {
   std::optional<FT> best;
   // Contact or overlap → 0 (SPEC §4: closed sets).
   for (const auto& comp : model.components) {
