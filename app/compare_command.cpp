@@ -111,9 +111,13 @@ void run_compare(const CompareArgs& args, const std::string& command) {
   core::create_output_directory(args.out, "--out");
   jobs::ProgressLine progress("compare", args.progress);
   if (progress.enabled()) {
+    // The exact pipeline first, counted in (state, camera) steps; then the voxel pipelines,
+    // counted in evaluations.
+    options.on_exact_progress = [&progress](long done, long total) {
+      progress.update("exact pipeline, (state, camera) steps", done, total);
+    };
     options.on_progress = [&progress](int done, int total) {
-      progress.update(done == 0 ? "exact pipeline, evaluations" : "voxel pipelines, evaluations",
-                      done, total);
+      if (done > 0) progress.update("voxel pipelines, evaluations", done, total);
     };
   }
   compare::CompareResult result;

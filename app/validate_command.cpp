@@ -23,6 +23,7 @@
 #include "camplace/jobs/progress.hpp"
 #include "cli_checks.hpp"
 #include "commands.hpp"
+#include "memory_estimate.hpp"
 
 namespace camplace::app {
 
@@ -101,16 +102,32 @@ void run_validate(ValidateArgs& args) {
   options.interrupt = &jobs::InterruptSignals::flag();
   const bool tty = ::isatty(STDERR_FILENO) == 1;
   if (tty || args.progress) {
-    options.on_progress = [tty](const compare::ValidationProgress& p) {
+    // A line after each run; between runs, as the exact checks under way advance by (state,
+    // camera) steps, at most every second on a terminal and every 30 seconds otherwise.
+    auto last_line = std::make_shared<std::pair<int, double>>(-1, 0.0);
+    options.on_progress = [tty, last_line](const compare::ValidationProgress& p) {
+      const bool run_done = p.done != last_line->first;
+      if (!run_done && p.seconds - last_line->second < (tty ? 1.0 : 30.0)) return;
+      *last_line = {p.done, p.seconds};
       // Runs read from the cache cost nothing: the rate comes from the runs evaluated now.
       const int evaluated = p.done - p.from_cache;
       const double eta = evaluated > 0 ? p.seconds / evaluated * (p.total - p.done) : 0.0;
-      std::fprintf(stderr, "%svalidate: %d/%d runs, %s elapsed, ETA %s%s", tty ? "\r\033[K" : "",
-                   p.done, p.total, jobs::duration_text(p.seconds).c_str(),
-                   jobs::duration_text(eta).c_str(), tty ? "" : "\n");
+      std::string steps;
+      if (p.exact_total > 0) {
+        steps = ", exact (state, camera) steps of the checks under way " +
+                std::to_string(p.exact_done) + "/" + std::to_string(p.exact_total);
+      }
+      std::fprintf(stderr, "%svalidate: %d/%d runs%s, %s elapsed, ETA %s%s", tty ? "\r\033[K" : "",
+                   p.done, p.total, steps.c_str(), jobs::duration_text(p.seconds).c_str(),
+                   evaluated > 0 ? jobs::duration_text(eta).c_str() : "unknown", tty ? "" : "\n");
       std::fflush(stderr);
     };
   }
+  // Each exact check is refused before it starts when its memory estimate (with the threads it
+  // gets) exceeds what is available: that run becomes a row with the reason.
+  options.before_exact = [](const core::Scene& scene, int exact_threads) {
+    check_exact_memory(exact_work(scene, exact_threads));
+  };
   options.command = "camplace validate " + options.dir;
   // validation.csv, validation.md and the cache go into the folder: a read-only or full one is
   // found before the checks, not after them.

@@ -174,10 +174,17 @@ bool read_cache(const fs::path& file, RunValidation& r) {
   return true;
 }
 
+/// How a check evaluates exactly: its threads, its (state, camera) progress, the hook before.
+struct ExactCheck {
+  int threads = 1;
+  std::function<void(long done, long total)> on_progress;
+  std::function<void(const core::Scene&, int)> before;
+};
+
 /// Checks one run file; fills `row` (its error on failure). With `cache_only`, a run without a
 /// cache entry is not checked and false returned.
 bool check_run(const fs::path& dir, const fs::path& file, SceneCache& scenes, RunValidation& row,
-               bool cache_only = false) {
+               bool cache_only = false, const ExactCheck& how = {}) {
   row.run = fs::relative(file, dir).generic_string();
   const auto start = Clock::now();
   try {
@@ -231,7 +238,9 @@ bool check_run(const fs::path& dir, const fs::path& file, SceneCache& scenes, Ru
       const auto evaluator = scenes.evaluator(*scene_path, *scene, options);
       const core::Evaluation voxel = evaluator->evaluate(run.run.best);
       exact::ExactOptions exact_options;
-      exact_options.threads = 1;  // the runs are checked in parallel already
+      exact_options.threads = std::max(1, how.threads);
+      exact_options.on_progress = how.on_progress;
+      if (how.before) how.before(scene->scene, exact_options.threads);
       const exact::ExactEvaluation exact =
           exact::evaluate_exact(scene->scene, run.run.best, exact_options);
       row.voxel_err_same_fov = voxel.err;
@@ -407,32 +416,63 @@ ValidationOutcome validate_runs(const ValidateOptions& options) {
   core::remove_stale_temp_files(dir.string());
   core::remove_stale_temp_files((dir / kCacheDir).string());
   const std::string started = core::now_iso8601();
-  const int threads = std::max(
-      1, std::min<int>(options.threads > 0 ? options.threads
-                                           : static_cast<int>(std::thread::hardware_concurrency()),
-                       static_cast<int>(files.size())));
+  const int all_threads =
+      std::max(1, options.threads > 0 ? options.threads
+                                      : static_cast<int>(std::thread::hardware_concurrency()));
+  const int threads = std::min<int>(all_threads, static_cast<int>(files.size()));
   std::vector<RunValidation> rows(files.size());
   std::vector<char> done(files.size(), 0);
   SceneCache scenes;
   std::atomic<std::size_t> next{0};
   std::mutex progress_mutex;
   int finished = 0, finished_from_cache = 0;
+  // Threads held by the checks under way, and each check's (state, camera) steps (done, total),
+  // all under progress_mutex.
+  int busy_threads = 0;
+  std::map<std::size_t, std::pair<long, long>> exact_steps;
   const auto start = Clock::now();
+  auto report = [&] {  // progress_mutex held
+    if (!options.on_progress) return;
+    ValidationProgress p{finished, static_cast<int>(files.size()), finished_from_cache,
+                         std::chrono::duration<double>(Clock::now() - start).count()};
+    for (const auto& [run, steps] : exact_steps) {
+      p.exact_done += steps.first;
+      p.exact_total += steps.second;
+    }
+    options.on_progress(p);
+  };
   auto stop_requested = [&] { return options.interrupt != nullptr && options.interrupt->load(); };
   auto worker = [&] {
     for (;;) {
       if (stop_requested()) return;
       const std::size_t i = next.fetch_add(1);
       if (i >= files.size()) return;
-      if (!check_run(dir, files[i], scenes, rows[i], options.cache_only)) continue;
-      std::lock_guard<std::mutex> lock(progress_mutex);
+      ExactCheck how;
+      {
+        // The threads no check holds, shared among the runs not yet started (this one
+        // included): one each while there are more runs than threads, all of them for the last.
+        const std::lock_guard<std::mutex> lock(progress_mutex);
+        const int left = static_cast<int>(files.size() - i);
+        how.threads = std::max(1, (all_threads - busy_threads) / left);
+        busy_threads += how.threads;
+      }
+      how.before = options.before_exact;
+      if (options.on_progress) {
+        how.on_progress = [&, i](long steps_done, long steps_total) {
+          const std::lock_guard<std::mutex> lock(progress_mutex);
+          exact_steps[i] = {steps_done, steps_total};
+          report();
+        };
+      }
+      const bool checked = check_run(dir, files[i], scenes, rows[i], options.cache_only, how);
+      const std::lock_guard<std::mutex> lock(progress_mutex);
+      busy_threads -= how.threads;
+      exact_steps.erase(i);
+      if (!checked) continue;
       done[i] = 1;
       ++finished;
       finished_from_cache += rows[i].cached;
-      if (options.on_progress) {
-        options.on_progress({finished, static_cast<int>(files.size()), finished_from_cache,
-                             std::chrono::duration<double>(Clock::now() - start).count()});
-      }
+      report();
     }
   };
   std::vector<std::thread> pool;

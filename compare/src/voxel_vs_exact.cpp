@@ -133,6 +133,7 @@ CompareResult compare_voxel_exact(const core::Scene& original, const core::Camer
   progress();
   exact::ExactOptions exact_options;
   exact_options.keep_models = true;
+  exact_options.on_progress = options.on_exact_progress;
   const exact::ExactEvaluation ex = exact::evaluate_exact(scene, config, exact_options);
   result.errs.push_back({"exact", {0, 0, 0}, 0, ex.err, ex.timing.total_ms});
   ++result.evaluations_done;

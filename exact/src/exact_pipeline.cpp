@@ -65,6 +65,18 @@ core::TriangleMesh ExactModel::boundary_mesh() const {
   return mesh;
 }
 
+std::string ExactModel::squared_distance_fraction(const std::vector<core::TriangleMesh>& solids,
+                                                  bool filtered) const {
+  std::vector<Solid> owned;
+  owned.reserve(solids.size());
+  for (const auto& mesh : solids) owned.emplace_back(mesh);
+  std::vector<const Solid*> critical;
+  for (const auto& s : owned) critical.push_back(&s);
+  const auto d = filtered ? model_squared_distance(*impl_, critical)
+                          : model_squared_distance_by_boxes(*impl_, critical);
+  return d ? fraction_string(*d) : std::string();
+}
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -103,8 +115,8 @@ struct StateOutput {
 };
 
 StateOutput evaluate_state(Pipeline& pipeline, const core::Scene& scene, const core::StateIndex& s,
-                           const std::string& export_dir,
-                           const std::function<void()>& camera_done) {
+                           const ExactOptions& options, const std::function<void()>& camera_done) {
+  const std::string& export_dir = options.export_dir;
   StateOutput out;
   auto t0 = Clock::now();
   auto [m, discarded] = pipeline.model(s, camera_done);
@@ -122,7 +134,10 @@ StateOutput evaluate_state(Pipeline& pipeline, const core::Scene& scene, const c
   const auto d_true = core::true_squared_distance(scene, s);
   r.d_true = std::sqrt(d_true.value);
   r.d_true_sq_exact = d_true.fraction;
-  const auto d_model = model_squared_distance(*out.model, pipeline.critical(s.time_step));
+  const auto d_model =
+      options.filtered_distances
+          ? model_squared_distance(*out.model, pipeline.critical(s.time_step))
+          : model_squared_distance_by_boxes(*out.model, pipeline.critical(s.time_step));
   // SPEC §4: d(C, ∅) is S's diagonal.
   const FT d_model_sq = d_model ? *d_model : core::empty_model_squared_distance<FT>(scene.area);
   r.d_model = std::sqrt(nearest_double(d_model_sq));
@@ -210,7 +225,7 @@ ExactEvaluation evaluate_exact(const core::Scene& scene, const core::CameraConfi
       for (std::size_t t = next_task++; t < tasks.size(); t = next_task++) {
         if (!pipeline) pipeline.emplace(scene, config, options.face_cones, options.reuse_poses);
         for (std::size_t i : tasks[t]) {
-          outputs[i] = evaluate_state(*pipeline, scene, states[i], options.export_dir, camera_done);
+          outputs[i] = evaluate_state(*pipeline, scene, states[i], options, camera_done);
           // A model's Nef polyhedron is large and its results are in outputs[i].result: held
           // until the end only when asked for, so the memory does not grow with the states.
           if (!options.keep_models) outputs[i].model.reset();

@@ -59,13 +59,15 @@ pid_t start_compare(const std::string& resolutions, const std::string& dir,
   return pid;
 }
 
-TEST(CompareLongWork, SummaryNamesEachResolutionAndProgressCountsEvaluations) {
+TEST(CompareLongWork, SummaryNamesEachResolutionAndProgressCountsStepsAndEvaluations) {
   const std::string dir = temp_dir("compare-summary") + "/out";
   const CommandResult r =
       run("compare " + kBasic + " --resolutions 8x6x6,16x12x12 --out " + dir + " --progress");
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  // The exact pipeline in (state, camera) steps: paper_basic's 6 states × 6 cameras; then
   // 1 exact + 2 resolutions × (center, conservative) = 5 evaluations.
-  EXPECT_TRUE(has(r.output, "compare: exact pipeline, evaluations 0/5")) << r.output;
+  EXPECT_TRUE(has(r.output, "compare: exact pipeline, (state, camera) steps 0/36")) << r.output;
+  EXPECT_TRUE(has(r.output, "compare: exact pipeline, (state, camera) steps 36/36")) << r.output;
   EXPECT_TRUE(has(r.output, "compare: voxel pipelines, evaluations 5/5")) << r.output;
   for (const char* line :
        {"  voxel-center at 8x6x6: ", "  voxel-conservative at 8x6x6: ",

@@ -135,6 +135,48 @@ TEST(Validate, ExactErrEqualsEvaluateOnTheRunFileAndRerunsComeFromTheCache) {
   EXPECT_EQ(read(out + "/validation.md").find("none could be read"), std::string::npos);
 }
 
+// A lone run's check gets every thread (its exact evaluation runs on them); of two runs on two
+// threads the first gets one; the exact memory check sees those threads and refuses before the work (the
+// run becomes a row with the reason); progress counts the exact (state, camera) steps.
+TEST(Validate, ALoneRunsCheckGetsEveryThreadAndTheExactMemoryCheck) {
+  const std::string dir = temp_dir("validate-threads");
+  // Two time steps, so that the exact pipeline can use two threads.
+  nlohmann::json scene = nlohmann::json::parse(kScene);
+  scene["time_steps"].push_back(scene["time_steps"][0]);
+  scene["time_steps"][1]["dynamic_obstacles"][0]["box"]["min"] = {0.5, 2.0, 0};
+  scene["time_steps"][1]["dynamic_obstacles"][0]["box"]["max"] = {1.0, 2.5, 1.5};
+  const std::string scene_file = write_file(dir + "/cell.json", scene.dump());
+  auto folder = [&](const std::string& name, int runs) {
+    const std::string out = dir + "/" + name;
+    const CommandResult r =
+        camplace("optimize " + scene_file + " --mode center --max-evals 40 --runs " +
+                 std::to_string(runs) + " --quiet --out " + out);
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return out;
+  };
+  const std::string one = folder("one", 1), two = folder("two", 2);
+  const std::string tiny = "CAMPLACE_MEM_AVAILABLE_KB=1000 " + std::string(CAMPLACE_BINARY);
+  const CommandResult lone = run_camplace(tiny, "validate " + one + " --threads 2");
+  EXPECT_NE(lone.exit_code, 0);
+  EXPECT_NE(lone.output.find("the exact pipeline with 2 cameras, 2 threads"), std::string::npos)
+      << lone.output;
+  const CommandResult pair = run_camplace(tiny, "validate " + two + " --threads 2");
+  EXPECT_NE(pair.exit_code, 0);
+  // The first run starts with the second still to come: one thread. (The second gets the
+  // threads idle when it starts: two if the first has already been refused.)
+  EXPECT_NE(pair.output.find("run-1.json: the exact pipeline with 2 cameras, 1 thread and"),
+            std::string::npos)
+      << pair.output;
+  // With the memory there: checked, and the first progress line counts the steps (2 states ×
+  // 2 cameras).
+  const CommandResult ok = camplace("validate " + one + " --threads 2 --progress");
+  ASSERT_EQ(ok.exit_code, 0) << ok.output;
+  EXPECT_NE(ok.output.find("exact (state, camera) steps of the checks under way 0/4"),
+            std::string::npos)
+      << ok.output;
+  EXPECT_NE(ok.output.find("checked 1 runs (0 from the cache)"), std::string::npos) << ok.output;
+}
+
 TEST(Validate, BadFoldersAndFilesAreErrorsThatKeepTheOtherRuns) {
   const std::string dir = temp_dir("validate-bad");
   fs::create_directories(dir + "/empty");

@@ -17,6 +17,7 @@
 #include "camplace/core/scene.hpp"
 #include "camplace/exact/evaluator.hpp"
 #include "internal/kernel.hpp"
+#include "internal/near_pairs.hpp"
 #include "internal/solids.hpp"
 #include "internal/soup.hpp"
 
@@ -228,9 +229,11 @@ inline std::shared_ptr<ExactModel::Impl> cluster(Nef model, const core::Plausibi
 }
 
 /// Exact squared distance between the union of closed solids `critical` and the kept model;
-/// nullopt when the model is empty.
-inline std::optional<FT> model_squared_distance(const ExactModel::Impl& model,
-                                                const std::vector<const Solid*>& critical) {
+/// nullopt when the model is empty. The reference (ExactOptions::filtered_distances off):
+/// branch and bound on box distances alone, so that every pair whose boxes are nearer than the
+/// best exact distance so far gets an exact distance.
+inline std::optional<FT> model_squared_distance_by_boxes(
+    const ExactModel::Impl& model, const std::vector<const Solid*>& critical) {
   std::optional<FT> best;
   // Contact or overlap → 0 (SPEC §4: closed sets).
   for (const auto& comp : model.components) {
@@ -273,6 +276,119 @@ inline std::optional<FT> model_squared_distance(const ExactModel::Impl& model,
     }
   }
   return best;
+}
+
+/// The triangle with double vertices for exact points: each coordinate's interval, its lower
+/// end as the double and its width as the error; `box` receives the intervals' box.
+inline ApproxTriangle approx_triangle(const Point& a, const Point& b, const Point& c,
+                                      CGAL::Bbox_3& box) {
+  ApproxTriangle t;
+  const Point* pts[3] = {&a, &b, &c};
+  double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  for (int k = 0; k < 3; ++k) {
+    const std::pair<double, double> iv[3] = {CGAL::to_interval(pts[k]->x()),
+                                             CGAL::to_interval(pts[k]->y()),
+                                             CGAL::to_interval(pts[k]->z())};
+    for (int i = 0; i < 3; ++i) {
+      t.v[k][i] = iv[i].first;
+      t.error = std::max(t.error, iv[i].second - iv[i].first);
+      lo[i] = std::min(lo[i], iv[i].first);
+      hi[i] = std::max(hi[i], iv[i].second);
+    }
+  }
+  box = CGAL::Bbox_3(lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+  return t;
+}
+
+/// model_squared_distance_by_boxes with a floating-point filter, the same exact value: every
+/// pair of a model triangle and a critical triangle whose boxes are near enough gets double
+/// bounds (pair_bounds: an approximate distance and a certified lower bound); exact distances
+/// are computed only for the pairs whose certified lower bound does not exceed the smallest
+/// approximate distance (with a slack), nearest first, until the lower bounds exceed the best
+/// exact distance. If the best exact distance came out above the slack threshold (never seen:
+/// the double bounds are off by far less than the slack), the reference decides.
+inline std::optional<FT> model_squared_distance(const ExactModel::Impl& model,
+                                                const std::vector<const Solid*>& critical) {
+  struct Approx {
+    ApproxTriangle t;
+    CGAL::Bbox_3 box;
+    Triangle exact;
+  };
+  std::vector<Approx> tris;
+  for (const auto& comp : model.components) {
+    if (!comp.kept) continue;
+    // Contact or overlap → 0 (SPEC §4: closed sets): a vertex of C inside the component, or a
+    // vertex of the component inside C.
+    for (const Solid* c : critical) {
+      for (const auto& p : c->points) {
+        const auto o = model.nef.locate(p);
+        Nef::Volume_const_handle vol;
+        if (CGAL::assign(vol, o) && vol == comp.volume) return FT(0);
+      }
+      if (!comp.points.empty() && solid_contains(*c, comp.points.front())) return FT(0);
+    }
+    for (const auto& t : comp.triangles) {
+      Approx a;
+      a.exact = Triangle(comp.points[t[0]], comp.points[t[1]], comp.points[t[2]]);
+      a.t = approx_triangle(comp.points[t[0]], comp.points[t[1]], comp.points[t[2]], a.box);
+      tris.push_back(std::move(a));
+    }
+  }
+  // No kept component (or none with a boundary, which a kept component always has).
+  if (tris.empty()) return model_squared_distance_by_boxes(model, critical);
+  std::vector<Approx> crit;
+  for (const Solid* c : critical)
+    for (const auto& t : c->triangles) {
+      Approx a;
+      a.exact = Triangle(c->points[t[0]], c->points[t[1]], c->points[t[2]]);
+      a.t = approx_triangle(c->points[t[0]], c->points[t[1]], c->points[t[2]], a.box);
+      crit.push_back(std::move(a));
+    }
+  if (crit.empty()) return model_squared_distance_by_boxes(model, critical);
+  // The threshold: the smallest approximate squared distance so far, widened by a nanometre and
+  // a relative 1e-9. Seeded with the nearest pair of vertices.
+  auto widened = [](double sq) {
+    const double d = std::sqrt(sq) * (1.0 + 1e-9) + 1e-9;
+    return d * d;
+  };
+  double threshold = HUGE_VAL;
+  for (const auto& a : tris)
+    for (const auto& b : crit) {
+      if (bbox_sq_distance(a.box, b.box) > threshold) continue;
+      for (const auto& p : a.t.v)
+        for (const auto& q : b.t.v) threshold = std::min(threshold, widened((p - q).squaredNorm()));
+    }
+  struct Candidate {
+    double lower;
+    int i, j;
+  };
+  std::vector<Candidate> candidates;
+  for (int i = 0; i < int(tris.size()); ++i)
+    for (int j = 0; j < int(crit.size()); ++j) {
+      const double box_lower = bbox_sq_distance(tris[i].box, crit[j].box);
+      if (box_lower > threshold) continue;
+      const PairBounds b = pair_bounds(tris[i].t, crit[j].t);
+      threshold = std::min(threshold, widened(b.upper));
+      const double lower = std::max(box_lower, b.lower);
+      if (lower <= threshold) candidates.push_back({lower, i, j});
+    }
+  // Every pair left out has a certified lower bound above the threshold at its time, hence above
+  // the final threshold.
+  candidates.erase(std::remove_if(candidates.begin(), candidates.end(),
+                                  [&](const Candidate& c) { return c.lower > threshold; }),
+                   candidates.end());
+  std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
+    return a.lower < b.lower || (a.lower == b.lower && (a.i < b.i || (a.i == b.i && a.j < b.j)));
+  });
+  std::optional<FT> best;
+  for (const auto& c : candidates) {
+    if (best && c.lower > CGAL::to_interval(*best).second) break;
+    const FT d = CGAL::squared_distance(tris[c.i].exact, crit[c.j].exact);
+    if (!best || d < *best) best = d;
+    if (CGAL::is_zero(*best)) return best;
+  }
+  if (best && CGAL::to_interval(*best).second <= threshold) return best;
+  return model_squared_distance_by_boxes(model, critical);
 }
 
 }  // namespace camplace::exact::internal

@@ -40,18 +40,30 @@ struct RunValidation {
   std::string error;     ///< non-empty: this run could not be checked, and why
 };
 
-/// Progress after each finished run.
+/// Progress after each finished run, and as the exact checks under way advance.
 struct ValidationProgress {
   int done = 0, total = 0;
   int from_cache = 0;    ///< of `done`: read from the cache (cost no time)
   double seconds = 0.0;  ///< since the start
+  /// The (state, camera) steps of the exact checks under way: done and their total (both 0
+  /// when none is under way; exact::ExactOptions::on_progress).
+  long exact_done = 0, exact_total = 0;
 };
 
 struct ValidateOptions {
   std::string dir;      ///< an `optimize` or `study` output folder
   std::string command;  ///< the command line, quoted in the report
-  int threads = 0;      ///< runs checked in parallel; 0 = all cores
+  /// Threads in all; 0 = all cores. Runs are checked in parallel, one thread each; when fewer
+  /// runs are left to start than threads are idle, a check's exact evaluation gets the idle
+  /// threads (exact::ExactOptions::threads), so that a single large run uses every core.
+  int threads = 0;
+  /// Called after each finished run and after each (state, camera) step of an exact check, from
+  /// the worker threads, one call at a time.
   std::function<void(const ValidationProgress&)> on_progress;
+  /// Called before a check's exact evaluation with the scene and the exact threads it gets; may
+  /// throw std::runtime_error (e.g. the exact memory estimate exceeds what is available), which
+  /// makes the run a row with that error. Empty: none.
+  std::function<void(const core::Scene& scene, int exact_threads)> before_exact;
   const std::atomic<bool>* interrupt = nullptr;  ///< set (e.g. by Ctrl-C): stop after the runs
                                                  ///< under way; the finished ones are kept
   /// Check nothing now: take each run's check from the cache, and leave out the runs without

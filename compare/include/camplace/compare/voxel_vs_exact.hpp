@@ -23,6 +23,9 @@ struct CompareOptions {
   /// Called before each evaluation (the exact one first, then each voxel pipeline): the
   /// evaluations done and their total. Empty: none.
   std::function<void(int done, int total)> on_progress;
+  /// Called as the exact evaluation advances: its (state, camera) steps done and their total
+  /// (exact::ExactOptions::on_progress). Empty: none.
+  std::function<void(long done, long total)> on_exact_progress;
 };
 
 /// One state at one (mode, resolution) against the exact pipeline. Metres, m³.

@@ -35,6 +35,11 @@ struct ExactOptions {
   /// at the same place in every time step. Off: every state builds its own (the reference for
   /// tests). The results do not depend on it.
   bool reuse_poses = true;
+  /// Exact distances d(C, M) only for the pairs of triangles that double-precision bounds cannot
+  /// rule out (a certified lower bound against the smallest approximate distance). Off: every
+  /// pair whose boxes are nearer than the best exact distance so far (the reference for tests).
+  /// The results do not depend on it.
+  bool filtered_distances = true;
   /// Called as the work advances with the (state, camera) steps done and their total (states ×
   /// cameras); from the worker threads, one call at a time. Empty: none.
   std::function<void(long done, long total)> on_progress;
@@ -64,6 +69,12 @@ class ExactModel {
   std::vector<ExactComponent> component_info() const;
   /// The model's boundary as a triangle soup rounded to double (outward orientation).
   core::TriangleMesh boundary_mesh() const;
+  /// The exact squared distance (m², a fraction "p/q", "0/1" for 0) between the union of the
+  /// closed solids `solids` (closed outward triangle meshes, m, world frame) and the model, as
+  /// d(C, M) of SPEC §4 with C = `solids`; empty when the model is empty. `filtered`:
+  /// ExactOptions::filtered_distances (off: the reference; the value does not depend on it).
+  std::string squared_distance_fraction(const std::vector<core::TriangleMesh>& solids,
+                                        bool filtered = true) const;
 
   struct Impl;
   explicit ExactModel(std::shared_ptr<const Impl> impl);
