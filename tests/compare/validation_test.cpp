@@ -136,8 +136,8 @@ TEST(Validate, ExactErrEqualsEvaluateOnTheRunFileAndRerunsComeFromTheCache) {
 }
 
 // A lone run's check gets every thread (its exact evaluation runs on them); of two runs on two
-// threads the first gets one; the exact memory check sees those threads and refuses before the work (the
-// run becomes a row with the reason); progress counts the exact (state, camera) steps.
+// threads the first gets one; the exact memory check sees those threads and refuses before the work
+// (the run becomes a row with the reason); progress counts the exact (state, camera) steps.
 TEST(Validate, ALoneRunsCheckGetsEveryThreadAndTheExactMemoryCheck) {
   const std::string dir = temp_dir("validate-threads");
   // Two time steps, so that the exact pipeline can use two threads.
