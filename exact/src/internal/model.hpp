@@ -228,6 +228,22 @@ inline std::shared_ptr<ExactModel::Impl> cluster(Nef model, const core::Plausibi
   return impl;
 }
 
+/// True when the kept component `comp` of `model` touches or overlaps the union of the closed
+/// solids `critical` (then d(C, M) = 0, SPEC §4): a vertex of a critical solid inside the
+/// component, or a vertex of the component inside a critical solid.
+inline bool touches_critical(const ExactModel::Impl& model, const ExactModel::Impl::Component& comp,
+                             const std::vector<const Solid*>& critical) {
+  for (const Solid* c : critical) {
+    for (const auto& p : c->points) {
+      const auto o = model.nef.locate(p);
+      Nef::Volume_const_handle vol;
+      if (CGAL::assign(vol, o) && vol == comp.volume) return true;
+    }
+    if (!comp.points.empty() && solid_contains(*c, comp.points.front())) return true;
+  }
+  return false;
+}
+
 /// Exact squared distance between the union of closed solids `critical` and the kept model;
 /// nullopt when the model is empty. The reference (ExactOptions::filtered_distances off):
 /// branch and bound on box distances alone, so that every pair whose boxes are nearer than the
@@ -235,7 +251,6 @@ inline std::shared_ptr<ExactModel::Impl> cluster(Nef model, const core::Plausibi
 inline std::optional<FT> model_squared_distance_by_boxes(
     const ExactModel::Impl& model, const std::vector<const Solid*>& critical) {
   std::optional<FT> best;
-  // Contact or overlap → 0 (SPEC §4: closed sets).
   for (const auto& comp : model.components) {
     if (!comp.kept) continue;
     std::vector<Triangle> tris;
@@ -246,14 +261,8 @@ inline std::optional<FT> model_squared_distance_by_boxes(
       boxes.push_back(tris.back().bbox());
       comp_box += boxes.back();
     }
+    if (touches_critical(model, comp, critical)) return FT(0);
     for (const Solid* c : critical) {
-      // a vertex of C inside the component, or a vertex of the component inside C
-      for (const auto& p : c->points) {
-        const auto o = model.nef.locate(p);
-        Nef::Volume_const_handle vol;
-        if (CGAL::assign(vol, o) && vol == comp.volume) return FT(0);
-      }
-      if (!comp.points.empty() && solid_contains(*c, comp.points.front())) return FT(0);
       // boundaries: exact triangle–triangle distances, branch and bound on box distances
       struct Pair {
         double lower;
@@ -317,16 +326,7 @@ inline std::optional<FT> model_squared_distance(const ExactModel::Impl& model,
   std::vector<Approx> tris;
   for (const auto& comp : model.components) {
     if (!comp.kept) continue;
-    // Contact or overlap → 0 (SPEC §4: closed sets): a vertex of C inside the component, or a
-    // vertex of the component inside C.
-    for (const Solid* c : critical) {
-      for (const auto& p : c->points) {
-        const auto o = model.nef.locate(p);
-        Nef::Volume_const_handle vol;
-        if (CGAL::assign(vol, o) && vol == comp.volume) return FT(0);
-      }
-      if (!comp.points.empty() && solid_contains(*c, comp.points.front())) return FT(0);
-    }
+    if (touches_critical(model, comp, critical)) return FT(0);
     for (const auto& t : comp.triangles) {
       Approx a;
       a.exact = Triangle(comp.points[t[0]], comp.points[t[1]], comp.points[t[2]]);
