@@ -17,6 +17,7 @@
 #include "camplace/voxel/evaluator.hpp"
 #include "format.hpp"
 #include "gnuplot.hpp"
+#include "model_containment.hpp"
 
 namespace camplace::compare {
 
@@ -25,71 +26,8 @@ namespace {
 using detail::num;
 using detail::resolution_text;
 
-using core::Vec3;
-
 // Distances may differ by rounding of the exact value to double.
 constexpr double kDistanceSlack = 1e-9;
-// Faces of the exact model lying on a voxel's boundary are not "inside" it.
-constexpr double kBoundarySlack = 1e-9;
-
-/// Counts voxels outside the voxel model that hold points of the exact model: a boundary
-/// triangle of the exact model reaching into the voxel's interior (shrunk by 1e-9 m), or the
-/// voxel's centre inside the exact model. 0 means the voxel model contains the exact model.
-int exact_outside_voxel_model(const exact::ExactModel& model, const voxel::Grid& grid,
-                              const std::vector<std::uint8_t>& voxel_model) {
-  if (model.empty()) return 0;
-  std::vector<std::uint8_t> violated(voxel_model.size(), 0);
-  const core::TriangleMesh boundary = model.boundary_mesh();
-  auto index_range = [&](double lo, double hi, int axis) {
-    const double step = grid.step[axis];
-    int a = static_cast<int>(std::floor((lo - grid.area.min[axis]) / step));
-    int b = static_cast<int>(std::floor((hi - grid.area.min[axis]) / step));
-    return std::pair<int, int>{std::clamp(a, 0, grid.n[axis] - 1),
-                               std::clamp(b, 0, grid.n[axis] - 1)};
-  };
-  for (const auto& t : boundary.triangles) {
-    const Vec3 &a = boundary.vertices[t[0]], &b = boundary.vertices[t[1]],
-               &c = boundary.vertices[t[2]];
-    const Vec3 lo = a.cwiseMin(b).cwiseMin(c), hi = a.cwiseMax(b).cwiseMax(c);
-    const auto [i0, i1] = index_range(lo.x(), hi.x(), 0);
-    const auto [j0, j1] = index_range(lo.y(), hi.y(), 1);
-    const auto [k0, k1] = index_range(lo.z(), hi.z(), 2);
-    for (int k = k0; k <= k1; ++k) {
-      for (int j = j0; j <= j1; ++j) {
-        for (int i = i0; i <= i1; ++i) {
-          const int v = i + grid.n[0] * (j + grid.n[1] * k);
-          if (voxel_model[v] || violated[v]) continue;
-          core::Box3 box = grid.voxel_box(v);
-          box.min += Vec3::Constant(kBoundarySlack);
-          box.max -= Vec3::Constant(kBoundarySlack);
-          if (core::triangle_box_overlap(a, b, c, box)) violated[v] = 1;
-        }
-      }
-    }
-  }
-  // The closed model lies within its boundary's bounding box: only centres there can be inside
-  // (on fine grids, with refinement, that saves most of the point locations).
-  core::Box3 bounds{Vec3::Constant(std::numeric_limits<double>::infinity()),
-                    Vec3::Constant(-std::numeric_limits<double>::infinity())};
-  for (const Vec3& p : boundary.vertices) {
-    bounds.min = bounds.min.cwiseMin(p);
-    bounds.max = bounds.max.cwiseMax(p);
-  }
-  const auto [i0, i1] = index_range(bounds.min.x(), bounds.max.x(), 0);
-  const auto [j0, j1] = index_range(bounds.min.y(), bounds.max.y(), 1);
-  const auto [k0, k1] = index_range(bounds.min.z(), bounds.max.z(), 2);
-  for (int k = k0; k <= k1; ++k) {
-    for (int j = j0; j <= j1; ++j) {
-      for (int i = i0; i <= i1; ++i) {
-        const long v = i + static_cast<long>(grid.n[0]) * (j + static_cast<long>(grid.n[1]) * k);
-        if (voxel_model[v] || violated[v]) continue;
-        const Vec3 centre = grid.voxel_center(static_cast<int>(v));
-        if (bounds.contains(centre) && model.contains(centre)) violated[v] = 1;
-      }
-    }
-  }
-  return static_cast<int>(std::count(violated.begin(), violated.end(), 1));
-}
 
 }  // namespace
 
@@ -170,7 +108,7 @@ CompareResult compare_voxel_exact(const core::Scene& original, const core::Camer
         row.volume_voxel = vs.model_volume;
         // With refinement: against the finest cells (leaf_grid() is grid() without).
         row.exact_outside =
-            exact_outside_voxel_model(ex.models[s], evaluator.leaf_grid(), leaf_models[s]);
+            detail::exact_outside_voxel_model(ex.models[s], evaluator.leaf_grid(), leaf_models[s]);
         row.distance_over_estimated = row.d_voxel > row.d_exact + kDistanceSlack;
         row.filter_lost_component = vs.components_removed > 0 && vs.components < es.components;
         const bool violation = row.exact_outside > 0 || row.distance_over_estimated;

@@ -39,8 +39,9 @@ struct CompareRow {
   double cell_diagonal = 0.0;  ///< the finest cell's diagonal: voxel diagonal / 2^L
   double d_true = 0.0, d_exact = 0.0, d_voxel = 0.0;
   double volume_exact = 0.0, volume_voxel = 0.0;
-  /// Points of the exact model found outside the voxel model (0 = contains it), see
-  /// exact_outside_voxel_model(); with refinement, counted in finest cells.
+  /// Voxels outside the voxel model that hold points of the exact model (0 = it contains the
+  /// exact model): a boundary triangle of the exact model reaching more than 1e-9 m into the
+  /// voxel, or its centre in the exact model; with refinement, counted in finest cells.
   int exact_outside = 0;
   bool distance_over_estimated = false;  ///< d_voxel > d_exact (+1e-9 m)
   /// The plausibility filter removed a component of the voxel model and the voxel model kept
