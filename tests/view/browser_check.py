@@ -23,7 +23,7 @@ import subprocess
 import sys
 import zlib
 
-CLEAR_COLOUR = (0xDD, 0xE4, 0xEC)  # renderer.setClearColor in view/assets/index.html
+CLEAR_COLOUR = (0xDD, 0xE4, 0xEC)  # renderer.setClearColor in view/assets/page_common.js
 PANEL_WIDTH = 300  # #panel's CSS width
 WINDOW = (1200, 800)
 CHROMIUM_FLAGS = [
