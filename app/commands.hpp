@@ -4,7 +4,10 @@
 /// Every build declares and registers every command: a command whose module was not built
 /// (optimize, compare, study, ...) fails with "camplace was built without ..." (unavailable.cpp).
 #include <CLI/CLI.hpp>
+#include <filesystem>
 #include <string>
+
+#include "camplace/jobs/interrupt.hpp"
 
 namespace camplace::app {
 
@@ -12,6 +15,23 @@ namespace camplace::app {
 inline std::string restart_hint(const std::string& dir) {
   return "rerun with --restart to discard the runs in " + dir +
          " (and what was made of them) and start afresh, or choose another --out folder";
+}
+
+/// The --max-seconds stop of a command that fills the folder `dir` with runs and exact checks
+/// (study, plan): the deadline ends the process within a second (the run under way gets
+/// SIGTERM, so its file says "interrupted" and a rerun repeats it; an exact check under way is
+/// cut, the finished ones are in the cache), while a signal keeps the command's own stop after
+/// the run under way.
+inline jobs::StopAtOnce::Options runs_folder_deadline(const std::string& dir) {
+  const std::filesystem::path out(dir);
+  jobs::StopAtOnce::Options options;
+  options.end_on_signal = false;
+  options.temp_dirs = {out.string(), (out / "validation-cache").string(),
+                       (out / "scenes").string()};
+  options.kept = "the finished runs are in " + (out / "runs").string() +
+                 " and the finished exact checks in " + (out / "validation-cache").string() +
+                 "; rerun the same command to resume and write the report";
+  return options;
 }
 
 void register_evaluate_command(CLI::App& app);

@@ -141,17 +141,7 @@ void run_plan(const PlanArgs& args) {
   }
   core::create_output_directory(args.out, "--out");
   const fs::path out(args.out);
-  // --max-seconds ends the process at its deadline, within a second: the run under way gets
-  // SIGTERM (its file says "interrupted" and a rerun repeats it), an exact check under way is
-  // cut. Signals still stop after the run under way and write the report.
-  jobs::StopAtOnce::Options at_deadline;
-  at_deadline.end_on_signal = false;
-  at_deadline.temp_dirs = {out.string(), (out / "validation-cache").string(),
-                           (out / "scenes").string()};
-  at_deadline.kept = "the finished runs are in " + (out / "runs").string() +
-                     " and the exact checks in " + (out / "validation-cache").string() +
-                     "; rerun the same command to resume and write the report";
-  const jobs::StopAtOnce at_once(at_deadline);
+  const jobs::StopAtOnce at_once(runs_folder_deadline(args.out));
   if (args.restart) {
     std::error_code ec;
     int removed = 0;

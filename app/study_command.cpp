@@ -136,18 +136,7 @@ void register_study_command(CLI::App& app) {
         std::fprintf(stderr, "validate: %d/%d runs, %.0f s\n", p.done, p.total, p.seconds);
       };
     }
-    // --max-seconds ends the process at its deadline, within a second: the run under way gets
-    // SIGTERM (its file says "interrupted" and a rerun repeats it), an exact check under way is
-    // cut (the finished ones are in the cache). Signals still stop after the run under way.
-    jobs::StopAtOnce::Options at_deadline;
-    at_deadline.end_on_signal = false;
-    const std::filesystem::path out(options->out_dir);
-    at_deadline.temp_dirs = {out.string(), (out / "validation-cache").string(),
-                             (out / "scenes").string()};
-    at_deadline.kept = "the finished runs are in " + (out / "runs").string() +
-                       " and the finished exact checks in " + (out / "validation-cache").string() +
-                       "; rerun the same command to resume and write the report";
-    const jobs::StopAtOnce at_once(at_deadline);
+    const jobs::StopAtOnce at_once(runs_folder_deadline(options->out_dir));
     compare::StudyOutcome outcome;
     try {
       outcome = compare::run_study(*options);
