@@ -13,6 +13,7 @@
 #include "camplace/core/scene.hpp"
 #include "camplace/core/threads.hpp"
 #include "camplace/jobs/interrupt.hpp"
+#include "camplace/jobs/progress.hpp"
 #include "camplace/view/export.hpp"
 #include "cli_checks.hpp"
 #include "commands.hpp"
@@ -30,6 +31,7 @@ struct ExportArgs {
   int threads = 0;           // 0 = one per core
   int refine = 0;            // voxel::VoxelOptions::refine
   double max_seconds = 0.0;  // the whole command's bound; 0 = none
+  bool progress = false;     // --progress
 };
 
 /// "H,L" → the state; InputError naming --state otherwise.
@@ -81,8 +83,18 @@ void run_export(const ExportArgs& args) {
                              std::to_string(work.n[1]) + "x" + std::to_string(work.n[2]) +
                              " with " + std::to_string(config.size()) + " cameras" +
                              (args.refine > 0 ? ", --refine " + std::to_string(args.refine) : ""));
-  if (options.pipeline == core::Pipeline::voxel) check_memory(work, resolution_option);
+  if (options.pipeline == core::Pipeline::voxel) {
+    check_memory(work, resolution_option);
+  } else {
+    check_exact_memory(exact_work(scene, args.threads));
+  }
   core::create_output_directory(args.out, "--out");
+  jobs::ProgressLine progress("export", args.progress);
+  if (progress.enabled()) {
+    options.on_exact_progress = [&progress](long done, long total) {
+      progress.update("exact evaluation, (state, camera) steps", done, total);
+    };
+  }
   view::ExportResult result;
   {
     // A signal ends the export within a second, removing unfinished temporary files.
@@ -92,6 +104,7 @@ void run_export(const ExportArgs& args) {
     const jobs::StopAtOnce at_once(stop);
     result = view::export_scene(scene, config, options, args.out);
   }
+  progress.finish();
   std::printf("%4s %5s %7s %9s %10s  %s\n", "step", "event", "weight", "d_true[m]", "d_model[m]",
               "file");
   for (const view::ExportedState& s : result.states) {
@@ -134,6 +147,9 @@ void register_export_command(CLI::App& app) {
       ->check(in_range(1, core::kMaxThreads));
   cmd->add_option("--three-dir", args->three_dir,
                   "directory of three.js (Debian's libjs-three) copied beside index.html");
+  cmd->add_flag("--progress", args->progress,
+                "progress of the exact pipeline on stderr also when it is not a terminal (on a "
+                "terminal: always)");
   cmd->callback([args] { run_export(*args); });
 }
 

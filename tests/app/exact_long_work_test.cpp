@@ -1,4 +1,5 @@
-// `compare` and `evaluate --pipeline exact|both` as long work: progress, the summary
+// `compare`, `evaluate --pipeline exact|both` and `export --pipeline exact` as long work:
+// progress, the memory check, the summary
 // line naming each number's resolution, a signal ending compare within a second with the
 // evaluations done kept in a report marked incomplete, and one shape of `evaluate --json`.
 #include <gtest/gtest.h>
@@ -215,6 +216,26 @@ TEST(CompareLongWork, EvaluateJsonHasOneShapeForExactAndBoth) {
   EXPECT_FALSE(b.contains("err"));  // each pipeline has its own
   // The exact pipeline does not depend on whether the voxel one ran too.
   EXPECT_EQ(b["exact"]["err"], e["err"]);
+}
+
+// `export --pipeline exact` counts the exact pipeline's (state, camera) steps, as evaluate and
+// compare do, and refuses up front what its memory estimate rules out, creating nothing.
+TEST(ExportLongWork, ExactExportShowsProgressAndChecksMemoryFirst) {
+  const std::string dir = temp_dir("export-exact");
+  const CommandResult r =
+      run("export " + kBasic + " --pipeline exact --progress --out " + dir + "/view");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(has(r.output, "export: exact evaluation, (state, camera) steps 36/36")) << r.output;
+  const CommandResult refused =
+      run_camplace("CAMPLACE_MEM_AVAILABLE_KB=150000 " + std::string(CAMPLACE_BINARY),
+                   "export " + kBasic + " --pipeline exact --threads 1 --out " + dir + "/refused");
+  EXPECT_EQ(refused.exit_code, 1) << refused.output;
+  EXPECT_TRUE(has(refused.output,
+                  "error: the exact pipeline with 6 cameras, 1 thread and up to "
+                  "28 triangles per state needs about 0.19 GiB, more than the "
+                  "0.14 GiB available"))
+      << refused.output;
+  EXPECT_FALSE(fs::exists(dir + "/refused"));
 }
 
 }  // namespace

@@ -170,6 +170,7 @@ Evaluated evaluate_exact(const core::Scene& scene, const core::CameraConfig& con
   exact::ExactOptions exact_options;
   exact_options.keep_models = true;
   exact_options.threads = options.threads;
+  exact_options.on_progress = options.on_exact_progress;
   exact::ExactEvaluation e = exact::evaluate_exact(scene, config, exact_options);
   out.fov = core::name_of(core::FovShape::pyramid);  // SPEC §6: always the pyramid
   const auto all = core::states(scene);

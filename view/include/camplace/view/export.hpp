@@ -3,6 +3,7 @@
 /// self-contained three.js viewer page, camera pose files and the voxel model (docs/export.md).
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -37,6 +38,9 @@ struct ExportOptions {
   std::string three_dir = kDefaultThreeDir;
   /// The scene and camera files as named on the command line (shown by the page).
   std::string scene_file, cameras_file;
+  /// Called as the exact pipeline advances: its (state, camera) steps done and their total
+  /// (exact::ExactOptions::on_progress). Empty: none.
+  std::function<void(long done, long total)> on_exact_progress;
 };
 
 /// What one state's file holds.
