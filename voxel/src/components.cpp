@@ -190,6 +190,22 @@ void rows_from_masks(const std::uint64_t* masks, int count, const Grid& grid, Ro
   const int nx = grid.n[0], rows = grid.n[1] * grid.n[2];
   const int words = words_per_row(nx);
   const std::size_t size = static_cast<std::size_t>(rows) * words;
+  // Few states: each set bit of the masks into its state's row (a 64 × 64 transpose per word
+  // would cost more than the bits); else the transpose.
+  constexpr int kScatter = 8;
+  if (count <= kScatter) {
+    for (int s = 0; s < count; ++s) out[s]->assign(size, 0);
+    for (int r = 0; r < rows; ++r) {
+      const std::uint64_t* m = masks + static_cast<std::size_t>(r) * nx;
+      for (int i = 0; i < nx; ++i) {
+        const std::size_t at = static_cast<std::size_t>(r) * words + (i >> 6);
+        for (std::uint64_t x = m[i]; x; x &= x - 1) {
+          (*out[__builtin_ctzll(x)])[at] |= std::uint64_t{1} << (i & 63);
+        }
+      }
+    }
+    return;
+  }
   for (int s = 0; s < count; ++s) out[s]->resize(size);
   std::uint64_t a[64];
   for (int r = 0; r < rows; ++r) {

@@ -23,7 +23,8 @@ inline bool row_bit(const std::uint64_t* rows, int nx, int words, int v) {
 }
 
 /// The rows of each state of a chunk of `count` ≤ 64 states from the chunk's per-voxel masks
-/// (`masks[v]` bit s: voxel v is in M in state s; grid.count() of them): into `out[s]`, resized.
+/// (`masks[v]` bit s: voxel v is in M in state s, no bit at s ≥ count; grid.count() of them):
+/// into `out[s]`, resized.
 void rows_from_masks(const std::uint64_t* masks, int count, const Grid& grid, Rows* const* out);
 
 /// A model of one byte per voxel (not 0 = in M) as rows, and back (1 = in M), resized.
