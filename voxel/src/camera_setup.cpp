@@ -134,10 +134,10 @@ struct SetupWork {
 };
 
 /// Counting sort of the slot groups of one chunk (`members`, ascending) into the bins of `grid`:
-/// `range(group)` gives the bins a group covers, `states(group)` the chunk's states of its object.
-template <class Range, class States>
+/// `range(group)` gives the bins a group covers.
+template <class Range>
 void sort_into_bins(const BinGrid& grid, const std::vector<int>& members, const Range& range,
-                    const States& states, std::vector<int>& fill, BinLists& lists) {
+                    std::vector<int>& fill, BinLists& lists) {
   const int cells = grid.count();
   lists.start.assign(cells + 1, 0);
   for (int s : members) {
@@ -151,9 +151,8 @@ void sort_into_bins(const BinGrid& grid, const std::vector<int>& members, const 
   fill.assign(lists.start.begin(), lists.start.end() - 1);
   for (int s : members) {
     const BinRange& r = range(s);
-    const detail::BinItem item{states(s), s};
     for (int by = r.y0; by <= r.y1; ++by) {
-      for (int bx = r.x0; bx <= r.x1; ++bx) lists.items[fill[by * grid.n[0] + bx]++] = item;
+      for (int bx = r.x0; bx <= r.x1; ++bx) lists.items[fill[by * grid.n[0] + bx]++] = s;
     }
   }
 }
@@ -519,13 +518,11 @@ void place_bins(const std::array<double, 2>& width, int per_chunk, bool conserva
   }
 }
 
-/// One chunk's candidates: the slot groups of its objects (`objects`, ascending; `object_states`
-/// the chunk's states of each object), sorted into the bins, and their slots not wholly in front
-/// of the camera in `everywhere`. Only the chunk's own groups are visited: with many states, each
-/// chunk holds few of the objects.
-void chunk_candidates(const CameraSetup& cam, const std::vector<int>& objects,
-                      const detail::StateMask* object_states, bool conservative, SetupWork& work,
-                      ChunkCandidates& out) {
+/// One chunk's candidates: the slot groups of its objects (`objects`, ascending), sorted into the
+/// bins, and their slots not wholly in front of the camera in `everywhere`. Only the chunk's own
+/// groups are visited: with many states, each chunk holds few of the objects.
+void chunk_candidates(const CameraSetup& cam, const std::vector<int>& objects, bool conservative,
+                      SetupWork& work, ChunkCandidates& out) {
   work.members.clear();
   out.everywhere.clear();
   for (int o : objects) {
@@ -533,13 +530,12 @@ void chunk_candidates(const CameraSetup& cam, const std::vector<int>& objects,
     out.everywhere.insert(out.everywhere.end(), cam.everywhere.begin() + cam.everywhere_start[o],
                           cam.everywhere.begin() + cam.everywhere_start[o + 1]);
   }
-  auto states = [&](int g) { return object_states[cam.groups[g].object]; };
   sort_into_bins(
       cam.coarse, work.members, [&](int g) -> const BinRange& { return work.bins[g].coarse; },
-      states, work.fill, out.coarse);
+      work.fill, out.coarse);
   if (conservative) {
     sort_into_bins(
-        cam.wide, work.members, [&](int g) -> const BinRange& { return work.bins[g].wide; }, states,
+        cam.wide, work.members, [&](int g) -> const BinRange& { return work.bins[g].wide; },
         work.fill, out.wide);
   } else {
     out.wide.start.assign(cam.wide.count() + 1, 0);
@@ -709,8 +705,7 @@ void VoxelEvaluator::Impl::camera_setup(const core::CameraSetting& camera,
   place_bins(width, per_chunk, conservative, cam, work);
   cam.chunks.resize(chunk_object_states.size());
   for (std::size_t ch = 0; ch < chunk_object_states.size(); ++ch) {
-    chunk_candidates(cam, chunk_objects[ch], chunk_object_states[ch].data(), conservative, work,
-                     cam.chunks[ch]);
+    chunk_candidates(cam, chunk_objects[ch], conservative, work, cam.chunks[ch]);
   }
 }
 

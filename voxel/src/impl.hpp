@@ -171,18 +171,11 @@ struct BinGrid {
   int count() const { return n[0] * n[1]; }
 };
 
-/// One entry of a bin's list: a slot group and the states of the chunk that hold its object, so
-/// that a group none of whose states is still open is passed over without reading it.
-struct BinItem {
-  std::uint64_t states;  // (a StateMask)
-  int group;
-};
-
 /// The candidate lists of one chunk of 64 states: per bin of a BinGrid the slot groups
 /// (ascending) whose rectangle covers it, as offsets (count() + 1) into items.
 struct BinLists {
   std::vector<int> start;
-  std::vector<BinItem> items;
+  std::vector<int> items;
 };
 
 /// One chunk's candidates: the coarse bins and the wide bins (conservative mode) of slot groups,

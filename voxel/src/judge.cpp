@@ -28,16 +28,12 @@ namespace {
 
 /// The candidate slots of judge_conservative() in order, until `done`: those of the slot groups
 /// in the bins under the box's projection that `open` does not rule out as a whole (each group
-/// once), then the slots everywhere. `test(s)`: true when the verdict changed. `live()`: the
-/// states whose objects' groups may still change it (a superset of those `open` accepts); a
-/// bin item with none of them is passed over.
-template <class Test, class Open, class Done, class Live>
+/// once), then the slots everywhere. `test(s)`: true when the verdict changed.
+template <class Test, class Open, class Done>
 void judge_candidates(const CameraSetup& cam, const detail::ChunkCandidates& cand, double vx0,
                       double vx1, double vy0, double vy1, double z_lo, Scratch& scratch, Test& test,
-                      const Open& open, const Done& done, const Live& live) {
-  auto group = [&](const detail::BinItem& item) {
-    if (!(item.states & live())) return false;
-    const int g = item.group;
+                      const Open& open, const Done& done) {
+  auto group = [&](int g) {
     if (!open(g)) return false;
     const detail::SlotGroup& slots = cam.groups[g];
     for (int s = slots.first; s < slots.last; ++s) {
@@ -70,12 +66,10 @@ void judge_candidates(const CameraSetup& cam, const detail::ChunkCandidates& can
     for (int bx = bins.x0; bx <= bins.x1; ++bx) {
       const int b = by * cam.coarse.n[0] + bx;
       for (int n = cand.coarse.start[b]; n < cand.coarse.start[b + 1]; ++n) {
-        const detail::BinItem& item = cand.coarse.items[n];
-        // (live() only shrinks: an item passed over here would be in any later bin.)
-        if (!(item.states & live())) continue;
-        if (scratch.stamp[item.group] == scratch.visit) continue;
-        scratch.stamp[item.group] = scratch.visit;
-        if (group(item)) return;
+        const int g = cand.coarse.items[n];
+        if (scratch.stamp[g] == scratch.visit) continue;
+        scratch.stamp[g] = scratch.visit;
+        if (group(g)) return;
       }
     }
   }
@@ -167,9 +161,7 @@ Verdict VoxelEvaluator::Impl::judge_center(const CameraSetup& cam, const Vec3& w
       for (int bx = bins.x0; bx <= bins.x1; ++bx) {
         const int b = by * cam.coarse.n[0] + bx;
         for (int n = cand.coarse.start[b]; n < cand.coarse.start[b + 1]; ++n) {
-          const detail::BinItem& item = cand.coarse.items[n];
-          if (!(item.states & interest)) continue;  // (test would find no state of interest)
-          const int g = item.group;
+          const int g = cand.coarse.items[n];
           if (!single) {
             if (scratch.stamp[g] == scratch.visit) continue;
             scratch.stamp[g] = scratch.visit;
@@ -344,9 +336,6 @@ Verdict VoxelEvaluator::Impl::judge_conservative(const CameraSetup& cam, const V
   };
   // With free_only, done as soon as every state of interest is decided.
   auto done = [&] { return free_only && !(interest & ~(out.occupied | out.blocked)); };
-  // open_states' states for any object: those of interest not decided (occupied, or with
-  // free_only blocked too).
-  auto live = [&] { return interest & ~(free_only ? out.occupied | out.blocked : out.occupied); };
   if (witnesses) {
     int* witness = witnesses->triangles;
     // A repeated test finds the states it decides decided: it changes nothing.
@@ -365,10 +354,10 @@ Verdict VoxelEvaluator::Impl::judge_conservative(const CameraSetup& cam, const V
     for (int s : first) {
       if (s >= 0 && test(s) && done()) return out;
     }
-    judge_candidates(cam, cand, vx0, vx1, vy0, vy1, z_lo, scratch, test, open, done, live);
+    judge_candidates(cam, cand, vx0, vx1, vy0, vy1, z_lo, scratch, test, open, done);
     return out;
   }
-  judge_candidates(cam, cand, vx0, vx1, vy0, vy1, z_lo, scratch, test, open, done, live);
+  judge_candidates(cam, cand, vx0, vx1, vy0, vy1, z_lo, scratch, test, open, done);
   return out;
 }
 
@@ -523,9 +512,7 @@ StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& 
     for (int bx = bins.x0; bx <= bins.x1; ++bx) {
       const int b = by * cam.coarse.n[0] + bx;
       for (int n = cand.coarse.start[b]; n < cand.coarse.start[b + 1]; ++n) {
-        const detail::BinItem& item = cand.coarse.items[n];
-        if (!(item.states & clear)) continue;  // (clear only shrinks)
-        const int g = item.group;
+        const int g = cand.coarse.items[n];
         if (scratch.stamp[g] == scratch.visit) continue;
         scratch.stamp[g] = scratch.visit;
         // decides' first tests on the group's bounds: its rectangle holds each slot's, `near`
