@@ -81,13 +81,19 @@ std::vector<int> flood_fill_labels(const std::vector<std::uint8_t>& model, const
 }
 
 TEST(Components, LabelsEqualAFloodFillOnRandomModels) {
-  // Rows shorter and longer than the eight bytes the run scan skips at once, rows of up to 64
-  // voxels (scanned as bit masks) and longer ones (byte by byte), sparse and dense models, and
-  // runs of random lengths (long runs of 1 and of 0 along x).
+  // Rows of one 64-bit word and of several (runs that cross from one word into the next, rows
+  // of exactly 64 and 128 voxels), sparse and dense models, and runs of random lengths (long
+  // runs of 1 and of 0 along x).
   std::mt19937 rng(4242);
   long voxels = 0;
-  for (const std::array<int, 3> n :
-       {std::array<int, 3>{5, 4, 3}, {9, 5, 4}, {17, 6, 5}, {36, 7, 6}, {64, 3, 3}, {77, 3, 3}}) {
+  for (const std::array<int, 3> n : {std::array<int, 3>{5, 4, 3},
+                                     {9, 5, 4},
+                                     {17, 6, 5},
+                                     {36, 7, 6},
+                                     {64, 3, 3},
+                                     {77, 3, 3},
+                                     {128, 2, 2},
+                                     {150, 3, 2}}) {
     const voxel::Grid grid = voxel::make_grid({core::Vec3(0, 0, 0), core::Vec3(1, 1, 1)}, n);
     for (const double density : {0.1, 0.5, 0.9}) {
       for (int trial = 0; trial < 4; ++trial) {
@@ -110,6 +116,52 @@ TEST(Components, LabelsEqualAFloodFillOnRandomModels) {
     }
   }
   EXPECT_GT(voxels, 10000);
+}
+
+TEST(Components, FilterEqualsTheRuleOnFloodFillComponentsOfRandomModels) {
+  // Volume and z-extent of each flood-fill component, the rule of SPEC §4 applied by hand;
+  // rows of one and of several words (a removed run may span words).
+  std::mt19937 rng(777);
+  int removed_total = 0, kept_total = 0;
+  for (const std::array<int, 3> n :
+       {std::array<int, 3>{9, 5, 4}, {36, 7, 6}, {64, 4, 3}, {130, 4, 4}}) {
+    const voxel::Grid grid = voxel::make_grid({core::Vec3(0, 0, 0), core::Vec3(1, 1, 1)}, n);
+    for (const double density : {0.2, 0.5, 0.8}) {
+      std::vector<std::uint8_t> model(grid.count(), 0);
+      std::bernoulli_distribution on(density), stay(0.8);
+      for (int v = 0; v < grid.count(); ++v) {
+        model[v] = v % n[0] == 0 || !stay(rng) ? static_cast<std::uint8_t>(on(rng)) : model[v - 1];
+      }
+      const std::vector<int> labels = flood_fill_labels(model, grid);
+      const int components = *std::max_element(labels.begin(), labels.end()) + 1;
+      std::vector<int> cells(components, 0), kmin(components, n[2]), kmax(components, -1);
+      for (int v = 0; v < grid.count(); ++v) {
+        if (labels[v] < 0) continue;
+        const int k = v / (n[0] * n[1]);
+        ++cells[labels[v]];
+        kmin[labels[v]] = std::min(kmin[labels[v]], k);
+        kmax[labels[v]] = std::max(kmax[labels[v]], k);
+      }
+      core::Plausibility filter;
+      filter.min_volume = 6.5 * grid.voxel_volume();  // 7 voxels or more
+      filter.min_height = 1.5 * grid.step.z();        // 2 layers or more
+      std::vector<std::uint8_t> expected(grid.count(), 0);
+      int kept = 0;
+      for (int c = 0; c < components; ++c) kept += cells[c] >= 7 && kmax[c] - kmin[c] >= 1;
+      for (int v = 0; v < grid.count(); ++v) {
+        const int c = labels[v];
+        expected[v] = c >= 0 && cells[c] >= 7 && kmax[c] - kmin[c] >= 1;
+      }
+      const voxel::ComponentCount count = voxel::filter_components(model, grid, filter);
+      EXPECT_EQ(count.kept, kept);
+      EXPECT_EQ(count.removed, components - kept);
+      ASSERT_EQ(model, expected) << n[0] << "x" << n[1] << "x" << n[2] << " density " << density;
+      kept_total += kept;
+      removed_total += components - kept;
+    }
+  }
+  EXPECT_GT(kept_total, 10);
+  EXPECT_GT(removed_total, 50);
 }
 
 TEST(Components, FilterRemovesComponentsBelowVolumeOrHeightAndKeepsTheRest) {

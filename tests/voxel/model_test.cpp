@@ -102,6 +102,38 @@ TEST(Model, HeightFilterCanEmptyTheModelThenDistanceIsDiagonal) {
   EXPECT_NEAR(e.states[0].d_model, std::sqrt(16.0 + 16.0 + 0.0625), 1e-12);
 }
 
+TEST(Model, DistanceToAFarModelIsTheMinimumOverItsVoxels) {
+  // A wide camera (75°) at one end of a 4 × 4 × 1 m room sees all of it but the wedges beside
+  // itself; the critical box lies at the other end. The model (the wedges, a few hundred voxels)
+  // is farther from C than most of the room, so the distance scan walks the model's own voxels
+  // (docs/design/distance.md D1, 4). Brute force: the least distance over every model voxel.
+  const core::Box3 area{core::Vec3(0, 0, 0), core::Vec3(4, 4, 1)};
+  const core::Scene scene = simple_scene(area, {32, 32, 4}, 1, 75.0,
+                                         {box_object("critical", {3.7, 1.9, 0.4}, {3.8, 2.1, 0.6})},
+                                         {box_object("target", {0, 3.875, 0}, {0.125, 4, 0.25})});
+  const core::CameraSetting camera = camera_at({0.01, 2, 0.5}, 0, 0);
+  for (const LabelMode mode : {LabelMode::conservative, LabelMode::center}) {
+    const voxel::VoxelEvaluator evaluator(scene, {mode, {0, 0, 0}});
+    const voxel::Evaluation e = evaluator.evaluate({camera});
+    const auto model = evaluator.model({camera}, 0);
+    const core::TriangleMesh& critical = scene.time_steps[0].critical[0].mesh;
+    double best = std::numeric_limits<double>::infinity();
+    int count = 0;
+    for (int v = 0; v < evaluator.grid().count(); ++v) {
+      if (!model[v]) continue;
+      ++count;
+      best = std::min(
+          best, mode == LabelMode::conservative
+                    ? core::box_solid_sq_distance(critical, evaluator.grid().voxel_box(v))
+                    : core::point_solid_sq_distance(critical, evaluator.grid().voxel_center(v)));
+    }
+    EXPECT_GT(count, 128);   // not the few-voxel path
+    EXPECT_LT(count, 1024);  // fewer voxels than the shells nearer than the model hold
+    EXPECT_GT(best, 3.0 * 3.0);
+    EXPECT_NEAR(e.states[0].d_model, std::sqrt(best), 1e-12);
+  }
+}
+
 TEST(Model, ObstacleInteriorIsRemoved) {
   core::Scene scene = planar_scene();
   // The pillar covers voxels i = 1, 2 and j = 7, 8 exactly; the camera stands in it (blind),

@@ -1,16 +1,17 @@
 // 6-connected components and the plausibility filter (SPEC §4–5), one rule (ComponentTally) on
-// the dense base model (filter_components) and on refined cells (detail::filter_cells). Voxels on
-// runs: maximal segments of model voxels along x. Two runs connect when they lie in face-adjacent
-// rows (j ± 1 or k ± 1) and share an x index; union–find over runs gives the components.
+// the base model as bit rows (detail::filter_rows; filter_components on bytes goes through it) and
+// on refined cells (detail::filter_cells). Voxels on runs: maximal segments of model voxels along
+// x. Two runs connect when they lie in face-adjacent rows (j ± 1 or k ± 1) and share an x index;
+// union–find over runs gives the components.
 #include "camplace/voxel/components.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <numeric>
 
 #include "cells.hpp"
+#include "rows.hpp"
 #include "union_find.hpp"
 
 namespace camplace::voxel {
@@ -22,16 +23,8 @@ struct Run {
   int i0, i1;  ///< x range, inclusive
 };
 
-/// Eight model bytes as one word with 1 in each byte that is not 0, 0 elsewhere (byte k holds
-/// p[k]: little-endian order).
-inline std::uint64_t nonzero_bytes(const std::uint8_t* p) {
-  std::uint64_t w;
-  std::memcpy(&w, p, sizeof w);
-  constexpr std::uint64_t low7 = 0x7f7f7f7f7f7f7f7fULL;
-  return (((w & low7) + low7) | w) >> 7 & 0x0101010101010101ULL;
-}
-
 using detail::find;
+using detail::Rows;
 using detail::unite;
 
 /// Per component: its cell count and z-extent (layer indices), and the plausibility filter's
@@ -84,91 +77,54 @@ struct RunForest {
   std::vector<Run> runs;
   std::vector<int> parent;
   std::vector<int> row_start;
-  std::vector<std::uint64_t> bits;
 };
 
-#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
-/// The row's nx ≤ 64 model bytes as bits (bit i: byte i is not 0), eight bytes at a time: the
-/// product gathers the low bit of each byte of nonzero_bytes into the top byte, byte k's at bit
-/// 56 + k (the partial products 8k + 7m, m = 1..8, are distinct bits: no carry). The last eight
-/// bytes, when fewer remain, overlap the ones before (same bits).
-inline std::uint64_t row_bits(const std::uint8_t* row, int nx) {
-  constexpr std::uint64_t gather = 0x0102040810204080ULL;
-  std::uint64_t bits = 0;
-  int i = 0;
-  for (; i + 8 <= nx; i += 8) bits |= (nonzero_bytes(row + i) * gather >> 56) << i;
-  if (i < nx && nx >= 8) {
-    bits |= (nonzero_bytes(row + nx - 8) * gather >> 56) << (nx - 8);
-  } else {
-    for (; i < nx; ++i) bits |= std::uint64_t{row[i] != 0} << i;
-  }
-  return bits;
-}
-constexpr bool kRowBits = true;
-#else
-inline std::uint64_t row_bits(const std::uint8_t*, int) { return 0; }
-constexpr bool kRowBits = false;
-#endif
-
-/// Into `forest` (its memory reused).
-void run_forest(const std::uint8_t* m, const Grid& grid, RunForest& forest) {
-  const int nx = grid.n[0], ny = grid.n[1], nz = grid.n[2];
+/// Into `forest` (its memory reused), from the model's rows (detail::Rows).
+void run_forest(const std::uint64_t* bits, const Grid& grid, RunForest& forest) {
+  const int ny = grid.n[1], nz = grid.n[2];
+  const int words = detail::words_per_row(grid.n[0]);
   const int rows = ny * nz;
   std::vector<Run>& runs = forest.runs;
   runs.clear();
   std::vector<int>& row_start = forest.row_start;
   row_start.assign(rows + 1, 0);
-  // Rows of at most 64 voxels as bit masks: runs start at a 1 bit with a 0 (or the row's start)
-  // before it and end at a 1 bit with a 0 after it; two rows share no x index when their masks
-  // do not meet (then connect has nothing to unite).
-  const bool masks = kRowBits && nx <= 64;
-  std::vector<std::uint64_t>& bits = forest.bits;
-  bits.resize(masks ? rows : 0);
+  // A run starts at a 1 bit with a 0 (or the row's start) before it and ends at a 1 bit with a
+  // 0 (or the row's end) after it, across words; starts and ends alternate along the row.
   for (int r = 0; r < rows; ++r) {
     row_start[r] = static_cast<int>(runs.size());
-    const std::uint8_t* row = m + static_cast<std::size_t>(r) * nx;
-    if (masks) {
-      const std::uint64_t b = bits[r] = row_bits(row, nx);
-      std::uint64_t starts = b & ~(b << 1), ends = b & ~(b >> 1);
-      for (; starts; starts &= starts - 1, ends &= ends - 1) {
-        runs.push_back({r, __builtin_ctzll(starts), __builtin_ctzll(ends)});
+    const std::uint64_t* row = bits + static_cast<std::size_t>(r) * words;
+    int start = -1;  // the open run's first voxel
+    for (int w = 0; w < words; ++w) {
+      const std::uint64_t b = row[w];
+      if (!b) continue;
+      const std::uint64_t before = w > 0 ? row[w - 1] >> 63 : 0;
+      const std::uint64_t after = w + 1 < words ? row[w + 1] << 63 : 0;
+      std::uint64_t starts = b & ~(b << 1 | before), ends = b & ~(b >> 1 | after);
+      while (starts | ends) {
+        if (start < 0) {
+          start = 64 * w + __builtin_ctzll(starts);
+          starts &= starts - 1;
+        } else {
+          runs.push_back({r, start, 64 * w + __builtin_ctzll(ends)});
+          ends &= ends - 1;
+          start = -1;
+        }
       }
-      continue;
     }
-    // A run starts or ends where a byte differs from the one before (0 before the row). Eight
-    // bytes at a time: byte k of w ^ (w << 8 | previous) is 1 where byte k differs from byte
-    // k − 1; then byte by byte for the rest of the row.
-    bool inside = false;
-    int i0 = 0;
-    auto toggle = [&](int i) {
-      if (inside) runs.push_back({r, i0, i - 1});
-      i0 = i;
-      inside = !inside;
-    };
-    int i = 0;
-#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
-    std::uint64_t previous = 0;
-    for (; i + 8 <= nx; i += 8) {
-      const std::uint64_t w = nonzero_bytes(row + i);
-      for (std::uint64_t edges = w ^ (w << 8 | previous); edges; edges &= edges - 1) {
-        toggle(i + __builtin_ctzll(edges) / 8);
-      }
-      previous = w >> 56;
-    }
-#endif
-    for (; i < nx; ++i) {
-      if ((row[i] != 0) != inside) toggle(i);
-    }
-    if (inside) runs.push_back({r, i0, nx - 1});
   }
   row_start[rows] = static_cast<int>(runs.size());
   std::vector<int>& parent = forest.parent;
   parent.resize(runs.size());
   std::iota(parent.begin(), parent.end(), 0);
   // Face neighbours only: voxels meeting at an edge or a corner do not connect (SPEC §4); so
-  // runs connect only through a shared x index in the row before (j − 1) or below (k − 1).
+  // runs connect only through a shared x index in the row before (j − 1) or below (k − 1). Rows
+  // whose bits do not meet share no x index (then connect has nothing to unite).
   auto connect = [&](int r, int other) {
-    if (masks && !(bits[r] & bits[other])) return;
+    const std::uint64_t* a_bits = bits + static_cast<std::size_t>(r) * words;
+    const std::uint64_t* b_bits = bits + static_cast<std::size_t>(other) * words;
+    std::uint64_t meet = 0;
+    for (int w = 0; w < words; ++w) meet |= a_bits[w] & b_bits[w];
+    if (!meet) return;
     int a = row_start[r], b = row_start[other];
     const int a_end = row_start[r + 1], b_end = row_start[other + 1];
     while (a < a_end && b < b_end) {
@@ -187,11 +143,25 @@ void run_forest(const std::uint8_t* m, const Grid& grid, RunForest& forest) {
   }
 }
 
+/// 64 × 64 bits: bit i of a[k] ↔ bit k of a[i] (blocks of 32, 16, ..., 1 swapped in place).
+inline void transpose64(std::uint64_t a[64]) {
+  std::uint64_t m = 0x00000000FFFFFFFFULL;
+  for (int j = 32; j != 0; j >>= 1, m ^= m << j) {
+    for (int k = 0; k < 64; k = ((k | j) + 1) & ~j) {
+      const std::uint64_t t = ((a[k] >> j) ^ a[k | j]) & m;
+      a[k] ^= t << j;
+      a[k | j] ^= t;
+    }
+  }
+}
+
 }  // namespace
 
 std::vector<int> component_labels(const std::vector<std::uint8_t>& model, const Grid& grid) {
+  Rows rows;
+  detail::rows_from_bytes(model, grid, rows);
   RunForest forest;
-  run_forest(model.data(), grid, forest);
+  run_forest(rows.data(), grid, forest);
   std::vector<int> id(forest.runs.size(), -1);
   std::vector<int> labels(model.size(), -1);
   int next = 0;
@@ -207,16 +177,92 @@ std::vector<int> component_labels(const std::vector<std::uint8_t>& model, const 
 
 ComponentCount filter_components(std::vector<std::uint8_t>& model, const Grid& grid,
                                  const core::Plausibility& plausibility) {
-  const int nx = grid.n[0], ny = grid.n[1];
-  std::uint8_t* m = model.data();
+  Rows rows;
+  detail::rows_from_bytes(model, grid, rows);
+  const ComponentCount result = detail::filter_rows(rows, grid, plausibility);
+  detail::bytes_from_rows(rows, grid, model);
+  return result;
+}
+
+namespace detail {
+
+void rows_from_masks(const std::uint64_t* masks, int count, const Grid& grid, Rows* const* out) {
+  const int nx = grid.n[0], rows = grid.n[1] * grid.n[2];
+  const int words = words_per_row(nx);
+  const std::size_t size = static_cast<std::size_t>(rows) * words;
+  // Few states: each set bit of the masks into its state's row (a 64 × 64 transpose per word
+  // would cost more than the bits); else the transpose.
+  constexpr int kScatter = 8;
+  if (count <= kScatter) {
+    for (int s = 0; s < count; ++s) out[s]->assign(size, 0);
+    for (int r = 0; r < rows; ++r) {
+      const std::uint64_t* m = masks + static_cast<std::size_t>(r) * nx;
+      for (int i = 0; i < nx; ++i) {
+        const std::size_t at = static_cast<std::size_t>(r) * words + (i >> 6);
+        for (std::uint64_t x = m[i]; x; x &= x - 1) {
+          (*out[__builtin_ctzll(x)])[at] |= std::uint64_t{1} << (i & 63);
+        }
+      }
+    }
+    return;
+  }
+  for (int s = 0; s < count; ++s) out[s]->resize(size);
+  std::uint64_t a[64];
+  for (int r = 0; r < rows; ++r) {
+    for (int w = 0; w < words; ++w) {
+      const int i0 = 64 * w, n = std::min(64, nx - i0);
+      const std::uint64_t* m = masks + static_cast<std::size_t>(r) * nx + i0;
+      std::uint64_t any = 0;
+      for (int i = 0; i < n; ++i) any |= a[i] = m[i];
+      const std::size_t at = static_cast<std::size_t>(r) * words + w;
+      if (!any) {
+        for (int s = 0; s < count; ++s) (*out[s])[at] = 0;
+        continue;
+      }
+      std::fill(a + n, a + 64, 0);
+      transpose64(a);  // a[s] bit i: voxel i0 + i in state s
+      for (int s = 0; s < count; ++s) (*out[s])[at] = a[s];
+    }
+  }
+}
+
+void rows_from_bytes(const std::vector<std::uint8_t>& model, const Grid& grid, Rows& rows) {
+  const int nx = grid.n[0], count = grid.n[1] * grid.n[2];
+  const int words = words_per_row(nx);
+  rows.assign(static_cast<std::size_t>(count) * words, 0);
+  for (int r = 0; r < count; ++r) {
+    for (int i = 0; i < nx; ++i) {
+      if (model[static_cast<std::size_t>(r) * nx + i]) {
+        rows[static_cast<std::size_t>(r) * words + (i >> 6)] |= std::uint64_t{1} << (i & 63);
+      }
+    }
+  }
+}
+
+void bytes_from_rows(const Rows& rows, const Grid& grid, std::vector<std::uint8_t>& model) {
+  const int nx = grid.n[0], count = grid.n[1] * grid.n[2];
+  const int words = words_per_row(nx);
+  model.resize(static_cast<std::size_t>(count) * nx);
+  for (int r = 0; r < count; ++r) {
+    const std::uint64_t* row = rows.data() + static_cast<std::size_t>(r) * words;
+    for (int i = 0; i < nx; ++i) {
+      model[static_cast<std::size_t>(r) * nx + i] = (row[i >> 6] >> (i & 63)) & 1;
+    }
+  }
+}
+
+ComponentCount filter_rows(Rows& rows, const Grid& grid, const core::Plausibility& plausibility) {
+  const int ny = grid.n[1];
+  const int words = words_per_row(grid.n[0]);
   // Per thread, reused: the evaluator filters every state's model per evaluation.
   thread_local RunForest forest;
-  run_forest(m, grid, forest);
+  run_forest(rows.data(), grid, forest);
   const std::vector<Run>& runs = forest.runs;
   std::vector<int>& parent = forest.parent;
   // Volume (voxel count) and z-extent per component, in order of their first run.
   ComponentTally tally;
-  std::vector<int> id(runs.size(), -1);
+  thread_local std::vector<int> id;
+  id.assign(runs.size(), -1);
   for (std::size_t n = 0; n < runs.size(); ++n) {
     const int root = find(parent, static_cast<int>(n));
     if (id[root] < 0) id[root] = tally.add_component();
@@ -224,18 +270,25 @@ ComponentCount filter_components(std::vector<std::uint8_t>& model, const Grid& g
     id[n] = id[root];
     tally.add_cells(id[root], runs[n].i1 - runs[n].i0 + 1, k, k);
   }
-  std::vector<std::uint8_t> keep;
+  thread_local std::vector<std::uint8_t> keep;
   const ComponentCount result =
       tally.decide(plausibility, grid.voxel_volume(), grid.step.z(), keep);
   for (std::size_t n = 0; n < runs.size(); ++n) {
+    if (keep[id[n]]) continue;
     const Run& run = runs[n];
-    std::memset(m + static_cast<std::size_t>(run.row) * nx + run.i0, keep[id[n]],
-                run.i1 - run.i0 + 1);
+    std::uint64_t* row = rows.data() + static_cast<std::size_t>(run.row) * words;
+    for (int i = run.i0; i <= run.i1;) {
+      // Bits i .. min(i1, end of its word) cleared at once.
+      const int w = i >> 6, lo = i & 63, hi = std::min(run.i1 - 64 * w, 63);
+      const std::uint64_t span =
+          (hi == 63 ? ~std::uint64_t{0} : (std::uint64_t{1} << (hi + 1)) - 1) &
+          ~((std::uint64_t{1} << lo) - 1);
+      row[w] &= ~span;
+      i = 64 * w + hi + 1;
+    }
   }
   return result;
 }
-
-namespace detail {
 
 ComponentCount filter_cells(CellSet& set, const Octree& octree, const Grid& grid,
                             const core::Plausibility& plausibility) {

@@ -2,12 +2,11 @@
 // nearest cell of M — the voxel's box (conservative mode) or centre (center mode) at level 0, a
 // finest cell's box with refinement. Base voxels are scanned in shells of their lower bound
 // (setup.cpp) and stop at the first shell beyond the best so far; within a refined voxel, branch
-// and bound down its octree (docs/design/distance.md D1, D2). The dense base model and a set of
-// cells (cells.hpp) are two views of M for the same scan.
+// and bound down its octree (docs/design/distance.md D1, D2). The base model's bit rows (rows.hpp)
+// and a set of cells (cells.hpp) are two views of M for the same scan.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <limits>
 #include <type_traits>
 
@@ -21,24 +20,26 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-/// M as one byte per base voxel (level 0).
-struct DenseMembers {
-  const std::uint8_t* bytes = nullptr;
-  int count = 0;
-  /// Model bytes are 0 or 1: eight at a time, the product with 0x0101…01 adds them up into the
-  /// top byte (at most 8).
+/// M as bit rows of the base voxels (level 0; detail::Rows).
+struct RowMembers {
+  const std::uint64_t* rows = nullptr;
+  std::size_t words = 0;  ///< all rows'
+  int nx = 1, words_per_row = 1;
   long cells() const {
     long members = 0;
-    int v = 0;
-    for (; v + 8 <= count; v += 8) {
-      std::uint64_t word;
-      std::memcpy(&word, bytes + v, sizeof word);
-      members += static_cast<long>((word * 0x0101010101010101ULL) >> 56);
-    }
-    for (; v < count; ++v) members += bytes[v];
+    for (std::size_t w = 0; w < words; ++w) members += __builtin_popcountll(rows[w]);
     return members;
   }
-  bool holds(int v) const { return bytes[v] != 0; }
+  bool holds(int v) const { return detail::row_bit(rows, nx, words_per_row, v); }
+  /// f(v) for each voxel v of M, ascending.
+  template <class F>
+  void for_each(const F& f) const {
+    for (std::size_t at = 0; at < words; ++at) {
+      const int first =
+          static_cast<int>(at / words_per_row) * nx + 64 * static_cast<int>(at % words_per_row);
+      for (std::uint64_t b = rows[at]; b; b &= b - 1) f(first + __builtin_ctzll(b));
+    }
+  }
   double cell_fraction(const detail::Octree&) const { return 1.0; }  ///< of a voxel's volume
 };
 
@@ -88,9 +89,21 @@ VoxelEvaluator::Impl::ModelDistance VoxelEvaluator::Impl::nearest(const Members&
   const auto& lb = critical_lb_by_step[time_step];
   const LowerBoundShells& shells = shells_by_step[time_step];
   double best = kInf;
+  // Bit rows: once the scan has passed as many voxels as M holds, M's own voxels are cheaper to
+  // walk; each one whose bound does not exclude it is taken (D1, 4: the same minimum).
+  long budget = std::is_same_v<Members, RowMembers> ? count : -1;
   for (std::size_t b = 0; b + 1 < shells.start.size(); ++b) {
     const double below = b > 0 ? (static_cast<double>(b) - 1.0) * shells.width : 0.0;
     if (detail::beyond(below * below, best)) break;
+    if constexpr (std::is_same_v<Members, RowMembers>) {
+      budget -= shells.start[b + 1] - shells.start[b];
+      if (budget < 0) {
+        members.for_each([&](int u) {
+          if (!detail::beyond(lb[u], best)) best = std::min(best, critical_sq(time_step, u));
+        });
+        break;
+      }
+    }
     for (int n = shells.start[b]; n < shells.start[b + 1]; ++n) {
       const int u = shells.voxels[n];
       if (!members.holds(u) || detail::beyond(lb[u], best)) continue;
@@ -162,40 +175,21 @@ double VoxelEvaluator::Impl::nearest_cell(const CellSet& set, int slot, int time
   return best;
 }
 
-namespace {
-
-/// The voxels of the dense model, ascending, into `out`; eight bytes at a time.
-void members_of(const std::vector<std::uint8_t>& model, std::vector<int>& out) {
-  out.clear();
-  const int count = static_cast<int>(model.size());
-  int v = 0;
-  for (; v + 8 <= count; v += 8) {
-    std::uint64_t word;
-    std::memcpy(&word, model.data() + v, sizeof word);
-    if (!word) continue;
-    for (int b = 0; b < 8; ++b) {
-      if (model[v + b]) out.push_back(v + b);
-    }
-  }
-  for (; v < count; ++v) {
-    if (model[v]) out.push_back(v);
-  }
-}
-
-}  // namespace
-
-VoxelEvaluator::Impl::ModelDistance VoxelEvaluator::Impl::model_distance(
-    const std::vector<std::uint8_t>& model, int time_step) const {
-  CAMPLACE_ASSERT(static_cast<int>(model.size()) == grid.count());
+VoxelEvaluator::Impl::ModelDistance VoxelEvaluator::Impl::model_distance(const detail::Rows& model,
+                                                                         int time_step) const {
+  const int nx = grid.n[0];
+  CAMPLACE_ASSERT(model.size() ==
+                  static_cast<std::size_t>(grid.n[1]) * grid.n[2] * detail::words_per_row(nx));
   // The filter often leaves a few voxels, far from C_h: the shell scan would walk every voxel
   // nearer than them. Few voxels are taken directly, by increasing lower bound, until the bound
   // excludes the rest (D1, 3: the same minimum).
   constexpr long kFew = 128;
-  const DenseMembers members{model.data(), grid.count()};
+  const RowMembers members{model.data(), model.size(), nx, detail::words_per_row(nx)};
   const long count = members.cells();
   if (count == 0 || count > kFew) return nearest(members, count, time_step);
   thread_local std::vector<int> few;
-  members_of(model, few);
+  few.clear();
+  members.for_each([&](int u) { few.push_back(u); });
   ModelDistance out;
   out.volume = static_cast<double>(count) * voxel_volume;
   const auto& lb = critical_lb_by_step[time_step];

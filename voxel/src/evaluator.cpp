@@ -54,25 +54,27 @@ Evaluation VoxelEvaluator::evaluate(const core::CameraConfig& config) const {
   auto t0 = Clock::now();
   // Per calling thread, reused: the optimizer evaluates thousands of configurations per
   // thread. (A reference, so that the worker threads below see this thread's buffers.)
-  thread_local std::vector<std::vector<std::uint8_t>> buffers;
+  thread_local std::vector<detail::Rows> buffers;
   thread_local std::vector<detail::CellSet> leaf_buffers;
-  std::vector<std::vector<std::uint8_t>>& models = buffers;
+  std::vector<detail::Rows>& models = buffers;
   thread_local std::vector<detail::CameraSetup> camera_buffers;
   std::vector<detail::CameraSetup>& cameras = camera_buffers;
   m.all_raw_models(config, models, &cameras);
   result.timing.labelling_ms = ms_since(t0);
 #if CAMPLACE_EXPENSIVE_CHECKS
-  m.check_labels(config, models);
-  const std::vector<std::vector<std::uint8_t>> raw = models;
+  std::vector<std::vector<std::uint8_t>> raw(state_count), bytes(state_count);
+  for (int s = 0; s < state_count; ++s) detail::bytes_from_rows(models[s], m.grid, raw[s]);
+  m.check_labels(config, raw);
 #endif
   std::vector<ComponentCount> filtered(state_count);
   t0 = Clock::now();
   detail::parallel_for(state_count, m.options.threads, [&](int s) {
-    filtered[s] = filter_components(models[s], m.grid, m.scene.plausibility);
+    filtered[s] = detail::filter_rows(models[s], m.grid, m.scene.plausibility);
   });
   result.timing.clustering_ms = ms_since(t0);
 #if CAMPLACE_EXPENSIVE_CHECKS
-  m.check_filtered(raw, models);
+  for (int s = 0; s < state_count; ++s) detail::bytes_from_rows(models[s], m.grid, bytes[s]);
+  m.check_filtered(raw, bytes);
 #endif
   std::vector<Impl::ModelDistance> distances(state_count);
   if (m.levels > 0) {
@@ -81,7 +83,7 @@ Evaluation VoxelEvaluator::evaluate(const core::CameraConfig& config) const {
     std::vector<ComponentCount> cells;
     m.refined_states(cameras, models, leaf_buffers, cells, distances, result.timing);
 #if CAMPLACE_EXPENSIVE_CHECKS
-    m.check_refined(models, leaf_buffers, distances);
+    m.check_refined(bytes, leaf_buffers, distances);
 #endif
     t0 = Clock::now();
     for (int s = 0; s < state_count; ++s) {
@@ -95,7 +97,7 @@ Evaluation VoxelEvaluator::evaluate(const core::CameraConfig& config) const {
     });
 #if CAMPLACE_EXPENSIVE_CHECKS
     for (int s = 0; s < state_count; ++s) {
-      m.check_distance(models[s], m.states[s].time_step, distances[s]);
+      m.check_distance(bytes[s], m.states[s].time_step, distances[s]);
     }
 #endif
   }
@@ -134,13 +136,18 @@ detail::FilteredModels VoxelEvaluator::Impl::filtered_models(
   const Impl& m = *this;
   detail::FilteredModels out;
   std::vector<detail::CameraSetup> cameras;
-  m.all_raw_models(config, out.base, &cameras);
-  for (auto& model : out.base) filter_components(model, m.grid, m.scene.plausibility);
+  std::vector<detail::Rows> rows;
+  m.all_raw_models(config, rows, &cameras);
+  out.base.resize(rows.size());
+  for (std::size_t s = 0; s < rows.size(); ++s) {
+    detail::filter_rows(rows[s], m.grid, m.scene.plausibility);
+    detail::bytes_from_rows(rows[s], m.grid, out.base[s]);
+  }
   if (m.levels == 0) return out;
   std::vector<ComponentCount> counts;
   std::vector<ModelDistance> distances;
   core::Timing timing;
-  m.refined_states(cameras, out.base, out.cells, counts, distances, timing);
+  m.refined_states(cameras, rows, out.cells, counts, distances, timing);
   return out;
 }
 

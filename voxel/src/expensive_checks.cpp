@@ -114,7 +114,9 @@ void VoxelEvaluator::Impl::check_refined(const std::vector<std::vector<std::uint
       }
     }
     // Refined M ⊆ unrefined M: no nearer (a cell's box lies in its voxel's; up to rounding).
-    const ModelDistance base = model_distance(models[s], states[s].time_step);
+    detail::Rows rows;
+    detail::rows_from_bytes(models[s], grid, rows);
+    const ModelDistance base = model_distance(rows, states[s].time_step);
     if (distances[s].volume > base.volume * (1.0 + 1e-12) ||
         (base.volume > 0.0 && distances[s].volume > 0.0 &&
          detail::beyond(base.d_model * base.d_model,

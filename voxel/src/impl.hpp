@@ -25,6 +25,7 @@
 #include "camplace/voxel/components.hpp"
 #include "camplace/voxel/evaluator.hpp"
 #include "cells.hpp"
+#include "rows.hpp"
 #include "solid_distance.hpp"
 
 namespace camplace::voxel {
@@ -507,16 +508,16 @@ struct VoxelEvaluator::Impl : detail::SceneTables,
       }
     }
   }
-  /// The refined model of every state from the filtered base models `models` (refine.cpp):
+  /// The refined model of every state from the filtered base models `rows` (refine.cpp):
   /// kept base voxels near C_h are refined (within a radius that starts at the unrefined
   /// d(C_h, M) plus a voxel diagonal and grows until the nearest kept cell lies within it), the
   /// others stay whole; then components and filter on the finest cells, and d(C_h, M). Into
   /// `leaves` (filtered), `counts` (cell components kept and removed), `distances`; adds the
   /// stages' times to `timing`.
   void refined_states(const std::vector<detail::CameraSetup>& cameras,
-                      const std::vector<std::vector<std::uint8_t>>& models,
-                      std::vector<detail::CellSet>& leaves, std::vector<ComponentCount>& counts,
-                      std::vector<ModelDistance>& distances, core::Timing& timing) const;
+                      const std::vector<detail::Rows>& rows, std::vector<detail::CellSet>& leaves,
+                      std::vector<ComponentCount>& counts, std::vector<ModelDistance>& distances,
+                      core::Timing& timing) const;
   /// ORs into `out` (the voxel's finest cells) the states of `pending` where each cell of base
   /// voxel v is in M before the filter: no camera proves it free, no obstacle holds it wholly.
   void refine_voxel(detail::RefineContext& ctx, const detail::StateMask* step_states, int v,
@@ -551,15 +552,14 @@ struct VoxelEvaluator::Impl : detail::SceneTables,
   /// Into `cam`, whose memory is reused (camera_setup.cpp).
   void camera_setup(const core::CameraSetting& camera, const core::CameraModel& model,
                     detail::CameraSetup& cam) const;
-  /// Unfiltered models of all states (1 = no camera sees the voxel free, minus obstacle
-  /// interiors), for voxel slices k ∈ [k_begin, k_end): sets their voxels in M to 1; `models[s]`
-  /// holds grid.count() bytes, zero beforehand.
+  /// Unfiltered models of all states (in M: no camera sees the voxel free, minus obstacle
+  /// interiors), for voxel slices k ∈ [k_begin, k_end): per chunk of 64 states and voxel of the
+  /// slices, the states where it is in M, into `masks[chunk][v]` (grid.count() per chunk).
   void raw_models(const std::vector<detail::CameraSetup>& cameras, int k_begin, int k_end,
-                  std::vector<std::vector<std::uint8_t>>& models) const;
+                  std::vector<std::vector<detail::StateMask>>& masks) const;
   /// The unfiltered models of all states for a configuration (checked against the scene), into
-  /// `models` (resized; its memory is reused from call to call).
-  void all_raw_models(const core::CameraConfig& config,
-                      std::vector<std::vector<std::uint8_t>>& models,
+  /// `models` (one detail::Rows per state; resized, its memory reused from call to call).
+  void all_raw_models(const core::CameraConfig& config, std::vector<detail::Rows>& models,
                       std::vector<detail::CameraSetup>* cameras_out = nullptr) const;
   /// Per camera: the states of chunk `chunk` (bits) it is not blind in (SPEC §3.3).
   std::vector<detail::StateMask> seeing_states(const std::vector<detail::CameraSetup>& cameras,
@@ -573,7 +573,7 @@ struct VoxelEvaluator::Impl : detail::SceneTables,
   std::vector<Label> labels(const detail::CameraSetup& camera, int state) const;
 
   // Distance (distance.cpp): d(C_h, M) and the model's volume for one state.
-  ModelDistance model_distance(const std::vector<std::uint8_t>& model, int time_step) const;
+  ModelDistance model_distance(const detail::Rows& model, int time_step) const;
   /// d(C_h, M) and volume of the finest cells of `set` (node_sq of the nearest cell).
   ModelDistance model_distance(const detail::CellSet& set, int time_step) const;
 

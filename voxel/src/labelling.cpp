@@ -25,8 +25,7 @@ using detail::StateMask;
 using detail::Verdict;
 
 void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, int k_begin,
-                                      int k_end,
-                                      std::vector<std::vector<std::uint8_t>>& models) const {
+                                      int k_end, std::vector<std::vector<StateMask>>& masks) const {
   const int nx = grid.n[0], ny = grid.n[1];
   const int state_count = static_cast<int>(states.size());
   const std::size_t n_cam = cameras.size();
@@ -58,8 +57,7 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
     const StateMask* removed = chunk_removed[chunk].data();
     const StateMask* reached = conservative ? chunk_reached[chunk].data() : nullptr;
     const std::vector<StateMask> seeing = seeing_states(cameras, chunk);
-    std::uint8_t* out[detail::kChunk];
-    for (int s = 0; s < count; ++s) out[s] = models[first + s].data();
+    StateMask* out = masks[chunk].data();
     std::size_t hint = 0, block_hint = 0;
     // Inlined into visit's loops (GCC and Clang; an outlined call per voxel costs ~6%).
     auto label = [&](int i, int j, int k, StateMask clear) __attribute__((always_inline)) {
@@ -106,7 +104,7 @@ void VoxelEvaluator::Impl::raw_models(const std::vector<CameraSetup>& cameras, i
       }
       pending |= kept;
       CAMPLACE_ASSERT((pending & ~all) == 0);  // states of this chunk only
-      for (StateMask m = pending; m; m &= m - 1) out[__builtin_ctzll(m)][v] = 1;
+      out[v] = pending;
     };
     // Conservative mode: the states where some camera sees a whole block free (block_clear,
     // every camera from the one that last cleared a block on) need no test per voxel; blocks of
@@ -186,7 +184,7 @@ std::vector<StateMask> VoxelEvaluator::Impl::seeing_states(const std::vector<Cam
 }
 
 void VoxelEvaluator::Impl::all_raw_models(const core::CameraConfig& config,
-                                          std::vector<std::vector<std::uint8_t>>& models,
+                                          std::vector<detail::Rows>& models,
                                           std::vector<CameraSetup>* cameras_out) const {
   core::check_configuration(scene, config);
   std::vector<CameraSetup> local;
@@ -195,14 +193,27 @@ void VoxelEvaluator::Impl::all_raw_models(const core::CameraConfig& config,
   for (std::size_t i = 0; i < config.size(); ++i) {
     camera_setup(config[i], scene.cameras.models[i], cameras[i]);
   }
-  models.resize(states.size());
-  // raw_models() writes only the voxels in M.
-  for (auto& model : models) model.assign(grid.count(), 0);
+  // Per chunk and voxel: the states where it is in M (raw_models writes every voxel); per
+  // calling thread, reused.
+  thread_local std::vector<std::vector<StateMask>> masks;
+  const int chunks = static_cast<int>(chunk_object_states.size());
+  masks.resize(chunks);
+  for (auto& m : masks) m.resize(grid.count());
   // Slices of a few z-layers each, shared out among the threads (results do not depend on it).
   const int nz = grid.n[2];
   const int slices = options.threads <= 1 ? 1 : std::min(nz, 4 * options.threads);
+  std::vector<std::vector<StateMask>>& shared = masks;  // (the workers see this thread's)
   detail::parallel_for(slices, options.threads, [&](int s) {
-    raw_models(cameras, nz * s / slices, nz * (s + 1) / slices, models);
+    raw_models(cameras, nz * s / slices, nz * (s + 1) / slices, shared);
+  });
+  // Each state's rows from its chunk's masks.
+  models.resize(states.size());
+  detail::parallel_for(chunks, options.threads, [&](int chunk) {
+    const int first = chunk * detail::kChunk;
+    const int count = std::min(detail::kChunk, static_cast<int>(states.size()) - first);
+    detail::Rows* out[detail::kChunk];
+    for (int s = 0; s < count; ++s) out[s] = &models[first + s];
+    detail::rows_from_masks(shared[chunk].data(), count, grid, out);
   });
 }
 

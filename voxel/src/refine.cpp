@@ -87,7 +87,7 @@ void VoxelEvaluator::Impl::refine_voxel(detail::RefineContext& ctx, const StateM
 }
 
 void VoxelEvaluator::Impl::refined_states(const std::vector<CameraSetup>& cameras,
-                                          const std::vector<std::vector<std::uint8_t>>& models,
+                                          const std::vector<detail::Rows>& rows,
                                           std::vector<CellSet>& leaves,
                                           std::vector<ComponentCount>& counts,
                                           std::vector<ModelDistance>& distances,
@@ -106,6 +106,9 @@ void VoxelEvaluator::Impl::refined_states(const std::vector<CameraSetup>& camera
   std::vector<StateMask>& cell_masks = mask_buffer;  // per slot: its cells' states
   std::vector<StateMask>& refined = refined_buffer;  // per base voxel: states refined
   std::vector<int>& slot_of = slot_buffer;           // per base voxel: its slot, or −1
+  // The chunk's models, one byte per voxel.
+  thread_local std::vector<std::vector<std::uint8_t>> model_buffer;
+  std::vector<std::vector<std::uint8_t>>& models = model_buffer;
   const double diagonal = grid.step.norm();
   for (int chunk = 0; chunk * detail::kChunk < state_count; ++chunk) {
     const int first = chunk * detail::kChunk;
@@ -124,9 +127,10 @@ void VoxelEvaluator::Impl::refined_states(const std::vector<CameraSetup>& camera
     std::vector<double> radius(count, 0.0);
     std::vector<int> active;
     auto t0 = Clock::now();
+    models.resize(count);
     for (int s = 0; s < count; ++s) {
-      const std::vector<std::uint8_t>& model = models[first + s];
-      const ModelDistance base = model_distance(model, states[first + s].time_step);
+      detail::bytes_from_rows(rows[first + s], grid, models[s]);
+      const ModelDistance base = model_distance(rows[first + s], states[first + s].time_step);
       CellSet& set = leaves[first + s];
       set.voxels.clear();
       set.cells.clear();
@@ -147,7 +151,7 @@ void VoxelEvaluator::Impl::refined_states(const std::vector<CameraSetup>& camera
         StateMask add = 0;
         for (int s : active) {
           const StateMask bit = StateMask(1) << s;
-          if (!models[first + s][v] || (refined[v] & bit)) continue;
+          if (!models[s][v] || (refined[v] & bit)) continue;
           const int h = states[first + s].time_step;
           const double r2 = radius[s] * radius[s];
           if (critical_lb_by_step[h][v] >= r2 || !(critical_sq(h, v) < r2)) continue;
@@ -192,7 +196,7 @@ void VoxelEvaluator::Impl::refined_states(const std::vector<CameraSetup>& camera
         set.voxels.clear();
         set.cells.clear();
         set.whole.clear();
-        const std::vector<std::uint8_t>& model = models[first + s];
+        const std::vector<std::uint8_t>& model = models[s];
         for (int v = 0; v < grid.count(); ++v) {
           if (model[v]) set.voxels.push_back(v);
         }
