@@ -53,8 +53,8 @@ TEST(ObstacleOrder, RandomFineMeshScenesGiveTheFormerOrdersFractions) {
     }
     EXPECT_EQ(a.err, b.err);
   }
-  // The scenes exercise both the filter and non-empty models.
-  if (trials >= 4) {
+  // The default scenes exercise both the filter and non-empty models (other seeds may not).
+  if (trials >= 4 && seed == nullptr) {
     EXPECT_GT(filtered_states, 0);
     EXPECT_GT(nonempty_states, 0);
   }
