@@ -101,13 +101,12 @@ class Pipeline {
   /// one subtraction (each Nef boolean visits every vertex of both operands, and the model stays
   /// smaller than the union). The obstacles come last, once: subtracted first (the former order,
   /// ExactOptions::obstacles_last off), their facets (a fine robot's thousands) ride through every
-  /// camera's boolean. The same set either way: set differences commute, and the regularised
-  /// result does not depend on where boundaries went on the way (SPEC §4). After each camera but
-  /// the last, the pieces that the filter will certainly remove are discarded (on paper_basic
-  /// most of the model's vertices, so the later booleans cost ~40% less); the kept model does not
-  /// depend on the order, but the count of removed components may (discard_implausible).
-  /// `camera_done` (may be empty) is called after each camera's step, also for the cameras
-  /// skipped because the model is already empty.
+  /// camera's boolean. The same kept model either way (docs/design/exact-model.md E1). After each
+  /// camera but the last, the pieces that the filter will certainly remove are discarded (on
+  /// paper_basic most of the model's vertices, so the later booleans cost ~40% less); the kept
+  /// model does not depend on the order, but the count of removed components may
+  /// (discard_implausible). `camera_done` (may be empty) is called after each camera's step, also
+  /// for the cameras skipped because the model is already empty.
   StateModel model(const core::StateIndex& s, const std::function<void()>& camera_done = {}) {
     const auto objects = core::state_objects(scene_, s);
     // A step's caches are dropped when the pipeline moves on to another step: the worker threads
