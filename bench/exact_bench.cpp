@@ -10,7 +10,8 @@
 //   cell       (outlines only) paper_basic's 6 states with each robot one ellipsoid of 5,000
 //              triangles and each person one of 2,000; with the targets' cones shared between
 //              states of the same pose (ExactOptions::reuse_poses, the default) and without
-//              (`outline-each-state`)
+//              (`outline-each-state`), and with the obstacles subtracted first, the former order
+//              (`outline-obstacles-first`, ExactOptions::obstacles_last off)
 // One iteration each (a full evaluation takes seconds to minutes); prints the figures, the
 // growth exponents (least-squares slope of log CPU time against log N) and the peak memory.
 //   build/release/bench/exact_bench
@@ -121,11 +122,12 @@ std::pair<core::Scene, core::CameraConfig> camera_scene(int cameras) {
 }
 
 void run(benchmark::State& state, const core::Scene& scene, const core::CameraConfig& config,
-         bool face_cones, bool reuse_poses = true) {
+         bool face_cones, bool reuse_poses = true, bool obstacles_last = true) {
   exact::ExactOptions options;
   options.threads = 1;
   options.face_cones = face_cones;
   options.reuse_poses = reuse_poses;
+  options.obstacles_last = obstacles_last;
   for (auto _ : state) {
     const exact::ExactEvaluation e = exact::evaluate_exact(scene, config, options);
     benchmark::DoNotOptimize(e.err);
@@ -161,15 +163,16 @@ void register_families() {
     }
     if (!faces) {
       // With the targets' cones shared between the states of the same pose (the default; the
-      // people stand at the same places in both time steps) and built for every state.
-      for (const bool reuse : {true, false}) {
-        benchmark::RegisterBenchmark(
-            (std::string(reuse ? "cell/outline" : "cell/outline-each-state") +
-             "/robot:5000/person:2000/states:6")
-                .c_str(),
-            [reuse](benchmark::State& state) {
-              run(state, fine_cell_scene(5000, 2000), corners(), false, reuse);
-            })
+      // people stand at the same places in both time steps) and built for every state; with the
+      // obstacles subtracted last (the default) and first.
+      for (const char* variant : {"outline", "outline-each-state", "outline-obstacles-first"}) {
+        const std::string name = variant;
+        benchmark::RegisterBenchmark(("cell/" + name + "/robot:5000/person:2000/states:6").c_str(),
+                                     [name](benchmark::State& state) {
+                                       run(state, fine_cell_scene(5000, 2000), corners(), false,
+                                           name != "outline-each-state",
+                                           name != "outline-obstacles-first");
+                                     })
             ->Iterations(1)
             ->Unit(benchmark::kMillisecond)
             ->MeasureProcessCPUTime()

@@ -196,8 +196,7 @@ ExactEvaluation evaluate_exact(const core::Scene& scene, const core::CameraConfi
   core::check_configuration(scene, config);
   if (!options.export_dir.empty()) {
     std::filesystem::create_directories(options.export_dir);
-    export_fovs(Pipeline(scene, config, options.face_cones, options.reuse_poses),
-                options.export_dir);
+    export_fovs(Pipeline(scene, config, options), options.export_dir);
   }
   const std::vector<core::StateIndex> states = core::states(scene);
   const auto tasks = make_tasks(states, options.threads);
@@ -223,7 +222,7 @@ ExactEvaluation evaluate_exact(const core::Scene& scene, const core::CameraConfi
     try {
       std::optional<Pipeline> pipeline;
       for (std::size_t t = next_task++; t < tasks.size(); t = next_task++) {
-        if (!pipeline) pipeline.emplace(scene, config, options.face_cones, options.reuse_poses);
+        if (!pipeline) pipeline.emplace(scene, config, options);
         for (std::size_t i : tasks[t]) {
           outputs[i] = evaluate_state(*pipeline, scene, states[i], options, camera_done);
           // A model's Nef polyhedron is large and its results are in outputs[i].result: held
@@ -262,7 +261,7 @@ ExactEvaluation evaluate_exact(const core::Scene& scene, const core::CameraConfi
 
 ExactModel build_exact_model(const core::Scene& scene, const core::CameraConfig& config,
                              const core::StateIndex& state, const ExactOptions& options) {
-  Pipeline pipeline(scene, config, options.face_cones, options.reuse_poses);
+  Pipeline pipeline(scene, config, options);
   return ExactModel(cluster(pipeline.model(state).nef, scene.plausibility));
 }
 

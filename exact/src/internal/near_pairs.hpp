@@ -17,77 +17,11 @@ struct ApproxTriangle {
   double error = 0.0;
 };
 
-/// The point of segment [p, q] closest to x.
-inline core::Vec3 closest_on_segment(const core::Vec3& x, const core::Vec3& p,
-                                     const core::Vec3& q) {
-  const core::Vec3 d = q - p;
-  const double dd = d.squaredNorm();
-  if (dd <= 0.0) return p;
-  return p + std::clamp((x - p).dot(d) / dd, 0.0, 1.0) * d;
-}
-
-/// The point of triangle abc closest to x (Ericson, Real-Time Collision Detection, 5.1.5).
-inline core::Vec3 closest_on_triangle(const core::Vec3& x, const core::Vec3& a, const core::Vec3& b,
-                                      const core::Vec3& c) {
-  const core::Vec3 ab = b - a, ac = c - a, ax = x - a;
-  const double d1 = ab.dot(ax), d2 = ac.dot(ax);
-  if (d1 <= 0.0 && d2 <= 0.0) return a;
-  const core::Vec3 bx = x - b;
-  const double d3 = ab.dot(bx), d4 = ac.dot(bx);
-  if (d3 >= 0.0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return a + d1 / (d1 - d3) * ab;
-  const core::Vec3 cx = x - c;
-  const double d5 = ab.dot(cx), d6 = ac.dot(cx);
-  if (d6 >= 0.0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + d2 / (d2 - d6) * ac;
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0)
-    return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
-  const double denom = va + vb + vc;
-  if (!(denom > 0.0)) {  // degenerate triangle: its edges
-    core::Vec3 best = closest_on_segment(x, a, b);
-    for (const core::Vec3& y : {closest_on_segment(x, b, c), closest_on_segment(x, c, a)})
-      if ((y - x).squaredNorm() < (best - x).squaredNorm()) best = y;
-    return best;
-  }
-  return a + ab * (vb / denom) + ac * (vc / denom);
-}
-
-/// Closest points of segments [p1, q1] and [p2, q2] (Ericson 5.1.9): s on the first, t on the
-/// second.
-inline void closest_segments(const core::Vec3& p1, const core::Vec3& q1, const core::Vec3& p2,
-                             const core::Vec3& q2, core::Vec3& s, core::Vec3& t) {
-  const core::Vec3 d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
-  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
-  double u = 0.0, v = 0.0;
-  if (a <= 0.0 && e <= 0.0) {
-  } else if (a <= 0.0) {
-    v = std::clamp(f / e, 0.0, 1.0);
-  } else {
-    const double c = d1.dot(r);
-    if (e <= 0.0) {
-      u = std::clamp(-c / a, 0.0, 1.0);
-    } else {
-      const double b = d1.dot(d2), denom = a * e - b * b;
-      u = denom > 0.0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
-      v = (b * u + f) / e;
-      if (v < 0.0) {
-        v = 0.0;
-        u = std::clamp(-c / a, 0.0, 1.0);
-      } else if (v > 1.0) {
-        v = 1.0;
-        u = std::clamp((b - c) / a, 0.0, 1.0);
-      }
-    }
-  }
-  s = p1 + d1 * u;
-  t = p2 + d2 * v;
-}
-
 /// A point of each triangle, nearly the closest pair (exact up to rounding when the triangles
-/// do not cross): the best of the vertex–triangle and edge–edge candidates.
+/// do not cross): the best of the vertex–triangle and edge–edge candidates (core's closest
+/// points). A degenerate triangle may give no vertex–triangle candidate (core divides by its
+/// zero area: the candidate is not finite and never taken); its edges still give the pair. Any
+/// pair will do: pair_bounds' lower bound holds for every direction.
 inline void near_points(const ApproxTriangle& A, const ApproxTriangle& B, core::Vec3& pa,
                         core::Vec3& pb) {
   double best = HUGE_VAL;
@@ -99,12 +33,12 @@ inline void near_points(const ApproxTriangle& A, const ApproxTriangle& B, core::
       pb = b;
     }
   };
-  for (const auto& a : A.v) take(a, closest_on_triangle(a, B.v[0], B.v[1], B.v[2]));
-  for (const auto& b : B.v) take(closest_on_triangle(b, A.v[0], A.v[1], A.v[2]), b);
+  for (const auto& a : A.v) take(a, core::closest_point_on_triangle(a, B.v[0], B.v[1], B.v[2]));
+  for (const auto& b : B.v) take(core::closest_point_on_triangle(b, A.v[0], A.v[1], A.v[2]), b);
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) {
-      core::Vec3 s, t;
-      closest_segments(A.v[i], A.v[(i + 1) % 3], B.v[j], B.v[(j + 1) % 3], s, t);
+      const auto [s, t] =
+          core::closest_points_of_segments(A.v[i], A.v[(i + 1) % 3], B.v[j], B.v[(j + 1) % 3]);
       take(s, t);
     }
 }

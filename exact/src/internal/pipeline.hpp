@@ -10,7 +10,9 @@
 //       it: cones over their outlines in the camera's image plane (occupied_outline,
 //       outline_cone); a convex solid nothing hides, or every solid as a reference
 //       (ExactOptions::face_cones), by occupied_cone (one hull, or one cone per face).
-//   M = reg(S ∖ obstacles ∖ ∪_c Free_c) (SPEC §4, regularised: closure of the interior).
+//   M = reg(S ∖ ∪_c Free_c ∖ obstacles) (SPEC §4, regularised: closure of the interior), the
+//       obstacles subtracted once, last (ExactOptions::obstacles_last; the former order starts
+//       from S ∖ obstacles, so every camera's boolean carries the obstacles' facets).
 //
 // What is computed once and reused (per Pipeline, i.e. per worker thread):
 //   static part   FOV ∩ clip box minus the static obstacles' shadows, per camera;
@@ -19,7 +21,8 @@
 //   target cones  the union V of a state's targets, per camera and per pose: states whose targets
 //                 have the same meshes (vertex for vertex) and whose occluders have the same
 //                 meshes share it (a person standing at the same place in every time step);
-//   step area     S minus the step's obstacles, per step (dropped likewise).
+//   step obstacles the union of the step's obstacles, and in the former order S minus it, per
+//                 step (dropped likewise).
 #include <cmath>
 #include <cstddef>
 #include <cstring>
@@ -33,6 +36,7 @@
 #include "camplace/core/error.hpp"
 #include "camplace/core/scene.hpp"
 #include "camplace/core/sensor_model.hpp"
+#include "camplace/exact/evaluator.hpp"
 #include "internal/cones.hpp"
 #include "internal/kernel.hpp"
 #include "internal/model.hpp"
@@ -42,13 +46,14 @@ namespace camplace::exact::internal {
 
 class Pipeline {
  public:
-  /// Throws core::InputError when the configuration does not match the scene. `face_cones`: the
-  /// reference construction of the silhouette cones (ExactOptions::face_cones).
-  /// `reuse_poses`: share the targets' cones between states of the same pose (off: the reference
-  /// for tests, ExactOptions::reuse_poses).
-  Pipeline(const core::Scene& scene, const core::CameraConfig& config, bool face_cones = false,
-           bool reuse_poses = true)
-      : scene_(scene), face_cones_(face_cones), reuse_poses_(reuse_poses) {
+  /// Throws core::InputError when the configuration does not match the scene. Of `options`, the
+  /// choices of construction: face_cones, reuse_poses, obstacles_last (ExactOptions).
+  Pipeline(const core::Scene& scene, const core::CameraConfig& config,
+           const ExactOptions& options = {})
+      : scene_(scene),
+        face_cones_(options.face_cones),
+        reuse_poses_(options.reuse_poses),
+        obstacles_last_(options.obstacles_last) {
     core::check_configuration(scene, config);
     area_ = box_nef(scene.area);
     // The FOVs are clipped to a box a little larger than S rather than to S itself: the model's
@@ -80,6 +85,7 @@ class Pipeline {
       cameras_.push_back(std::move(cam));
     }
     step_free_.resize(cameras_.size());
+    step_obstacles_.resize(scene.time_steps.size());
     step_area_.resize(scene.time_steps.size());
   }
 
@@ -90,14 +96,17 @@ class Pipeline {
     int discarded = 0;
   };
 
-  /// S minus the obstacles minus each camera's free region in turn. Subtracting the free regions
-  /// one by one from the shrinking model costs less than their balanced union followed by one
-  /// subtraction (each Nef boolean visits every vertex of both operands, and the model stays
-  /// smaller than the union). Between cameras, the pieces that the filter will certainly remove
-  /// are discarded (on paper_basic most of the model's vertices, so the later booleans cost
-  /// ~40% less).
-  /// `camera_done` (may be empty) is called after each camera's step, also for the cameras
-  /// skipped because the model is already empty.
+  /// S minus each camera's free region in turn, then minus the obstacles. Subtracting the free
+  /// regions one by one from the shrinking model costs less than their balanced union followed by
+  /// one subtraction (each Nef boolean visits every vertex of both operands, and the model stays
+  /// smaller than the union). The obstacles come last, once: subtracted first (the former order,
+  /// ExactOptions::obstacles_last off), their facets (a fine robot's thousands) ride through every
+  /// camera's boolean. The same kept model either way (docs/design/exact-model.md E1). After each
+  /// camera but the last, the pieces that the filter will certainly remove are discarded (on
+  /// paper_basic most of the model's vertices, so the later booleans cost ~40% less); the kept
+  /// model does not depend on the order, but the count of removed components may
+  /// (discard_implausible). `camera_done` (may be empty) is called after each camera's step, also
+  /// for the cameras skipped because the model is already empty.
   StateModel model(const core::StateIndex& s, const std::function<void()>& camera_done = {}) {
     const auto objects = core::state_objects(scene_, s);
     // A step's caches are dropped when the pipeline moves on to another step: the worker threads
@@ -106,7 +115,7 @@ class Pipeline {
     if (current_step_ >= 0 && current_step_ != s.time_step) release_step(current_step_);
     current_step_ = s.time_step;
     StateModel out;
-    Nef m = step_area(s.time_step, objects);
+    Nef m = obstacles_last_ ? area_ : step_area(s.time_step, objects);
     std::size_t c = 0;
     for (; c < cameras_.size() && !m.is_empty(); ++c) {
       const Nef free = state_free(c, s, objects);
@@ -116,6 +125,10 @@ class Pipeline {
     }
     for (; c < cameras_.size(); ++c)
       if (camera_done) camera_done();
+    if (obstacles_last_ && !m.is_empty()) {
+      const Nef& obstacles = step_obstacles(s.time_step, objects);
+      if (!obstacles.is_empty()) m -= obstacles;
+    }
     out.nef = m.regularization();
     return out;
   }
@@ -277,17 +290,26 @@ class Pipeline {
   void release_step(int h) {
     for (auto& slot : step_free_)
       if (std::size_t(h) < slot.size()) slot[h].reset();
+    step_obstacles_[h].reset();
     step_area_[h].reset();
   }
 
-  /// S minus the obstacles of step h (cached per step; targets are no obstacles, SPEC §4).
-  const Nef& step_area(int h, const std::vector<core::StateObject>& objects) {
-    if (!step_area_[h]) {
-      Nef a = area_;
+  /// The union of the obstacles of step h (cached per step; targets are no obstacles, SPEC §4).
+  const Nef& step_obstacles(int h, const std::vector<core::StateObject>& objects) {
+    if (!step_obstacles_[h]) {
       std::vector<Nef> parts;
       for (const auto& o : objects)
         if (core::is_obstacle(o.kind)) parts.push_back(solid(*o.object).as_nef());
-      const Nef obstacles = union_all(std::move(parts));
+      step_obstacles_[h] = union_all(std::move(parts));
+    }
+    return *step_obstacles_[h];
+  }
+
+  /// S minus the obstacles of step h (cached per step), where the former order starts.
+  const Nef& step_area(int h, const std::vector<core::StateObject>& objects) {
+    if (!step_area_[h]) {
+      Nef a = area_;
+      const Nef& obstacles = step_obstacles(h, objects);
       if (!obstacles.is_empty()) a -= obstacles;
       step_area_[h] = std::move(a);
     }
@@ -297,6 +319,7 @@ class Pipeline {
   const core::Scene& scene_;
   bool face_cones_ = false;
   bool reuse_poses_ = true;
+  bool obstacles_last_ = true;
   std::unordered_map<const core::SceneObject*, int> shape_;
   std::unordered_map<std::size_t, std::vector<std::pair<const core::TriangleMesh*, int>>>
       shapes_by_hash_;
@@ -306,7 +329,7 @@ class Pipeline {
   std::unordered_map<const core::SceneObject*, Solid> solids_;
   std::vector<Camera> cameras_;
   std::vector<std::vector<std::optional<Nef>>> step_free_;
-  std::vector<std::optional<Nef>> step_area_;
+  std::vector<std::optional<Nef>> step_obstacles_, step_area_;
   int current_step_ = -1;
 };
 

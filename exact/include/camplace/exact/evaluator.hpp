@@ -40,6 +40,12 @@ struct ExactOptions {
   /// pair whose boxes are nearer than the best exact distance so far (the reference for tests).
   /// The results do not depend on it.
   bool filtered_distances = true;
+  /// Subtract the obstacles from each state's model once, after the cameras' free regions, rather
+  /// than start from S minus the obstacles (then a fine robot's facets enter every camera's
+  /// boolean). Off: the former order (the reference for tests). The distances, volumes and kept
+  /// components do not depend on it; the count of removed components may (pieces are discarded
+  /// at other times).
+  bool obstacles_last = true;
   /// Called as the work advances with the (state, camera) steps done and their total (states ×
   /// cameras); from the worker threads, one call at a time. Empty: none.
   std::function<void(long done, long total)> on_progress;
