@@ -111,9 +111,14 @@ void run_export(const ExportArgs& args) {
     std::printf("%4d %5d %7.3f %9.4f %10.4f  %s\n", s.state.time_step, s.state.event,
                 s.result.weight, s.result.d_true, s.result.d_model, s.glb.c_str());
   }
-  std::printf("Err = %.6f m² (%s pipeline)\n%zu files in %s; open %s/index.html in a browser\n",
-              result.err, args.pipeline.c_str(), result.files.size(), args.out.c_str(),
-              args.out.c_str());
+  const std::size_t states_total = core::states(scene).size();
+  const std::string over = std::size_t(result.err_states) == states_total
+                               ? "all " + std::to_string(states_total) + " states"
+                               : "the " + std::to_string(result.err_states) + " exported of " +
+                                     std::to_string(states_total) + " states";
+  std::printf("Err = %.6f m² (%s pipeline, %s)\n%zu files in %s; open %s/index.html in a browser\n",
+              result.err, args.pipeline.c_str(), over.c_str(), result.files.size(),
+              args.out.c_str(), args.out.c_str());
 }
 
 }  // namespace

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "camplace/core/distance.hpp"
+#include "camplace/core/error.hpp"
 #include "camplace/core/sensor_model.hpp"
 #include "camplace/exact/evaluator.hpp"
 #include "internal/kernel.hpp"
@@ -188,6 +189,26 @@ std::vector<std::vector<std::size_t>> make_tasks(const std::vector<core::StateIn
   return tasks;
 }
 
+/// The scene's states (core::states) that `wanted` names, in the scene's order; all of them when
+/// `wanted` is empty. core::OptionError ("states") for a state the scene does not have.
+std::vector<core::StateIndex> chosen_states(const core::Scene& scene,
+                                            const std::vector<core::StateIndex>& wanted) {
+  const std::vector<core::StateIndex> all = core::states(scene);
+  if (wanted.empty()) return all;
+  auto same = [](const core::StateIndex& a, const core::StateIndex& b) {
+    return a.time_step == b.time_step && a.event == b.event;
+  };
+  for (const auto& w : wanted)
+    if (std::none_of(all.begin(), all.end(), [&](const auto& s) { return same(s, w); }))
+      throw core::OptionError("states", "the scene has no state " + std::to_string(w.time_step) +
+                                            "," + std::to_string(w.event) + " (time step, event)");
+  std::vector<core::StateIndex> out;
+  for (const auto& s : all)
+    if (std::any_of(wanted.begin(), wanted.end(), [&](const auto& w) { return same(s, w); }))
+      out.push_back(s);
+  return out;
+}
+
 }  // namespace
 
 ExactEvaluation evaluate_exact(const core::Scene& scene, const core::CameraConfig& config,
@@ -198,7 +219,7 @@ ExactEvaluation evaluate_exact(const core::Scene& scene, const core::CameraConfi
     std::filesystem::create_directories(options.export_dir);
     export_fovs(Pipeline(scene, config, options), options.export_dir);
   }
-  const std::vector<core::StateIndex> states = core::states(scene);
+  const std::vector<core::StateIndex> states = chosen_states(scene, options.states);
   const auto tasks = make_tasks(states, options.threads);
   // Progress in (state, camera) steps, reported one call at a time.
   const long total_steps = long(states.size()) * long(config.size());

@@ -128,6 +128,7 @@ struct Evaluated {
   std::vector<core::ClosestPoints> model_segments;
   std::vector<VoxelLayer> voxel_layers;  // voxel only, one per exported state
   std::optional<voxel::Grid> grid;
+  std::vector<int> result_of;  // per exported state, its index in evaluation.states
 };
 
 std::vector<const core::TriangleMesh*> meshes_of(const std::vector<core::SceneObject>& objects) {
@@ -149,6 +150,7 @@ Evaluated evaluate_voxel(const core::Scene& scene, const core::CameraConfig& con
   // The model as d(C, M) sees it: with refinement its finest cells (leaf_grid(), leaf_model()),
   // else the voxels; the voxel files keep the base voxels that hold M (VoxelEvaluator::model).
   const voxel::Grid cells = evaluator.leaf_grid();
+  out.result_of = selected;
   for (int i : selected) {
     const std::vector<std::uint8_t> model = evaluator.leaf_model(config, i);
     out.model_meshes.push_back(voxel_boundary_mesh(cells, model));
@@ -171,11 +173,16 @@ Evaluated evaluate_exact(const core::Scene& scene, const core::CameraConfig& con
   exact_options.keep_models = true;
   exact_options.threads = options.threads;
   exact_options.on_progress = options.on_exact_progress;
+  const auto all = core::states(scene);
+  // Exact work on the chosen states only (--state): Err then sums their terms alone.
+  if (!options.states.empty())
+    for (int i : selected) exact_options.states.push_back(all[i]);
   exact::ExactEvaluation e = exact::evaluate_exact(scene, config, exact_options);
   out.fov = core::name_of(core::FovShape::pyramid);  // SPEC §6: always the pyramid
-  const auto all = core::states(scene);
-  for (int i : selected) {
-    core::TriangleMesh mesh = e.models[i].boundary_mesh();
+  for (std::size_t k = 0; k < selected.size(); ++k) {
+    const int i = selected[k];
+    out.result_of.push_back(options.states.empty() ? i : static_cast<int>(k));
+    core::TriangleMesh mesh = e.models[out.result_of.back()].boundary_mesh();
     const auto critical = meshes_of(scene.time_steps[all[i].time_step].critical);
     out.model_segments.push_back(
         mesh.triangles.empty() || critical.empty()
@@ -360,6 +367,7 @@ std::string state_glb(const core::Scene& scene, const core::CameraConfig& config
                        {"d_model", result.d_model},
                        {"err_term", term},
                        {"err", ev.evaluation.err},
+                       {"err_states", ev.evaluation.states.size()},
                        {"pipeline", core::name_of(options.pipeline)},
                        {"fov", ev.fov},
                        {"scene_file", options.scene_file},
@@ -473,13 +481,14 @@ ExportResult export_scene(const core::Scene& scene, const core::CameraConfig& co
 
   ExportResult result;
   result.err = ev.evaluation.err;
+  result.err_states = static_cast<int>(ev.evaluation.states.size());
   std::vector<FileContent> files;
   json states = json::array();
   for (std::size_t k = 0; k < selected.size(); ++k) {
     ExportedState info;
     info.state = all[selected[k]];
     info.glb = state_name(info.state) + ".glb";
-    info.result = ev.evaluation.states[selected[k]];
+    info.result = ev.evaluation.states[ev.result_of[k]];
     const std::string glb =
         state_glb(scene, config, ev, info.result, static_cast<int>(k), options, info);
     const core::StateResult& r = info.result;
@@ -508,6 +517,7 @@ ExportResult export_scene(const core::Scene& scene, const core::CameraConfig& co
                {"pipeline", core::name_of(options.pipeline)},
                {"fov", ev.fov},
                {"err", ev.evaluation.err},
+               {"err_states", ev.evaluation.states.size()},
                {"states_total", all.size()},
                {"area", {{"min", vec_json(scene.area.min)}, {"max", vec_json(scene.area.max)}}},
                {"role_colors", role_colors_json()},

@@ -46,6 +46,11 @@ struct ExactOptions {
   /// components do not depend on it; the count of removed components may (pieces are discarded
   /// at other times).
   bool obstacles_last = true;
+  /// The states to evaluate (each once). Empty: every state of the scene. Otherwise
+  /// ExactEvaluation::states (and models) hold only these, in the scene's state order, and its
+  /// err sums only their terms. A state the scene does not have is a core::OptionError
+  /// ("states").
+  std::vector<core::StateIndex> states;
   /// Called as the work advances with the (state, camera) steps done and their total (states ×
   /// cameras); from the worker threads, one call at a time. Empty: none.
   std::function<void(long done, long total)> on_progress;

@@ -55,7 +55,11 @@ struct ExportedState {
 };
 
 struct ExportResult {
-  double err = 0.0;  ///< Err over all states (m²), whichever states were exported
+  /// Err (m²) over err_states states: every state of the scene, whichever states were exported,
+  /// except with the exact pipeline and chosen states (ExportOptions::states), which evaluates
+  /// and sums only those.
+  double err = 0.0;
+  int err_states = 0;
   std::vector<ExportedState> states;
   std::vector<std::string> files;  ///< every file written, relative to the output directory
 };
