@@ -522,9 +522,10 @@ void place_bins(const std::array<double, 2>& width, int per_chunk, bool conserva
 
 /// Slot groups per bundle at most (make_bundles): copies in this many consecutive time steps,
 /// whose states then lie close together in the chunk's bits; and how much wider and higher than
-/// its first group's rectangle a bundle's may grow. Choices, measured only against no bundles
-/// (bench/scale_bench, states and robot families).
-constexpr int kBundle = 8;
+/// its first group's rectangle a bundle's may grow. Choices: 16 measured side by side against 4,
+/// 8 and 64 (bench/scale_bench, 384 distinct states, conservative: the fastest, 64 within noise
+/// of it); the growth not measured against others.
+constexpr int kBundle = 16;
 constexpr double kBundleGrowth = 1.5;
 
 /// Conservative mode: the chunk's slot groups (`members`, ascending) in bundles
