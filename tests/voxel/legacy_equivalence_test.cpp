@@ -191,6 +191,44 @@ TEST(LegacyEquivalence, EqualObjectsOfSeveralStatesKeepEachStatesLabels) {
   }
 }
 
+TEST(LegacyEquivalence, CopiesMovedBetweenTimeStepsKeepEachStatesLabels) {
+  // Conservative mode tests the slot groups of copies of a mesh moved a little from one time
+  // step to the next in bundles, by the bundle's bounds first (voxel/src/camera_setup.cpp): here
+  // 36 time steps repeat the random scene's two with their dynamic obstacles, critical objects
+  // and targets each moved by its own offset (up to 0.12 m, about a third of a voxel), in both
+  // dynamic modes (occupying and occluding copies), more than 64 states (two chunks).
+  std::mt19937 rng(43);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  auto move = [&](core::SceneObject& object) {
+    const core::Vec3 offset(0.12 * unit(rng), 0.12 * unit(rng), 0.06 * unit(rng));
+    for (core::Vec3& v : object.mesh.vertices) v += offset;
+    object.bounds.min += offset;
+    object.bounds.max += offset;
+  };
+  for (int s = 0; s < 2; ++s) {
+    core::Scene scene = random_scene(rng, {12, 9, 9});
+    scene.dynamic_mode = s == 0 ? core::DynamicMode::masked : core::DynamicMode::modelled;
+    ASSERT_EQ(scene.time_steps.size(), 2u);
+    const std::vector<core::TimeStep> first = scene.time_steps;
+    for (int h = 2; h < 36; ++h) {
+      core::TimeStep step = first[h % 2];
+      step.t = h;
+      for (core::SceneObject& o : step.dynamic_obstacles) move(o);
+      for (core::SceneObject& o : step.critical) move(o);
+      for (core::Event& event : step.events) {
+        for (core::SceneObject& o : event.targets) move(o);
+      }
+      scene.time_steps.push_back(std::move(step));
+    }
+    ASSERT_GT(core::states(scene).size(), 64u);
+    const core::CameraConfig config = random_config(rng, scene);
+    Tally t;
+    compare_all(scene, config, LabelMode::conservative, {12, 9, 9}, "scene " + std::to_string(s),
+                t);
+    EXPECT_EQ(t.differing, 0) << "scene " << s;
+  }
+}
+
 TEST(LegacyEquivalence, BlocksCutShortKeepVoxelsWhoseBallHoldsTheCamera) {
   // A 2×2×1 block of 1 m voxels, [2, 4]² × [0, 1] (the grid has one layer: blocks are cut short
   // in z), and a 170° × 170° frustum camera 1.53 m from the block's centre toward its corner

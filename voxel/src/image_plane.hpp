@@ -75,7 +75,7 @@ inline std::array<double, 4> box_projection(double x, double y, double z, double
 /// none when the hull is degenerate).
 struct BoxOutline {
   int edges = 0;
-  std::array<std::array<double, 4>, 8> line{};  ///< n_x, n_y, n·p, margin
+  std::array<std::array<double, 4>, 8> line;  ///< n_x, n_y, n·p, margin (the first `edges`)
 };
 
 /// The outline of the box with centre at w from the camera and half extents `half` (world

@@ -127,6 +127,10 @@ struct ObjectInfo {
   std::vector<int> cluster_order;
   std::vector<TriangleCluster> clusters;
   std::vector<ClusterNode> nodes;  ///< the tree over the clusters, pre-order, root first
+  /// The first object with the same role and the same triangles (vertex indices) whose vertices
+  /// lie near this one's (add_object): a copy of the mesh moved a little, as a robot link in
+  /// another time step. Conservative mode bundles such copies' slot groups (SlotBundle).
+  int family = 0;
 };
 
 /// Per camera and candidate triangle (conservative mode): the infinite cone from the camera over
@@ -178,11 +182,30 @@ struct BinLists {
   std::vector<int> items;
 };
 
-/// One chunk's candidates: the coarse bins and the wide bins (conservative mode) of slot groups,
-/// and the slots not wholly in front of the camera, which are candidates everywhere. Only slots
-/// of objects that belong to a state of the chunk.
+/// Conservative mode: slot groups of one chunk tested as a whole first (judge_conservative(),
+/// block_clear()): the groups bundle_groups[first .. last − 1] of ChunkCandidates, the same
+/// cluster of copies of one mesh (ObjectInfo::family) in consecutive time steps, with what holds
+/// for each of them: the union of their rectangles, the least of their `near`, the union of
+/// their objects' states in the chunk, and their objects' role (one family, one role). A box
+/// that misses the rectangle, or lies nearer than `near` to a non-occupying bundle, or whose
+/// open states miss `states`, has none of their slots as a candidate.
+struct SlotBundle {
+  std::array<double, 4> rect{};
+  double near = 0.0;
+  std::uint64_t states = 0;
+  int first = 0, last = 0;
+  bool occupying = false;
+};
+
+/// One chunk's candidates: the coarse bins of slot groups (center mode), or the coarse bins and
+/// the wide bins of slot bundles (conservative mode), and the slots not wholly in front of the
+/// camera, which are candidates everywhere. Only slots of objects that belong to a state of the
+/// chunk.
 struct ChunkCandidates {
-  BinLists coarse, wide;  ///< of groups (CameraSetup::groups)
+  /// Of groups (CameraSetup::groups; center mode) or of bundles (`bundles`; conservative mode).
+  BinLists coarse, wide;
+  std::vector<SlotBundle> bundles;
+  std::vector<int> bundle_groups;  ///< the bundles' groups, bundle by bundle
   std::vector<int> everywhere;
 };
 
@@ -200,6 +223,7 @@ struct SlotGroup {
   /// order, and its slots' triangles, objects and cone states are written when it is projected
   /// (project_group); −1: written at set-up.
   int cluster = -1;
+  int source = 0;  ///< the index of its cluster in ObjectInfo::clusters
 };
 
 /// Everything about one camera that one evaluation needs and that does not depend on the

@@ -27,17 +27,30 @@ using detail::Verdict;
 namespace {
 
 /// The candidate slots of judge_conservative() in order, until `done`: those of the slot groups
-/// in the bins under the box's projection that `open` does not rule out as a whole (each group
-/// once), then the slots everywhere. `test(s)`: true when the verdict changed.
-template <class Test, class Open, class Done>
+/// of the bundles in the bins under the box's projection that `open_bundle` does not rule out as
+/// a whole (each bundle once), of the groups that `open` does not rule out as a whole (`project`
+/// projects a group), then the slots everywhere. `test(s)`: true when the verdict changed.
+template <class Test, class OpenBundle, class Open, class Project, class Done>
 void judge_candidates(const CameraSetup& cam, const detail::ChunkCandidates& cand, double vx0,
                       double vx1, double vy0, double vy1, double z_lo, Scratch& scratch, Test& test,
-                      const Open& open, const Done& done) {
-  auto group = [&](int g) {
-    if (!open(g)) return false;
-    const detail::SlotGroup& slots = cam.groups[g];
-    for (int s = slots.first; s < slots.last; ++s) {
+                      const OpenBundle& open_bundle, const Open& open, const Project& project,
+                      const Done& done) {
+  auto slots = [&](int g) __attribute__((always_inline)) {
+    project(g);
+    const detail::SlotGroup& group = cam.groups[g];
+    for (int s = group.first; s < group.last; ++s) {
       if (test(s) && done()) return true;
+    }
+    return false;
+  };
+  auto bundle = [&](int b) {
+    const detail::SlotBundle& members = cand.bundles[b];
+    if (!open_bundle(members)) return false;
+    // A bundle of one group has that group's bounds: open's tests are made.
+    if (members.last - members.first == 1) return slots(cand.bundle_groups[members.first]);
+    for (int n = members.first; n < members.last; ++n) {
+      const int g = cand.bundle_groups[n];
+      if (open(g) && slots(g)) return true;
     }
     return false;
   };
@@ -53,12 +66,12 @@ void judge_candidates(const CameraSetup& cam, const detail::ChunkCandidates& can
     const int b = bin_of(cam.wide, 0.5 * (vy0 + vy1), 1) * cam.wide.n[0] +
                   bin_of(cam.wide, 0.5 * (vx0 + vx1), 0);
     for (int n = cand.wide.start[b]; n < cand.wide.start[b + 1]; ++n) {
-      if (group(cand.wide.items[n])) return;
+      if (bundle(cand.wide.items[n])) return;
     }
     return everywhere();
   }
   // The bins under the box's projection (all of them when it is not wholly in front); their
-  // lists repeat groups.
+  // lists repeat bundles.
   const BinRange bins = z_lo > 0.0 ? detail::bins_under(cam.coarse, vx0, vx1, vy0, vy1)
                                    : BinRange{0, cam.coarse.n[0] - 1, 0, cam.coarse.n[1] - 1};
   ++scratch.visit;
@@ -66,10 +79,10 @@ void judge_candidates(const CameraSetup& cam, const detail::ChunkCandidates& can
     for (int bx = bins.x0; bx <= bins.x1; ++bx) {
       const int b = by * cam.coarse.n[0] + bx;
       for (int n = cand.coarse.start[b]; n < cand.coarse.start[b + 1]; ++n) {
-        const int g = cand.coarse.items[n];
-        if (scratch.stamp[g] == scratch.visit) continue;
-        scratch.stamp[g] = scratch.visit;
-        if (group(g)) return;
+        const int u = cand.coarse.items[n];
+        if (scratch.stamp[u] == scratch.visit) continue;
+        scratch.stamp[u] = scratch.visit;
+        if (bundle(u)) return;
       }
     }
   }
@@ -258,6 +271,21 @@ Verdict VoxelEvaluator::Impl::judge_conservative(const CameraSetup& cam, const V
     const StateMask m = object_states[o] & interest;
     return m & ((free_only || !occupying) ? ~(out.occupied | out.blocked) : ~out.occupied);
   };
+  // Whether a bundle of slot groups may hold a triangle that changes `out`: open's tests on the
+  // bundle's bounds, which hold each of its groups' (the outline's test is monotone in the
+  // rectangle).
+  auto open_bundle = [&](const detail::SlotBundle& bundle) {
+    const auto& r = bundle.rect;
+    if (r[0] > vx1 || r[1] < vx0 || r[2] > vy1 || r[3] < vy0) return false;
+    const StateMask decided =
+        (free_only || !bundle.occupying) ? out.occupied | out.blocked : out.occupied;
+    if (!(bundle.states & interest & ~decided)) return false;
+    if (!bundle.occupying) {
+      if (far < 0.0) far = (w.cwiseAbs() + size.half).norm();
+      if (!(bundle.near < far)) return false;
+    }
+    return !(outlined && outside(r));
+  };
   // Whether slot group g may hold a triangle that changes `out`: one whose rectangle meets the
   // box's, of an object with open states, and if blocking, not wholly beyond the box (test's
   // tests, on the group's bounds).
@@ -272,10 +300,9 @@ Verdict VoxelEvaluator::Impl::judge_conservative(const CameraSetup& cam, const V
       if (far < 0.0) far = (w.cwiseAbs() + size.half).norm();
       if (!(group.near < far)) return false;
     }
-    if (outlined && outside(r)) return false;
-    ensure_projected(cam, g);
-    return true;
+    return !(outlined && outside(r));
   };
+  auto project = [&](int g) { ensure_projected(cam, g); };
   // True when `out` changed. Inlined into judge_candidates' loops (GCC and Clang): 5% of an
   // evaluation at 36×27×27.
   auto test = [&](int s) __attribute__((always_inline)) {
@@ -354,10 +381,12 @@ Verdict VoxelEvaluator::Impl::judge_conservative(const CameraSetup& cam, const V
     for (int s : first) {
       if (s >= 0 && test(s) && done()) return out;
     }
-    judge_candidates(cam, cand, vx0, vx1, vy0, vy1, z_lo, scratch, test, open, done);
+    judge_candidates(cam, cand, vx0, vx1, vy0, vy1, z_lo, scratch, test, open_bundle, open, project,
+                     done);
     return out;
   }
-  judge_candidates(cam, cand, vx0, vx1, vy0, vy1, z_lo, scratch, test, open, done);
+  judge_candidates(cam, cand, vx0, vx1, vy0, vy1, z_lo, scratch, test, open_bundle, open, project,
+                   done);
   return out;
 }
 
@@ -503,30 +532,45 @@ StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& 
     if (pass(s)) return 0;
   }
   if (detail::outside_bins(cam.coarse, vx0, vx1, vy0, vy1)) return clear;
-  // The coarse bins' lists repeat groups: a slot that did not decide the block once does not
+  // The coarse bins' lists repeat bundles: a slot that did not decide the block once does not
   // the next time (decides depends on the slot and the block only), and one that did has no
-  // state left in `clear`; so each group is visited once.
+  // state left in `clear`; so each bundle is visited once.
   ++scratch.visit;
   const BinRange bins = bin_range(cam.coarse, vx0, vx1, vy0, vy1);
   for (int by = bins.y0; by <= bins.y1; ++by) {
     for (int bx = bins.x0; bx <= bins.x1; ++bx) {
       const int b = by * cam.coarse.n[0] + bx;
       for (int n = cand.coarse.start[b]; n < cand.coarse.start[b + 1]; ++n) {
-        const int g = cand.coarse.items[n];
-        if (scratch.stamp[g] == scratch.visit) continue;
-        scratch.stamp[g] = scratch.visit;
-        // decides' first tests on the group's bounds: its rectangle holds each slot's, `near`
-        // is at most each triangle's near_distance.
-        const detail::SlotGroup& group = cam.groups[g];
-        const auto& rect = group.rect;
-        if (rect[0] > vx1 || rect[1] < vx0 || rect[2] > vy1 || rect[3] < vy0) continue;
-        const int o = group.object;
-        if (!(object_states[o] & clear)) continue;
-        if (!objects[o].occupying && group.near >= far) continue;
-        if (outlined && outside(rect)) continue;
-        ensure_projected(cam, g);
-        for (int s = group.first; s < group.last; ++s) {
-          if (pass(s)) return 0;
+        const int u = cand.coarse.items[n];
+        if (scratch.stamp[u] == scratch.visit) continue;
+        scratch.stamp[u] = scratch.visit;
+        // The group tests below on the bundle's bounds, which hold each of its groups'.
+        const detail::SlotBundle& bundle = cand.bundles[u];
+        {
+          const auto& rect = bundle.rect;
+          if (rect[0] > vx1 || rect[1] < vx0 || rect[2] > vy1 || rect[3] < vy0) continue;
+          if (!(bundle.states & clear)) continue;
+          if (!bundle.occupying && bundle.near >= far) continue;
+          if (outlined && outside(rect)) continue;
+        }
+        const bool single = bundle.last - bundle.first == 1;  // the group's bounds: tested
+        for (int k = bundle.first; k < bundle.last; ++k) {
+          const int g = cand.bundle_groups[k];
+          // decides' first tests on the group's bounds: its rectangle holds each slot's, `near`
+          // is at most each triangle's near_distance.
+          const detail::SlotGroup& group = cam.groups[g];
+          if (!single) {
+            const auto& rect = group.rect;
+            if (rect[0] > vx1 || rect[1] < vx0 || rect[2] > vy1 || rect[3] < vy0) continue;
+            const int o = group.object;
+            if (!(object_states[o] & clear)) continue;
+            if (!objects[o].occupying && group.near >= far) continue;
+            if (outlined && outside(rect)) continue;
+          }
+          ensure_projected(cam, g);
+          for (int s = group.first; s < group.last; ++s) {
+            if (pass(s)) return 0;
+          }
         }
       }
     }

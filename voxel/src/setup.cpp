@@ -156,6 +156,28 @@ int VoxelEvaluator::Impl::add_object(const core::SceneObject& object, core::Obje
   for (const Vec3& v : object.mesh.vertices) {
     info.radius = std::max(info.radius, (v - info.center).norm());
   }
+  // Its family: the first object (a family's first) with the same role and triangles whose
+  // vertices each lie within a quarter of that object's radius of this one's, as a robot link
+  // moved a little from one time step to the next. Only which slot groups are tested together
+  // depends on it, never a label.
+  info.family = static_cast<int>(objects.size());
+  for (std::size_t o = 0; o < objects.size(); ++o) {
+    const detail::ObjectInfo& first = objects[o];
+    if (first.family != static_cast<int>(o) || first.occupying != info.occupying ||
+        first.mesh->vertices.size() != object.mesh.vertices.size() ||
+        first.mesh->triangles != object.mesh.triangles) {
+      continue;
+    }
+    const double reach_sq = 0.0625 * first.radius * first.radius;
+    bool near = true;
+    for (std::size_t v = 0; v < object.mesh.vertices.size() && near; ++v) {
+      near = (object.mesh.vertices[v] - first.mesh->vertices[v]).squaredNorm() <= reach_sq;
+    }
+    if (near) {
+      info.family = static_cast<int>(o);
+      break;
+    }
+  }
   info.outward = core::signed_volume(object.mesh) > 0.0;
   cluster_triangles(object.mesh, info);
   info.first_triangle = static_cast<int>(triangles.size());
