@@ -19,6 +19,7 @@
 #include <CGAL/intersections.h>
 
 #include <algorithm>
+#include <array>
 #include <climits>
 #include <cmath>
 #include <functional>
@@ -541,20 +542,80 @@ ShadowPatches shadow_patches(const ImagePlane& plane, const Faces& solid) {
     }
     return order;
   };
-  // Connected components first, then halves of the components that fail.
-  std::vector<std::vector<int>> todo;
-  std::set<int> seen;
-  for (int start : ahead) {
-    if (!seen.insert(start).second) continue;
-    std::vector<int> component, stack{start};
-    while (!stack.empty()) {
-      const int f = stack.back();
-      stack.pop_back();
-      component.push_back(f);
-      for (int g : neighbours[f])
-        if (seen.insert(g).second) stack.push_back(g);
+  // Layers first: grown through shared edges from a seed, taking each face whose image's interior
+  // meets no taken face's (exact orientation tests; a grid of double boxes finds the candidates),
+  // so that a fold's near and far sheets fall into different layers; then halves of the layers
+  // that still fail (their boundaries touch).
+  std::vector<CGAL::Bbox_2> box(solid.triangles.size());
+  CGAL::Bbox_2 all;
+  for (int f : ahead) {
+    const auto& t = solid.triangles[f];
+    box[f] = image[t[0]]->bbox() + image[t[1]]->bbox() + image[t[2]]->bbox();
+    all += box[f];
+  }
+  constexpr int kCells = 64;
+  std::function<std::vector<int>&(int, int)> grid_cell;
+  const double cell_w = std::max(all.xmax() - all.xmin(), 1e-300) / kCells,
+               cell_h = std::max(all.ymax() - all.ymin(), 1e-300) / kCells;
+  auto cells = [&](int f, const std::function<bool(std::vector<int>&)>& visit) {
+    auto index = [](double v, double lo, double w) {
+      return std::clamp(int(std::floor((v - lo) / w)), 0, kCells - 1);
+    };
+    for (int i = index(box[f].xmin(), all.xmin(), cell_w);
+         i <= index(box[f].xmax(), all.xmin(), cell_w); ++i)
+      for (int j = index(box[f].ymin(), all.ymin(), cell_h);
+           j <= index(box[f].ymax(), all.ymin(), cell_h); ++j)
+        if (!visit(grid_cell(i, j))) return false;
+    return true;
+  };
+  // A face's vertices, counter-clockwise in the image.
+  auto ccw = [&](int f) {
+    std::array<int, 3> t = solid.triangles[f];
+    if (CGAL::orientation(*image[t[0]], *image[t[1]], *image[t[2]]) == CGAL::CLOCKWISE)
+      std::swap(t[1], t[2]);
+    return t;
+  };
+  // True when a line through an edge of a has b in its closed outer side. A shared vertex lies on
+  // the line (no exact evaluation of a degenerate orientation).
+  auto separated = [&](const std::array<int, 3>& a, const std::array<int, 3>& b) {
+    for (int i = 0; i < 3; ++i) {
+      const int p = a[i], q = a[(i + 1) % 3];
+      if (std::none_of(b.begin(), b.end(), [&](int v) {
+            return v != p && v != q &&
+                   CGAL::orientation(*image[p], *image[q], *image[v]) == CGAL::LEFT_TURN;
+          }))
+        return true;
     }
-    todo.push_back(std::move(component));
+    return false;
+  };
+  std::vector<std::vector<int>> todo;
+  std::set<int> remaining(ahead.begin(), ahead.end());
+  while (!remaining.empty()) {
+    std::vector<std::vector<int>> grid(kCells * kCells);
+    grid_cell = [&grid](int i, int j) -> std::vector<int>& { return grid[i * kCells + j]; };
+    std::vector<int> layer;
+    std::set<int> queued{*remaining.begin()};
+    std::vector<int> queue{*remaining.begin()};
+    for (std::size_t head = 0; head < queue.size(); ++head) {
+      const int f = queue[head];
+      const auto tf = ccw(f);
+      const bool free = cells(f, [&](std::vector<int>& taken) {
+        for (int g : taken)
+          if (CGAL::do_overlap(box[f], box[g]) && !separated(tf, ccw(g)) && !separated(ccw(g), tf))
+            return false;
+        return true;
+      });
+      if (!free) continue;
+      layer.push_back(f);
+      remaining.erase(f);
+      cells(f, [&](std::vector<int>& taken) {
+        taken.push_back(f);
+        return true;
+      });
+      for (int g : neighbours[f])
+        if (remaining.count(g) && queued.insert(g).second) queue.push_back(g);
+    }
+    todo.push_back(std::move(layer));
   }
   while (!todo.empty()) {
     std::vector<int> group = std::move(todo.back());

@@ -67,9 +67,10 @@ struct ShadowPatches {
 };
 
 /// The front faces of `solid` (outward faces, c = plane.c outside it) grouped as ShadowPatches:
-/// the faces in front of c split into their edge-connected components, and a component whose
-/// images overlap or whose boundary images touch split in two halves (in breadth-first order)
-/// until each part passes; a single face always does.
+/// the faces in front of c grown into layers through shared edges, each face joining the first
+/// layer where its image's interior meets no other face's, and a layer whose boundary images
+/// still touch split in two halves (in breadth-first order) until each part passes (a single face
+/// always does). Every group is accepted only by the exact check of ShadowPatches.
 ShadowPatches shadow_patches(const ImagePlane& plane, const Faces& solid);
 
 }  // namespace camplace::exact::internal
