@@ -12,6 +12,12 @@
 //              states of the same pose (ExactOptions::reuse_poses, the default) and without
 //              (`outline-each-state`), and with the obstacles subtracted first, the former order
 //              (`outline-obstacles-first`, ExactOptions::obstacles_last off)
+//   occluding  the cell in modelled mode (the robot occludes: a shadow per camera and time step)
+//              with each robot one dented ellipsoid of N triangles (non-convex: not one hull) and
+//              each person one ellipsoid of 2,000; the shadows from patches of front faces found
+//              in the image plane (the default, `patches`) and as the union of per-face shadows
+//              (ExactOptions::face_shadows, `faces`), N = 800, 5000 (`faces` up to 800 by default;
+//              CAMPLACE_BENCH_FACE_SHADOWS_MAX=N raises it)
 // One iteration each (a full evaluation takes seconds to minutes); prints the figures, the
 // growth exponents (least-squares slope of log CPU time against log N over the family, and the
 // slope between neighbouring N) and the peak memory.
@@ -23,6 +29,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <string>
 #include <thread>
@@ -102,6 +109,39 @@ core::Scene fine_cell_scene(int robot, int person) {
   return scene;
 }
 
+// A closed mesh of `triangles` triangles in `box`: its ellipsoid with each vertex moved along its
+// ray from the centre by four fixed dents and bumps (star-shaped, so still a closed outward mesh
+// without self-intersections; non-convex).
+core::TriangleMesh dented_mesh(const core::Box3& box, int triangles) {
+  core::TriangleMesh m = testing::ellipsoid_mesh(box, triangles);
+  const core::Vec3 center = 0.5 * (box.min + box.max);
+  const std::pair<core::Vec3, double> bumps[] = {{core::Vec3(1, 0, 0), -0.35},
+                                                 {core::Vec3(0, 1, 0.5).normalized(), -0.3},
+                                                 {core::Vec3(-1, -1, 0).normalized(), 0.2},
+                                                 {core::Vec3(0, 0, 1), -0.25}};
+  for (core::Vec3& v : m.vertices) {
+    const core::Vec3 r = v - center;
+    double f = 1.0;
+    for (const auto& [dir, amplitude] : bumps)
+      f += amplitude * std::exp(-(r.normalized() - dir).squaredNorm() / 0.3);
+    v = center + f * r;
+  }
+  return m;
+}
+
+// fine_cell_scene in modelled mode with each robot one dented ellipsoid (dented_mesh) of `robot`
+// triangles: the robot occludes.
+core::Scene occluding_cell_scene(int robot, int person) {
+  core::Scene scene = fine_cell_scene(robot, person);
+  scene.dynamic_mode = core::DynamicMode::modelled;
+  for (auto& step : scene.time_steps) {
+    for (auto& o : step.dynamic_obstacles)
+      o = testing::mesh_object(o.name, dented_mesh(o.bounds, robot));
+    step.critical = step.dynamic_obstacles;
+  }
+  return scene;
+}
+
 // paper_basic, time step 0 event 0, with `cameras` cameras: the first of the corner
 // configuration, then copies of the corners at z = 2 m turned by 20° and looking 15° down.
 std::pair<core::Scene, core::CameraConfig> camera_scene(int cameras) {
@@ -123,10 +163,12 @@ std::pair<core::Scene, core::CameraConfig> camera_scene(int cameras) {
 }
 
 void run(benchmark::State& state, const core::Scene& scene, const core::CameraConfig& config,
-         bool face_cones, bool reuse_poses = true, bool obstacles_last = true) {
+         bool face_cones, bool reuse_poses = true, bool obstacles_last = true,
+         bool face_shadows = false) {
   exact::ExactOptions options;
   options.threads = 1;
   options.face_cones = face_cones;
+  options.face_shadows = face_shadows;
   options.reuse_poses = reuse_poses;
   options.obstacles_last = obstacles_last;
   for (auto _ : state) {
@@ -174,6 +216,25 @@ void register_families() {
                                            name != "outline-each-state",
                                            name != "outline-obstacles-first");
                                      })
+            ->Iterations(1)
+            ->Unit(benchmark::kMillisecond)
+            ->MeasureProcessCPUTime()
+            ->UseRealTime();
+      }
+    }
+    {
+      // The robot occluding (modelled mode), its shadows from patches or per face.
+      const char* shadows = faces ? "faces" : "patches";
+      const char* env = std::getenv("CAMPLACE_BENCH_FACE_SHADOWS_MAX");
+      const int faces_max = env ? std::atoi(env) : 800;
+      for (const int n : {800, 5000}) {
+        if (faces && n > faces_max) continue;
+        benchmark::RegisterBenchmark(
+            ("occluding/" + std::string(shadows) + "/person:2000/states:6/n:" + std::to_string(n))
+                .c_str(),
+            [=](benchmark::State& state) {
+              run(state, occluding_cell_scene(n, 2000), corners(), false, true, true, faces);
+            })
             ->Iterations(1)
             ->Unit(benchmark::kMillisecond)
             ->MeasureProcessCPUTime()
@@ -268,6 +329,7 @@ int main(int argc, char** argv) {
   std::printf("growth of the CPU time:\n");
   print_exponents(reporter, "triangles");
   print_exponents(reporter, "cameras");
+  print_exponents(reporter, "occluding");
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   std::printf("peak resident memory of the whole run: %.0f MB\n", double(usage.ru_maxrss) / 1024.0);

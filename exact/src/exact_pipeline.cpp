@@ -6,6 +6,7 @@
 //   internal/cones.hpp     FOVs, shadow volumes and silhouette cones of one camera
 //   internal/outline.hpp   occupied outlines in a camera's image plane (2D, in outline.cpp)
 //   internal/pipeline.hpp  the model of each state, with per-camera caches
+//   internal/shadow_check.hpp  a test of the shadows' two constructions
 //   internal/soup.hpp      Nef → exact triangle soup, OFF export
 //   internal/model.hpp     components, exact volumes, plausibility filter, d(C, M)
 // Every double input is converted exactly to a rational.
@@ -29,6 +30,7 @@
 #include "internal/kernel.hpp"
 #include "internal/model.hpp"
 #include "internal/pipeline.hpp"
+#include "internal/shadow_check.hpp"
 #include "internal/soup.hpp"
 
 namespace camplace::exact {
@@ -287,3 +289,31 @@ ExactModel build_exact_model(const core::Scene& scene, const core::CameraConfig&
 }
 
 }  // namespace camplace::exact
+
+namespace camplace::exact::internal {
+
+ShadowCheck check_shadow(const core::TriangleMesh& mesh, const core::CameraSetting& setting,
+                         const core::CameraModel& model, const core::Box3& box) {
+  ShadowCheck out;
+  const Solid solid(mesh);
+  const ViewPoint cam = view_point(setting, box);
+  out.convex = solid.convex;
+  if (solid_contains(solid, cam.position)) {
+    out.camera_inside = true;
+    return out;
+  }
+  const ImagePlane image = image_plane(setting, model);
+  out.front_faces = int(front_faces(cam, solid).size());
+  if (!solid.convex) {
+    const ShadowPatches split = shadow_patches(image, solid);
+    out.patches = int(split.patches.size());
+    out.single = int(split.single.size());
+  }
+  const Nef fov = fov_nef(cam, setting, model) * box_nef(box);
+  const Nef fast = (shadow(cam, image, solid, false) * fov).regularization();
+  const Nef reference = (shadow(cam, image, solid, true) * fov).regularization();
+  out.same = ((fast - reference) + (reference - fast)).regularization().is_empty();
+  return out;
+}
+
+}  // namespace camplace::exact::internal

@@ -3,7 +3,8 @@
 // winding numbers), the others projected and cut to the window with the blockers' parts in front
 // of them removed, all joined with CGAL's exact 2D booleans (Boolean_set_operations_2 on the
 // exact kernel), and the result split into simple cycles and triangulated for the cones of
-// cones.hpp. No Nef code here.
+// cones.hpp; and the split of an occluding solid's front faces into patches whose shadows are
+// simple polyhedra (checked on the arrangement of their boundary edges' images). No Nef code here.
 #include "internal/outline.hpp"
 
 #include <CGAL/Arr_curve_data_traits_2.h>
@@ -18,12 +19,15 @@
 #include <CGAL/intersections.h>
 
 #include <algorithm>
+#include <array>
 #include <climits>
 #include <cmath>
 #include <functional>
 #include <iterator>
 #include <map>
+#include <numeric>
 #include <optional>
+#include <set>
 #include <stdexcept>
 
 #include "camplace/core/error.hpp"
@@ -289,6 +293,85 @@ void add_cycles(const Polygon2& boundary, const Projector& proj, std::vector<Out
   }
 }
 
+/// True when the faces `group` of `solid` (all wholly in front of c; `image` holds their
+/// vertices' images) have images with pairwise disjoint interiors and a boundary that projects
+/// onto pairwise disjoint simple closed polygons, each boundary edge once (ShadowPatches).
+bool valid_patch(const Faces& solid, const std::vector<int>& group,
+                 const std::vector<std::optional<Point2>>& image) {
+  // The faces' edges, each face counter-clockwise in the image; an edge of two faces of the group
+  // is inner (a closed manifold mesh has no edge of three faces), the others bound the group.
+  std::map<std::pair<int, int>, std::pair<int, int>> boundary;  // key (min, max) → directed
+  std::map<std::pair<int, int>, int> uses;
+  for (int f : group) {
+    std::array<int, 3> t = solid.triangles[f];
+    if (CGAL::orientation(*image[t[0]], *image[t[1]], *image[t[2]]) == CGAL::CLOCKWISE)
+      std::swap(t[1], t[2]);
+    for (int i = 0; i < 3; ++i) {
+      const int p = t[i], q = t[(i + 1) % 3];
+      const auto key = std::minmax(p, q);
+      if (++uses[key] == 1)
+        boundary[key] = {p, q};
+      else
+        boundary.erase(key);
+    }
+  }
+  if (boundary.empty()) return false;  // a closed group: never in front of c only
+  // Each boundary vertex on two boundary edges, and distinct vertices with distinct images.
+  std::map<int, int> degree;
+  for (const auto& [key, e] : boundary) {
+    ++degree[e.first];
+    ++degree[e.second];
+  }
+  std::set<Point2> images;
+  for (const auto& [v, n] : degree) {
+    if (n != 2) return false;
+    images.insert(*image[v]);
+  }
+  if (images.size() != degree.size()) return false;
+  // The boundary's images as a chain with winding numbers (as in Chain::regions): no crossing,
+  // touching or overlapping edges (as many vertices and edges as the boundary has, each edge
+  // once) and winding numbers 0 or 1 (the sum of the faces' indicators: no overlap).
+  std::vector<ChainTraits::Curve_2> curves;
+  for (const auto& [key, e] : boundary) {
+    const Point2 &from = *image[e.first], &to = *image[e.second];
+    const bool rightward = CGAL::compare_xy(from, to) == CGAL::SMALLER;
+    curves.emplace_back(SegmentTraits::Curve_2(from, to), rightward ? 1 : -1);
+  }
+  ChainArrangement arr;
+  CGAL::insert(arr, curves.begin(), curves.end());
+  if (arr.number_of_vertices() != degree.size() || arr.number_of_edges() != boundary.size())
+    return false;
+  for (auto e = arr.edges_begin(); e != arr.edges_end(); ++e)
+    if (std::abs(e->curve().data()) != 1) return false;
+  for (auto v = arr.vertices_begin(); v != arr.vertices_end(); ++v)
+    if (v->degree() != 2) return false;
+  for (auto f = arr.faces_begin(); f != arr.faces_end(); ++f) f->set_data(INT_MIN);
+  std::vector<ChainArrangement::Face_handle> stack{arr.unbounded_face()};
+  arr.unbounded_face()->set_data(0);
+  auto shift = [](const auto& h) {
+    return h->direction() == CGAL::ARR_LEFT_TO_RIGHT ? h->curve().data() : -h->curve().data();
+  };
+  auto visit = [&](ChainArrangement::Face_handle f,
+                   ChainArrangement::Ccb_halfedge_circulator first) {
+    auto h = first;
+    do {
+      const auto nb = h->twin()->face();
+      if (nb->data() == INT_MIN) {
+        nb->set_data(f->data() - shift(h));
+        stack.push_back(nb);
+      }
+    } while (++h != first);
+  };
+  while (!stack.empty()) {
+    const auto f = stack.back();
+    stack.pop_back();
+    if (f->data() < 0 || f->data() > 1) return false;
+    if (f->has_outer_ccb()) visit(f, f->outer_ccb());
+    for (auto i = f->inner_ccbs_begin(); i != f->inner_ccbs_end(); ++i) visit(f, *i);
+  }
+  return true;
+}
+
 }  // namespace
 
 ImagePlane image_plane(const core::CameraSetting& setting, const core::CameraModel& model) {
@@ -407,6 +490,151 @@ std::vector<OutlineRegion> occupied_outline(const ImagePlane& plane,
     regions.push_back(std::move(region));
   }
   return regions;
+}
+
+ShadowPatches shadow_patches(const ImagePlane& plane, const Faces& solid) {
+  ShadowPatches out;
+  std::vector<CGAL::Sign> side(solid.points.size());
+  for (std::size_t v = 0; v < solid.points.size(); ++v)
+    side[v] = CGAL::sign((solid.points[v] - plane.c) * plane.d);
+  std::vector<std::optional<Point2>> image(solid.points.size());
+  std::vector<int> ahead;
+  for (int f : solid.front_faces(plane.c)) {
+    const auto& t = solid.triangles[f];
+    const int in_front = (side[t[0]] == CGAL::POSITIVE) + (side[t[1]] == CGAL::POSITIVE) +
+                         (side[t[2]] == CGAL::POSITIVE);
+    if (in_front == 0) continue;
+    if (in_front < 3) {
+      out.single.push_back(f);
+      continue;
+    }
+    ahead.push_back(f);
+    for (int v : t) {
+      if (image[v]) continue;
+      const Vector u = solid.points[v] - plane.c;
+      const FT depth = u * plane.d;
+      image[v] = Point2((u * plane.a) / depth, (u * plane.b) / depth);
+    }
+  }
+  // Neighbours among the faces ahead, through shared edges.
+  std::map<std::pair<int, int>, std::vector<int>> by_edge;
+  for (int f : ahead) {
+    const auto& t = solid.triangles[f];
+    for (int i = 0; i < 3; ++i) by_edge[std::minmax(t[i], t[(i + 1) % 3])].push_back(f);
+  }
+  std::map<int, std::vector<int>> neighbours;
+  for (const auto& [key, faces] : by_edge)
+    for (int f : faces)
+      for (int g : faces)
+        if (f != g) neighbours[f].push_back(g);
+  // The faces of `group` in breadth-first order through shared edges, component by component.
+  auto breadth_first = [&](const std::vector<int>& group) {
+    const std::set<int> members(group.begin(), group.end());
+    std::set<int> seen;
+    std::vector<int> order;
+    for (int start : group) {
+      if (!seen.insert(start).second) continue;
+      std::size_t head = order.size();
+      order.push_back(start);
+      for (; head < order.size(); ++head)
+        for (int g : neighbours[order[head]])
+          if (members.count(g) && seen.insert(g).second) order.push_back(g);
+    }
+    return order;
+  };
+  // Layers first: grown through shared edges from a seed, taking each face whose image's interior
+  // meets no taken face's (exact orientation tests; a grid of double boxes finds the candidates),
+  // so that a fold's near and far sheets fall into different layers; then halves of the layers
+  // that still fail (their boundaries touch).
+  std::vector<CGAL::Bbox_2> box(solid.triangles.size());
+  CGAL::Bbox_2 all;
+  for (int f : ahead) {
+    const auto& t = solid.triangles[f];
+    box[f] = image[t[0]]->bbox() + image[t[1]]->bbox() + image[t[2]]->bbox();
+    all += box[f];
+  }
+  constexpr int kCells = 64;
+  std::function<std::vector<int>&(int, int)> grid_cell;
+  const double cell_w = std::max(all.xmax() - all.xmin(), 1e-300) / kCells,
+               cell_h = std::max(all.ymax() - all.ymin(), 1e-300) / kCells;
+  auto cells = [&](int f, const std::function<bool(std::vector<int>&)>& visit) {
+    auto index = [](double v, double lo, double w) {
+      return std::clamp(int(std::floor((v - lo) / w)), 0, kCells - 1);
+    };
+    for (int i = index(box[f].xmin(), all.xmin(), cell_w);
+         i <= index(box[f].xmax(), all.xmin(), cell_w); ++i)
+      for (int j = index(box[f].ymin(), all.ymin(), cell_h);
+           j <= index(box[f].ymax(), all.ymin(), cell_h); ++j)
+        if (!visit(grid_cell(i, j))) return false;
+    return true;
+  };
+  // A face's vertices, counter-clockwise in the image.
+  auto ccw = [&](int f) {
+    std::array<int, 3> t = solid.triangles[f];
+    if (CGAL::orientation(*image[t[0]], *image[t[1]], *image[t[2]]) == CGAL::CLOCKWISE)
+      std::swap(t[1], t[2]);
+    return t;
+  };
+  // True when a line through an edge of a has b in its closed outer side. A shared vertex lies on
+  // the line (no exact evaluation of a degenerate orientation).
+  auto separated = [&](const std::array<int, 3>& a, const std::array<int, 3>& b) {
+    for (int i = 0; i < 3; ++i) {
+      const int p = a[i], q = a[(i + 1) % 3];
+      if (std::none_of(b.begin(), b.end(), [&](int v) {
+            return v != p && v != q &&
+                   CGAL::orientation(*image[p], *image[q], *image[v]) == CGAL::LEFT_TURN;
+          }))
+        return true;
+    }
+    return false;
+  };
+  std::vector<std::vector<int>> todo;
+  std::set<int> remaining(ahead.begin(), ahead.end());
+  while (!remaining.empty()) {
+    std::vector<std::vector<int>> grid(kCells * kCells);
+    grid_cell = [&grid](int i, int j) -> std::vector<int>& { return grid[i * kCells + j]; };
+    std::vector<int> layer;
+    std::set<int> queued{*remaining.begin()};
+    std::vector<int> queue{*remaining.begin()};
+    for (std::size_t head = 0; head < queue.size(); ++head) {
+      const int f = queue[head];
+      const auto tf = ccw(f);
+      const bool free = cells(f, [&](std::vector<int>& taken) {
+        for (int g : taken)
+          if (CGAL::do_overlap(box[f], box[g]) && !separated(tf, ccw(g)) && !separated(ccw(g), tf))
+            return false;
+        return true;
+      });
+      if (!free) continue;
+      layer.push_back(f);
+      remaining.erase(f);
+      cells(f, [&](std::vector<int>& taken) {
+        taken.push_back(f);
+        return true;
+      });
+      for (int g : neighbours[f])
+        if (remaining.count(g) && queued.insert(g).second) queue.push_back(g);
+    }
+    todo.push_back(std::move(layer));
+  }
+  while (!todo.empty()) {
+    std::vector<int> group = std::move(todo.back());
+    todo.pop_back();
+    if (valid_patch(solid, group, image)) {
+      out.patches.push_back(std::move(group));
+      continue;
+    }
+    // A single face in front of c always passes (a proper triangle); kept safe all the same.
+    if (group.size() == 1) {
+      out.single.push_back(group[0]);
+      continue;
+    }
+    const std::vector<int> order = breadth_first(group);
+    const auto half = order.begin() + std::ptrdiff_t(order.size() / 2);
+    todo.emplace_back(order.begin(), half);
+    todo.emplace_back(half, order.end());
+  }
+  return out;
 }
 
 }  // namespace camplace::exact::internal

@@ -6,10 +6,13 @@
 // shadow(P) = conv(P, c + T(P − c)) for a convex P, with T a power of two large enough that the
 // far cap lies outside the pipeline's clip box (a box around S: only M ⊂ S matters). Private to
 // exact_pipeline.cpp.
+#include <CGAL/boost/graph/helpers.h>
 #include <CGAL/intersections.h>
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -114,8 +117,72 @@ inline std::vector<Point> scaled(const ViewPoint& cam, const std::vector<Point>&
   return out;
 }
 
-/// Points p whose segment [c, p] meets the solid, within S (c outside the solid).
-inline Nef shadow(const ViewPoint& cam, const Solid& solid) {
+/// The shadow of one front face f, cut beyond the clip box: conv(f, c + T(f − c)).
+inline Nef face_shadow(const ViewPoint& cam, const Solid& solid, int f) {
+  const FT t = scale_for(cam, plane_distance_lower(cam, solid.planes[f]));
+  const auto& tri = solid.triangles[f];
+  std::vector<Point> pts{solid.points[tri[0]], solid.points[tri[1]], solid.points[tri[2]]};
+  const auto far = scaled(cam, pts, t);
+  pts.insert(pts.end(), far.begin(), far.end());
+  return hull_nef(pts);
+}
+
+/// The shadow of a patch of front faces (ShadowPatches, outline.hpp), cut beyond the clip box:
+/// {c + s(x − c) : x on the patch, 1 ≤ s ≤ T}, the union of its faces' shadows. Its boundary is
+/// the patch itself (outward as the solid's faces: c lies on their outer side), the patch scaled
+/// from c by T (reversed) and, over each boundary edge p → q of the patch (as its face runs), the
+/// wall q, p, c + T(p − c), c + T(q − c) in the plane of c, p and q. The patch's images overlap
+/// nowhere and its boundary projects onto disjoint simple polygons, so every ray from c meets the
+/// patch at most once and the walls meet only along the rays over common vertices: the soup is a
+/// closed oriented 2-manifold bounding the sweep. T: the patch lies at least the smallest distance
+/// from c to its faces' planes away, so the scaled patch lies beyond the clip box (scale_for).
+inline Nef patch_shadow(const ViewPoint& cam, const Solid& solid, const std::vector<int>& patch) {
+  double h = HUGE_VAL;
+  for (int f : patch) h = std::min(h, plane_distance_lower(cam, solid.planes[f]));
+  const FT t = scale_for(cam, h);
+  std::vector<Point> pts;
+  std::unordered_map<int, std::size_t> near;  // mesh vertex → index of the near point; far: + 1
+  auto index = [&](int v) {
+    const auto [it, inserted] = near.emplace(v, pts.size());
+    if (inserted) {
+      pts.push_back(solid.points[v]);
+      pts.push_back(cam.position + (solid.points[v] - cam.position) * t);
+    }
+    return it->second;
+  };
+  std::vector<std::vector<std::size_t>> faces;
+  std::map<std::pair<int, int>, std::pair<int, int>> boundary;  // key (min, max) → p → q
+  for (int f : patch) {
+    const auto& tri = solid.triangles[f];
+    const std::size_t a = index(tri[0]), b = index(tri[1]), c = index(tri[2]);
+    faces.push_back({a, b, c});
+    faces.push_back({c + 1, b + 1, a + 1});
+    for (int i = 0; i < 3; ++i) {
+      const int p = tri[i], q = tri[(i + 1) % 3];
+      const auto key = std::minmax(p, q);
+      if (!boundary.erase(key)) boundary.emplace(key, std::make_pair(p, q));
+    }
+  }
+  for (const auto& [key, e] : boundary) {
+    const std::size_t p = near.at(e.first), q = near.at(e.second);
+    faces.push_back({q, p, p + 1});
+    faces.push_back({q, p + 1, q + 1});
+  }
+  SurfaceMesh sm;
+  CGAL::Polygon_mesh_processing::polygon_soup_to_polygon_mesh(pts, faces, sm);
+  CAMPLACE_ASSERT(CGAL::is_closed(sm));
+  return Nef(sm);
+}
+
+/// Points p whose segment [c, p] meets the solid, where they can meet camera c's FOV (c outside
+/// the solid; the FOV lies in {c} ∪ {(x − c)·d > 0}), cut beyond the clip box. A convex solid: one
+/// hull. Otherwise the union of the shadows of its front faces' patches (shadow_patches in the
+/// image plane `image`: a few closed polyhedra, each from one polygon soup) and of the faces that
+/// cross the plane (x − c)·d = 0 one by one; with `per_face` (the reference,
+/// ExactOptions::face_shadows) the union of every front face's shadow. Within the FOV the two are
+/// the same point set (docs/design/exact-model.md E2).
+inline Nef shadow(const ViewPoint& cam, const ImagePlane& image, const Solid& solid,
+                  bool per_face) {
   const auto front = front_faces(cam, solid);
   if (front.empty()) return Nef();
   if (solid.convex) {
@@ -126,15 +193,13 @@ inline Nef shadow(const ViewPoint& cam, const Solid& solid) {
     return hull_nef(pts);
   }
   std::vector<Nef> parts;
-  for (int i : front) {
-    const FT t = scale_for(cam, plane_distance_lower(cam, solid.planes[i]));
-    const auto& tri = solid.triangles[i];
-    std::vector<Point> face{solid.points[tri[0]], solid.points[tri[1]], solid.points[tri[2]]};
-    auto pts = face;
-    const auto far = scaled(cam, face, t);
-    pts.insert(pts.end(), far.begin(), far.end());
-    parts.push_back(hull_nef(pts));
+  if (per_face) {
+    for (int f : front) parts.push_back(face_shadow(cam, solid, f));
+    return union_all(std::move(parts));
   }
+  const ShadowPatches split = shadow_patches(image, solid);
+  for (const auto& patch : split.patches) parts.push_back(patch_shadow(cam, solid, patch));
+  for (int f : split.single) parts.push_back(face_shadow(cam, solid, f));
   return union_all(std::move(parts));
 }
 

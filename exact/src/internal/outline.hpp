@@ -1,8 +1,9 @@
 #pragma once
 // The occupied part of one camera's view as outlines in its image plane (SPEC §3, the silhouette
-// cones of the occupying objects): exact 2D booleans on the projected faces instead of 3D Nef
-// unions of per-face cones. Implemented in outline.cpp, which has no Nef code; the cones over the
-// outlines are built in cones.hpp.
+// cones of the occupying objects), and the split of an occluding solid's front faces into patches
+// whose shadows are simple polyhedra: exact 2D work on the projected faces instead of 3D Nef unions
+// of per-face cones. Implemented in outline.cpp, which has no Nef code; the cones over the
+// outlines and the patches' shadows are built in cones.hpp.
 #include <array>
 #include <vector>
 
@@ -48,5 +49,28 @@ struct OutlineRegion {
 std::vector<OutlineRegion> occupied_outline(const ImagePlane& plane,
                                             const std::vector<const Faces*>& occupying,
                                             const std::vector<const Faces*>& blockers);
+
+/// The front faces of a closed solid (camera c outside it) grouped for its shadow (shadow in
+/// cones.hpp), each face index into `solid.triangles`:
+///   patches  groups of faces with every vertex strictly in front of c ((x − c)·d > 0) whose
+///            images in the image plane have pairwise disjoint interiors and whose boundary (the
+///            edges of one face of the group only) projects onto pairwise disjoint simple closed
+///            polygons, each edge once: the shadow of such a group is bounded by the group, the
+///            walls along the rays over its boundary edges and the group scaled from c (a closed
+///            2-manifold);
+///   single   faces with vertices on both sides of the plane (x − c)·d = 0 (their own hulls).
+/// Faces with no vertex strictly in front of c are left out: their shadows meet the FOV, which
+/// lies in {c} ∪ {(x − c)·d > 0}, nowhere.
+struct ShadowPatches {
+  std::vector<std::vector<int>> patches;
+  std::vector<int> single;
+};
+
+/// The front faces of `solid` (outward faces, c = plane.c outside it) grouped as ShadowPatches:
+/// the faces in front of c grown into layers through shared edges, each face joining the first
+/// layer where its image's interior meets no other face's, and a layer whose boundary images
+/// still touch split in two halves (in breadth-first order) until each part passes (a single face
+/// always does). Every group is accepted only by the exact check of ShadowPatches.
+ShadowPatches shadow_patches(const ImagePlane& plane, const Faces& solid);
 
 }  // namespace camplace::exact::internal

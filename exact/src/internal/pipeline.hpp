@@ -5,7 +5,9 @@
 // For camera c and one state (SPEC §3):
 //   Free_c = (FOV_c ∩ S) ∖ (U ∪ V)
 //   U = ∪ shadow volumes of the occluding objects (core::role_of): points p whose segment
-//       [c, p] meets the object;
+//       [c, p] meets the object; for a non-convex one, the sweeps of patches of its front faces
+//       found in the image plane (shadow_patches, shadow), or the union of one shadow per front
+//       face as a reference (ExactOptions::face_shadows);
 //   V = ∪ silhouette cones of the occupying objects, each cut where an occluding object hides
 //       it: cones over their outlines in the camera's image plane (occupied_outline,
 //       outline_cone); a convex solid nothing hides, or every solid as a reference
@@ -47,11 +49,13 @@ namespace camplace::exact::internal {
 class Pipeline {
  public:
   /// Throws core::InputError when the configuration does not match the scene. Of `options`, the
-  /// choices of construction: face_cones, reuse_poses, obstacles_last (ExactOptions).
+  /// choices of construction: face_cones, face_shadows, reuse_poses, obstacles_last
+  /// (ExactOptions).
   Pipeline(const core::Scene& scene, const core::CameraConfig& config,
            const ExactOptions& options = {})
       : scene_(scene),
         face_cones_(options.face_cones),
+        face_shadows_(options.face_shadows),
         reuse_poses_(options.reuse_poses),
         obstacles_last_(options.obstacles_last) {
     core::check_configuration(scene, config);
@@ -148,7 +152,7 @@ class Pipeline {
   struct Camera {
     ViewPoint view;
     Nef fov;           ///< pyramid ∩ clip box
-    ImagePlane image;  ///< for the outlines of occupying objects
+    ImagePlane image;  ///< for the outlines of occupying objects and the shadows' patches
     std::optional<Nef> static_free;
   };
 
@@ -189,7 +193,7 @@ class Pipeline {
       // short coordinates, cheaper in the later booleans than a cone over an outline, whose
       // image-plane points are long rationals.
       if (o.role == core::ObjectRole::occluding)
-        parts.push_back(shadow(cam, s));
+        parts.push_back(shadow(cam, cameras_[c].image, s, face_shadows_));
       else if (face_cones_ || (s.convex && !may_be_hidden(cam, s, blockers)))
         parts.push_back(occupied_cone(cam, s, blockers));
       else
@@ -318,6 +322,7 @@ class Pipeline {
 
   const core::Scene& scene_;
   bool face_cones_ = false;
+  bool face_shadows_ = false;
   bool reuse_poses_ = true;
   bool obstacles_last_ = true;
   std::unordered_map<const core::SceneObject*, int> shape_;

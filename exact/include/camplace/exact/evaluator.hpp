@@ -30,6 +30,11 @@ struct ExactOptions {
   /// construction: the same model exactly, much slower on fine meshes; a reference for tests and
   /// benchmarks) instead of the cones over the objects' outlines in each camera's image plane.
   bool face_cones = false;
+  /// Build each non-convex occluding object's shadow as the union of one shadow per front face
+  /// (the former construction: the same model exactly, much slower on fine meshes; a reference
+  /// for tests and benchmarks) instead of the shadows of patches of front faces whose images in
+  /// the camera's image plane overlap nowhere (docs/design/exact-model.md E2).
+  bool face_shadows = false;
   /// Share the targets' silhouette cones between the states whose targets have the same meshes
   /// (vertex for vertex) and whose occluding objects have the same meshes, e.g. a person standing
   /// at the same place in every time step. Off: every state builds its own (the reference for
