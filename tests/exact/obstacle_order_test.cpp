@@ -14,6 +14,7 @@
 #include "camplace/core/camera.hpp"
 #include "camplace/core/scene.hpp"
 #include "camplace/exact/evaluator.hpp"
+#include "same_results.hpp"
 #include "scene_builder.hpp"
 
 namespace camplace {
@@ -39,19 +40,15 @@ TEST(ObstacleOrder, RandomFineMeshScenesGiveTheFormerOrdersFractions) {
     last.threads = 1;
     exact::ExactOptions former = last;
     former.obstacles_last = false;
-    const auto a = exact::evaluate_exact(scene, config, last);
     const auto b = exact::evaluate_exact(scene, config, former);
-    ASSERT_EQ(a.states.size(), b.states.size());
-    for (std::size_t s = 0; s < a.states.size(); ++s) {
-      EXPECT_EQ(a.states[s].d_model_sq_exact, b.states[s].d_model_sq_exact)
-          << n << " triangles, state " << s;
-      EXPECT_EQ(a.states[s].model_volume_exact, b.states[s].model_volume_exact)
-          << n << " triangles, state " << s;
-      EXPECT_EQ(a.states[s].components, b.states[s].components) << n << " triangles, state " << s;
-      filtered_states += b.states[s].components_removed > 0;
-      nonempty_states += b.states[s].components > 0;
+    SCOPED_TRACE(std::to_string(n) + " triangles");
+    // The count of removed components may differ (pieces are discarded at other times).
+    testing::expect_same_exact_results(exact::evaluate_exact(scene, config, last), b,
+                                       /*removed_may_differ=*/true);
+    for (const auto& r : b.states) {
+      filtered_states += r.components_removed > 0;
+      nonempty_states += r.components > 0;
     }
-    EXPECT_EQ(a.err, b.err);
   }
   // The default scenes exercise both the filter and non-empty models (other seeds may not).
   if (trials >= 4 && seed == nullptr) {

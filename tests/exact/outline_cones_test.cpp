@@ -17,6 +17,7 @@
 #include "camplace/core/geometry.hpp"
 #include "camplace/exact/evaluator.hpp"
 #include "oracle.hpp"
+#include "same_results.hpp"
 #include "scene_builder.hpp"
 
 namespace camplace {
@@ -41,18 +42,9 @@ core::TriangleMesh random_ellipsoid(std::mt19937& rng, const Vec3& center, const
 /// the plausibility filter on in some scenes.
 core::Scene fine_mesh_scene(std::mt19937& rng, bool filter) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::vector<int> cells(24);
-  for (int i = 0; i < 24; ++i) cells[i] = i;
-  std::shuffle(cells.begin(), cells.end(), rng);
-  int next = 0;
-  auto cell_center = [&] {
-    const int c = cells[next++];
-    return Vec3(c % 4 + 0.5, (c / 4) % 3 + 0.5, 1.5 * (c / 12) + 0.75);
-  };
-  const core::Box3 area{Vec3(0, 0, 0), Vec3(4, 3, 3)};
-  core::Scene scene = testing::simple_scene(area, {8, 6, 6}, 2 + int(rng() % 2), 30.0, {}, {});
-  testing::randomize_camera_models(rng, scene);
-  core::use_exact_models(scene.cameras);
+  testing::CellRoom room = testing::cell_room(rng);
+  core::Scene scene = std::move(room.scene);
+  auto cell_center = [&] { return room.next_cell(); };
   scene.dynamic_mode = unit(rng) < 0.5 ? core::DynamicMode::masked : core::DynamicMode::modelled;
   scene.plausibility = {};
   if (filter) scene.plausibility = {0.002 + 0.01 * unit(rng), 0.2 * unit(rng)};
@@ -98,17 +90,7 @@ exact::ExactEvaluation expect_same_as_face_cones(const core::Scene& scene,
   exact::ExactOptions reference = options;
   reference.face_cones = true;
   const auto fast = exact::evaluate_exact(scene, config, options);
-  const auto slow = exact::evaluate_exact(scene, config, reference);
-  EXPECT_EQ(fast.states.size(), slow.states.size());
-  for (std::size_t s = 0; s < std::min(fast.states.size(), slow.states.size()); ++s) {
-    const auto &a = fast.states[s], &b = slow.states[s];
-    EXPECT_EQ(a.d_model_sq_exact, b.d_model_sq_exact) << "state " << s;
-    EXPECT_EQ(a.model_volume_exact, b.model_volume_exact) << "state " << s;
-    EXPECT_EQ(a.d_true_sq_exact, b.d_true_sq_exact) << "state " << s;
-    EXPECT_EQ(a.components, b.components) << "state " << s;
-    EXPECT_EQ(a.components_removed, b.components_removed) << "state " << s;
-  }
-  EXPECT_EQ(fast.err, slow.err);
+  testing::expect_same_exact_results(fast, exact::evaluate_exact(scene, config, reference));
   return fast;
 }
 

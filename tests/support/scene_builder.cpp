@@ -278,6 +278,20 @@ std::vector<core::CameraConfig> configs_around(const core::CameraConfig& base,
   return out;
 }
 
+CellRoom cell_room(std::mt19937& rng) {
+  std::vector<int> cells(24);
+  for (int i = 0; i < 24; ++i) cells[i] = i;
+  std::shuffle(cells.begin(), cells.end(), rng);
+  CellRoom room;
+  for (int c : cells)
+    room.cells.emplace_back(c % 4 + 0.5, (c / 4) % 3 + 0.5, 1.5 * (c / 12) + 0.75);
+  const core::Box3 area{core::Vec3(0, 0, 0), core::Vec3(4, 3, 3)};
+  room.scene = simple_scene(area, {8, 6, 6}, 2 + int(rng() % 2), 30.0, {}, {});
+  randomize_camera_models(rng, room.scene);
+  core::use_exact_models(room.scene.cameras);
+  return room;
+}
+
 void randomize_camera_models(std::mt19937& rng, core::Scene& scene) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   for (int i = 0; i < scene.cameras.count; ++i) {

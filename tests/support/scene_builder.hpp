@@ -2,6 +2,7 @@
 // Scenes built in code for tests and benchmarks.
 #include <random>
 #include <string>
+#include <vector>
 
 #include "camplace/core/camera.hpp"
 #include "camplace/core/scene.hpp"
@@ -49,6 +50,17 @@ core::CameraConfig random_config(std::mt19937& rng, const core::Scene& scene);
 /// cone; each with a near plane (0.05–0.8 m) half of the time and a far plane (2–5 m) a third
 /// of the time. Models are named "m<i>".
 void randomize_camera_models(std::mt19937& rng, core::Scene& scene);
+/// A 4×3×3 m room for random exact-pipeline scenes whose object groups never meet: the room's
+/// scene (simple_scene with 8×6×6 voxels and no objects, 2–3 cameras of random models,
+/// randomize_camera_models, as the exact pipeline reads them, core::use_exact_models) and the
+/// centres of its 4×3×2 cells of 1×1×1.5 m in random order, one per object group (next_cell).
+struct CellRoom {
+  core::Scene scene;
+  std::vector<core::Vec3> cells;
+  std::size_t next = 0;
+  core::Vec3 next_cell() { return cells.at(next++); }
+};
+CellRoom cell_room(std::mt19937& rng);
 /// A random roll in [−180°, 180°] for every camera of `config`.
 void randomize_rolls(std::mt19937& rng, core::CameraConfig& config);
 /// `base`, `jittered` copies of it moved by ~0.1 m and ~3° (near-optimal when `base` is) and
