@@ -271,36 +271,29 @@ Verdict VoxelEvaluator::Impl::judge_conservative(const CameraSetup& cam, const V
     const StateMask m = object_states[o] & interest;
     return m & ((free_only || !occupying) ? ~(out.occupied | out.blocked) : ~out.occupied);
   };
-  // Whether a bundle of slot groups may hold a triangle that changes `out`: open's tests on the
-  // bundle's bounds, which hold each of its groups' (the outline's test is monotone in the
-  // rectangle).
-  auto open_bundle = [&](const detail::SlotBundle& bundle) {
-    const auto& r = bundle.rect;
+  // Whether slots within these bounds may hold a triangle that changes `out`: a rectangle that
+  // meets the box's, open states among `states` (those of the slots' objects), and if blocking,
+  // not wholly beyond the box (test's tests, on bounds that hold each slot's).
+  auto open_bounds = [&](const std::array<double, 4>& r, StateMask states, bool occupying,
+                         double near) {
     if (r[0] > vx1 || r[1] < vx0 || r[2] > vy1 || r[3] < vy0) return false;
-    const StateMask decided =
-        (free_only || !bundle.occupying) ? out.occupied | out.blocked : out.occupied;
-    if (!(bundle.states & interest & ~decided)) return false;
-    if (!bundle.occupying) {
+    const StateMask decided = (free_only || !occupying) ? out.occupied | out.blocked : out.occupied;
+    if (!(states & interest & ~decided)) return false;
+    if (!occupying) {
       if (far < 0.0) far = (w.cwiseAbs() + size.half).norm();
-      if (!(bundle.near < far)) return false;
+      if (!(near < far)) return false;
     }
     return !(outlined && outside(r));
   };
-  // Whether slot group g may hold a triangle that changes `out`: one whose rectangle meets the
-  // box's, of an object with open states, and if blocking, not wholly beyond the box (test's
-  // tests, on the group's bounds).
+  // A bundle of slot groups: its bounds hold each of its groups' (the outline's test is monotone
+  // in the rectangle).
+  auto open_bundle = [&](const detail::SlotBundle& bundle) {
+    return open_bounds(bundle.rect, bundle.states, bundle.occupying, bundle.near);
+  };
   auto open = [&](int g) {
     const detail::SlotGroup& group = cam.groups[g];
-    const auto& r = group.rect;
-    if (r[0] > vx1 || r[1] < vx0 || r[2] > vy1 || r[3] < vy0) return false;
-    const int o = group.object;
-    const bool occupying = objects[o].occupying;
-    if (!open_states(o, occupying)) return false;
-    if (!occupying) {
-      if (far < 0.0) far = (w.cwiseAbs() + size.half).norm();
-      if (!(group.near < far)) return false;
-    }
-    return !(outlined && outside(r));
+    return open_bounds(group.rect, object_states[group.object], objects[group.object].occupying,
+                       group.near);
   };
   auto project = [&](int g) { ensure_projected(cam, g); };
   // True when `out` changed. Inlined into judge_candidates' loops (GCC and Clang): 5% of an
@@ -532,6 +525,13 @@ StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& 
     if (pass(s)) return 0;
   }
   if (detail::outside_bins(cam.coarse, vx0, vx1, vy0, vy1)) return clear;
+  auto may_decide = [&](const std::array<double, 4>& rect, StateMask states, bool occupying,
+                        double near) {
+    if (rect[0] > vx1 || rect[1] < vx0 || rect[2] > vy1 || rect[3] < vy0) return false;
+    if (!(states & clear)) return false;
+    if (!occupying && near >= far) return false;
+    return !(outlined && outside(rect));
+  };
   // The coarse bins' lists repeat bundles: a slot that did not decide the block once does not
   // the next time (decides depends on the slot and the block only), and one that did has no
   // state left in `clear`; so each bundle is visited once.
@@ -544,29 +544,18 @@ StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& 
         const int u = cand.coarse.items[n];
         if (scratch.stamp[u] == scratch.visit) continue;
         scratch.stamp[u] = scratch.visit;
-        // The group tests below on the bundle's bounds, which hold each of its groups'.
+        // decides' first tests on bounds that hold each slot's: the rectangle holds each slot's,
+        // `near` is at most each triangle's near_distance. First on the bundle's bounds, which
+        // hold each of its groups'; a bundle of one group has that group's.
         const detail::SlotBundle& bundle = cand.bundles[u];
-        {
-          const auto& rect = bundle.rect;
-          if (rect[0] > vx1 || rect[1] < vx0 || rect[2] > vy1 || rect[3] < vy0) continue;
-          if (!(bundle.states & clear)) continue;
-          if (!bundle.occupying && bundle.near >= far) continue;
-          if (outlined && outside(rect)) continue;
-        }
-        const bool single = bundle.last - bundle.first == 1;  // the group's bounds: tested
+        if (!may_decide(bundle.rect, bundle.states, bundle.occupying, bundle.near)) continue;
+        const bool single = bundle.last - bundle.first == 1;
         for (int k = bundle.first; k < bundle.last; ++k) {
           const int g = cand.bundle_groups[k];
-          // decides' first tests on the group's bounds: its rectangle holds each slot's, `near`
-          // is at most each triangle's near_distance.
           const detail::SlotGroup& group = cam.groups[g];
-          if (!single) {
-            const auto& rect = group.rect;
-            if (rect[0] > vx1 || rect[1] < vx0 || rect[2] > vy1 || rect[3] < vy0) continue;
-            const int o = group.object;
-            if (!(object_states[o] & clear)) continue;
-            if (!objects[o].occupying && group.near >= far) continue;
-            if (outlined && outside(rect)) continue;
-          }
+          if (!single && !may_decide(group.rect, object_states[group.object],
+                                     objects[group.object].occupying, group.near))
+            continue;
           ensure_projected(cam, g);
           for (int s = group.first; s < group.last; ++s) {
             if (pass(s)) return 0;
