@@ -14,6 +14,7 @@
 #include "camplace/core/camera.hpp"
 #include "camplace/core/scene.hpp"
 #include "camplace/exact/evaluator.hpp"
+#include "environment.hpp"
 #include "same_results.hpp"
 #include "scene_builder.hpp"
 
@@ -23,10 +24,10 @@ namespace {
 TEST(ObstacleOrder, RandomFineMeshScenesGiveTheFormerOrdersFractions) {
   // CAMPLACE_EXACT_ORDER_TRIALS=N runs N scenes (longer checks by hand, up to 800 triangles;
   // default 4, up to 200), CAMPLACE_EXACT_ORDER_SEED another seed.
-  const char* env = std::getenv("CAMPLACE_EXACT_ORDER_TRIALS");
-  const int trials = env ? std::atoi(env) : 4;
-  const char* seed = std::getenv("CAMPLACE_EXACT_ORDER_SEED");
-  std::mt19937 rng(seed ? unsigned(std::atol(seed)) : 20261204u);
+  const int trials = int(testing::env_number("CAMPLACE_EXACT_ORDER_TRIALS", 4));
+  const unsigned default_seed = 20261204u;
+  const auto seed = unsigned(testing::env_number("CAMPLACE_EXACT_ORDER_SEED", default_seed));
+  std::mt19937 rng(seed);
   const int triangles[] = {50, 120, 200, 60, 400, 800};
   int filtered_states = 0, nonempty_states = 0;
   for (int trial = 0; trial < trials; ++trial) {
@@ -51,7 +52,7 @@ TEST(ObstacleOrder, RandomFineMeshScenesGiveTheFormerOrdersFractions) {
     }
   }
   // The default scenes exercise both the filter and non-empty models (other seeds may not).
-  if (trials >= 4 && seed == nullptr) {
+  if (trials >= 4 && seed == default_seed) {
     EXPECT_GT(filtered_states, 0);
     EXPECT_GT(nonempty_states, 0);
   }

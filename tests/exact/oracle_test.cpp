@@ -16,6 +16,7 @@
 #include "camplace/exact/evaluator.hpp"
 #include "camplace/voxel/evaluator.hpp"
 #include "camplace/voxel/grid.hpp"
+#include "environment.hpp"
 #include "scene_builder.hpp"
 
 namespace camplace {
@@ -391,10 +392,8 @@ core::Scene small_room_scene(std::mt19937& rng) {
 
 TEST(ExactOracle, CamerasOnTheBoundaryOfTheAreaAgreeWithTheBruteForceSensorModel) {
   // CAMPLACE_EXACT_FUZZ_TRIALS=N runs N trials (longer fuzzing by hand); default 20 (~6 s).
-  const char* env = std::getenv("CAMPLACE_EXACT_FUZZ_TRIALS");
-  const int trials = env ? std::atoi(env) : 20;
-  const char* seed = std::getenv("CAMPLACE_EXACT_FUZZ_SEED");
-  std::mt19937 rng(seed ? unsigned(std::atol(seed)) : 20240612u);
+  const int trials = int(testing::env_number("CAMPLACE_EXACT_FUZZ_TRIALS", 20));
+  std::mt19937 rng(unsigned(testing::env_number("CAMPLACE_EXACT_FUZZ_SEED", 20240612u)));
   for (int trial = 0; trial < trials; ++trial) {
     core::Scene scene;
     if (trial % 2 == 0) {

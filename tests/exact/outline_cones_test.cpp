@@ -16,6 +16,7 @@
 #include "camplace/core/camera.hpp"
 #include "camplace/core/geometry.hpp"
 #include "camplace/exact/evaluator.hpp"
+#include "environment.hpp"
 #include "oracle.hpp"
 #include "same_results.hpp"
 #include "scene_builder.hpp"
@@ -97,10 +98,8 @@ exact::ExactEvaluation expect_same_as_face_cones(const core::Scene& scene,
 TEST(OutlineCones, RandomFineMeshScenesEqualTheFaceConesExactlyAndTheBruteForceModel) {
   // CAMPLACE_EXACT_OUTLINE_TRIALS=N runs N scenes (longer checks by hand); default 4 (the
   // per-face reference takes seconds per scene).
-  const char* env = std::getenv("CAMPLACE_EXACT_OUTLINE_TRIALS");
-  const int trials = env ? std::atoi(env) : 4;
-  const char* seed = std::getenv("CAMPLACE_EXACT_OUTLINE_SEED");
-  std::mt19937 rng(seed ? unsigned(std::atol(seed)) : 20261203u);
+  const int trials = int(testing::env_number("CAMPLACE_EXACT_OUTLINE_TRIALS", 4));
+  std::mt19937 rng(unsigned(testing::env_number("CAMPLACE_EXACT_OUTLINE_SEED", 20261203u)));
   for (int trial = 0; trial < trials; ++trial) {
     SCOPED_TRACE("trial " + std::to_string(trial));
     const bool filter = trial % 3 == 2;

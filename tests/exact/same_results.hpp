@@ -23,7 +23,9 @@ inline void expect_same_exact_results(const exact::ExactEvaluation& a,
     EXPECT_EQ(x.model_volume_exact, y.model_volume_exact) << "state " << s;
     EXPECT_EQ(x.d_true_sq_exact, y.d_true_sq_exact) << "state " << s;
     EXPECT_EQ(x.components, y.components) << "state " << s;
-    if (!removed_may_differ) EXPECT_EQ(x.components_removed, y.components_removed) << "state " << s;
+    if (!removed_may_differ) {
+      EXPECT_EQ(x.components_removed, y.components_removed) << "state " << s;
+    }
   }
   EXPECT_EQ(a.err, b.err);
 }

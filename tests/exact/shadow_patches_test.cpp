@@ -20,6 +20,7 @@
 #include "camplace/core/camera.hpp"
 #include "camplace/core/geometry.hpp"
 #include "camplace/exact/evaluator.hpp"
+#include "environment.hpp"
 #include "internal/shadow_check.hpp"
 #include "oracle.hpp"
 #include "same_results.hpp"
@@ -81,10 +82,10 @@ core::CameraSetting looking(const Vec3& position, const Vec3& direction) {
 TEST(ShadowPatches, EqualThePerFaceShadowsOnRandomDentedMeshes) {
   // CAMPLACE_EXACT_SHADOW_TRIALS=N runs N solids, 3 views each (longer checks by hand); default
   // 8 (the per-face reference takes seconds per view).
-  const char* env = std::getenv("CAMPLACE_EXACT_SHADOW_TRIALS");
-  const int trials = env ? std::atoi(env) : 8;
-  const char* seed = std::getenv("CAMPLACE_EXACT_SHADOW_SEED");
-  std::mt19937 rng(seed ? unsigned(std::atol(seed)) : 20261204u);
+  const int trials = int(testing::env_number("CAMPLACE_EXACT_SHADOW_TRIALS", 8));
+  const unsigned default_seed = 20261204u;
+  const auto seed = unsigned(testing::env_number("CAMPLACE_EXACT_SHADOW_SEED", default_seed));
+  std::mt19937 rng(seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const core::Box3 box{Vec3(-3, -3, -3), Vec3(3, 3, 3)};
   int checked = 0, grazing = 0, split = 0, crossing = 0;
@@ -139,7 +140,7 @@ TEST(ShadowPatches, EqualThePerFaceShadowsOnRandomDentedMeshes) {
   }
   std::printf("%d views checked: %d grazing, %d with several patches, %d with crossing faces\n",
               checked, grazing, split, crossing);
-  if (trials >= 8 && seed == nullptr) {
+  if (trials >= 8 && seed == default_seed) {
     EXPECT_GT(grazing, 0);
     EXPECT_GT(split, 0);
     EXPECT_GT(crossing, 0);
@@ -183,10 +184,10 @@ core::Scene dented_scene(std::mt19937& rng, bool filter) {
 
 TEST(ShadowPatches, RandomModelledScenesEqualThePerFaceShadowsExactlyAndTheBruteForceModel) {
   // CAMPLACE_EXACT_SHADOW_SCENES=N runs N scenes (longer checks by hand); default 4.
-  const char* env = std::getenv("CAMPLACE_EXACT_SHADOW_SCENES");
-  const int trials = env ? std::atoi(env) : 4;
-  const char* seed = std::getenv("CAMPLACE_EXACT_SHADOW_SEED");
-  std::mt19937 rng(seed ? unsigned(std::atol(seed)) : 20261205u);
+  const int trials = int(testing::env_number("CAMPLACE_EXACT_SHADOW_SCENES", 4));
+  const unsigned default_seed = 20261205u;
+  const auto seed = unsigned(testing::env_number("CAMPLACE_EXACT_SHADOW_SEED", default_seed));
+  std::mt19937 rng(seed);
   int nonempty = 0;
   for (int trial = 0; trial < trials; ++trial) {
     SCOPED_TRACE("trial " + std::to_string(trial));
@@ -208,7 +209,7 @@ TEST(ShadowPatches, RandomModelledScenesEqualThePerFaceShadowsExactlyAndTheBrute
       EXPECT_EQ(agreement.mismatches, 0);
     }
   }
-  if (trials >= 4 && seed == nullptr) {
+  if (trials >= 4 && seed == default_seed) {
     EXPECT_GT(nonempty, 0);
   }
 }
