@@ -550,15 +550,30 @@ StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& 
         const detail::SlotBundle& bundle = cand.bundles[u];
         if (!may_decide(bundle.rect, bundle.states, bundle.occupying, bundle.near)) continue;
         const bool single = bundle.last - bundle.first == 1;
+        // Once a copy of a bundle of several may decide the block, the later copies whose
+        // group's bounds may too have their states left out of the result untested: copies
+        // moved a little mostly decide alike, and fewer states cleared only leaves more voxels
+        // to judge one by one (L4 step 4).
+        bool decided = false;
         for (int k = bundle.first; k < bundle.last; ++k) {
           const int g = cand.bundle_groups[k];
           const detail::SlotGroup& group = cam.groups[g];
           if (!single && !may_decide(group.rect, object_states[group.object],
                                      objects[group.object].occupying, group.near))
             continue;
+          if (decided) {
+            clear &= ~object_states[group.object];
+            if (!clear) return 0;
+            continue;
+          }
           ensure_projected(cam, g);
           for (int s = group.first; s < group.last; ++s) {
-            if (pass(s)) return 0;
+            const StateMask m = object_states[cam.slot_object[s]] & clear;
+            if (!m || !decides(s)) continue;
+            clear &= ~m;
+            if (!clear) return 0;
+            decided = !single;
+            if (decided) break;
           }
         }
       }
