@@ -6,12 +6,14 @@
 // shadow(P) = conv(P, c + T(P − c)) for a convex P, with T a power of two large enough that the
 // far cap lies outside the pipeline's clip box (a box around S: only M ⊂ S matters). Private to
 // exact_pipeline.cpp.
+#include <CGAL/Interval_nt.h>
 #include <CGAL/boost/graph/helpers.h>
 #include <CGAL/intersections.h>
 
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -345,6 +347,54 @@ inline Nef outline_cone(const ViewPoint& cam, const std::vector<OutlineRegion>& 
     parts.push_back(std::move(cone));
   }
   return union_all(std::move(parts));
+}
+
+/// Certified bounds of the image-plane coordinates (s, r) of points that all lie strictly in front
+/// of the camera ((x − c)·d > 0); nullopt when some point may not.
+struct ImageBounds {
+  double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL};
+};
+inline std::optional<ImageBounds> image_bounds(const ImagePlane& plane,
+                                               const std::vector<Point>& pts) {
+  using I = CGAL::Interval_nt<>;
+  auto iv = [](const FT& x) { return I(CGAL::to_interval(x)); };
+  const I c[3] = {iv(plane.c.x()), iv(plane.c.y()), iv(plane.c.z())};
+  const I d[3] = {iv(plane.d.x()), iv(plane.d.y()), iv(plane.d.z())};
+  const I a[3] = {iv(plane.a.x()), iv(plane.a.y()), iv(plane.a.z())};
+  const I b[3] = {iv(plane.b.x()), iv(plane.b.y()), iv(plane.b.z())};
+  ImageBounds out;
+  for (const auto& p : pts) {
+    const I x[3] = {iv(p.x()) - c[0], iv(p.y()) - c[1], iv(p.z()) - c[2]};
+    const I depth = x[0] * d[0] + x[1] * d[1] + x[2] * d[2];
+    if (!(depth.inf() > 0.0)) return std::nullopt;
+    const I st[2] = {(x[0] * a[0] + x[1] * a[1] + x[2] * a[2]) / depth,
+                     (x[0] * b[0] + x[1] * b[1] + x[2] * b[2]) / depth};
+    for (int k = 0; k < 2; ++k) {
+      out.lo[k] = std::min(out.lo[k], st[k].inf());
+      out.hi[k] = std::max(out.hi[k], st[k].sup());
+    }
+  }
+  return out;
+}
+
+/// False only when no ray from c through one of the solids meets the convex region with the
+/// corners `region` (then no shadow or silhouette cone of theirs meets it: each lies in
+/// {c + t(x − c) : x ∈ conv(solid), t ≥ 0}). Decided in the image plane: with the region and a
+/// solid wholly in front of c, a common point's image lies in both convex images, so in both
+/// images' bounds (docs/design/exact-model.md E3).
+inline bool sight_may_meet(const ImagePlane& plane, const std::vector<const Solid*>& solids,
+                           const std::vector<Point>& region) {
+  if (solids.empty()) return false;
+  const auto r = image_bounds(plane, region);
+  if (!r) return true;
+  for (const Solid* s : solids) {
+    const auto b = image_bounds(plane, s->points);
+    if (!b) return true;
+    if (b->lo[0] <= r->hi[0] && r->lo[0] <= b->hi[0] && b->lo[1] <= r->hi[1] &&
+        r->lo[1] <= b->hi[1])
+      return true;
+  }
+  return false;
 }
 
 /// True when c lies in one of the closed solids (such a camera sees nothing, SPEC §3.3).

@@ -16,15 +16,23 @@
 //       obstacles subtracted once, last (ExactOptions::obstacles_last; the former order starts
 //       from S ∖ obstacles, so every camera's boolean carries the obstacles' facets).
 //
+// Once a box around the model fills at most half the clip box (ExactOptions::model_box_fraction),
+// each camera's free region is built only within that box, from FOV ∩ box and the parts of U and
+// V that rays from c through the box can meet (state_free_within; the same model,
+// docs/design/exact-model.md E3).
+//
 // What is computed once and reused (per Pipeline, i.e. per worker thread):
+//   hidden parts  the static obstacles' shadows per camera, the dynamic obstacles' shadows or
+//                 cones per camera and step;
 //   static part   FOV ∩ clip box minus the static obstacles' shadows, per camera;
 //   step part     that minus the step's dynamic obstacles' shadows or cones, per camera and step
-//                 (dropped when the pipeline moves on to another step);
+//                 (the step's parts dropped when the pipeline moves on to another step);
 //   target cones  the union V of a state's targets, per camera and per pose: states whose targets
 //                 have the same meshes (vertex for vertex) and whose occluders have the same
 //                 meshes share it (a person standing at the same place in every time step);
 //   step obstacles the union of the step's obstacles, and in the former order S minus it, per
 //                 step (dropped likewise).
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstring>
@@ -49,15 +57,16 @@ namespace camplace::exact::internal {
 class Pipeline {
  public:
   /// Throws core::InputError when the configuration does not match the scene. Of `options`, the
-  /// choices of construction: face_cones, face_shadows, reuse_poses, obstacles_last
-  /// (ExactOptions).
+  /// choices of construction: face_cones, face_shadows, reuse_poses, obstacles_last,
+  /// model_box_fraction (ExactOptions).
   Pipeline(const core::Scene& scene, const core::CameraConfig& config,
            const ExactOptions& options = {})
       : scene_(scene),
         face_cones_(options.face_cones),
         face_shadows_(options.face_shadows),
         reuse_poses_(options.reuse_poses),
-        obstacles_last_(options.obstacles_last) {
+        obstacles_last_(options.obstacles_last),
+        model_box_fraction_(options.model_box_fraction) {
     core::check_configuration(scene, config);
     area_ = box_nef(scene.area);
     // The FOVs are clipped to a box a little larger than S rather than to S itself: the model's
@@ -67,6 +76,8 @@ class Pipeline {
     const double margin = std::exp2(std::floor(std::log2(scene.area.diagonal() / 16.0)));
     const core::Box3 clip{scene.area.min - core::Vec3::Constant(margin),
                           scene.area.max + core::Vec3::Constant(margin)};
+    clip_ = clip;
+    margin_ = margin;
     const Nef clip_box = box_nef(clip);
     auto add = [this](const std::vector<core::SceneObject>& objects) {
       for (const auto& o : objects) {
@@ -89,6 +100,7 @@ class Pipeline {
       cameras_.push_back(std::move(cam));
     }
     step_free_.resize(cameras_.size());
+    step_hidden_.resize(cameras_.size());
     step_obstacles_.resize(scene.time_steps.size());
     step_area_.resize(scene.time_steps.size());
   }
@@ -122,7 +134,11 @@ class Pipeline {
     Nef m = obstacles_last_ ? area_ : step_area(s.time_step, objects);
     std::size_t c = 0;
     for (; c < cameras_.size() && !m.is_empty(); ++c) {
-      const Nef free = state_free(c, s, objects);
+      // Once the model's box fills at most model_box_fraction_ of the clip box (by default half),
+      // only the free region's part in that box is built and subtracted: the same set, and the
+      // later booleans skip the static and step parts' facets far from the model (E3).
+      const std::optional<core::Box3> box = model_box(m);
+      const Nef free = box ? state_free_within(c, s, objects, *box) : state_free(c, s, objects);
       if (!free.is_empty()) m -= free;
       if (c + 1 < cameras_.size()) out.discarded += discard_implausible(m, scene_.plausibility);
       if (camera_done) camera_done();
@@ -153,6 +169,7 @@ class Pipeline {
     ViewPoint view;
     Nef fov;           ///< pyramid ∩ clip box
     ImagePlane image;  ///< for the outlines of occupying objects and the shadows' patches
+    std::optional<Nef> static_hidden;  ///< the static obstacles' shadows
     std::optional<Nef> static_free;
   };
 
@@ -206,50 +223,29 @@ class Pipeline {
     return union_all(std::move(parts));
   }
 
-  /// `free` minus what camera c cannot see past among the state's objects of one kind (hidden).
-  /// Empty when c lies inside one of them.
-  Nef remove_hidden(std::size_t c, Nef free, const std::vector<core::StateObject>& objects,
-                    core::ObjectKind kind) const {
-    if (free.is_empty()) return free;
-    if (camera_inside(cameras_[c].view, of_kind(objects, kind))) return Nef();
-    const Nef removed = hidden(c, objects, kind);
-    if (!removed.is_empty()) free -= removed;
-    return free;
-  }
-
-  /// FOV ∩ clip box minus the static obstacles' shadows (cached per camera). Static obstacles
-  /// always occlude (SPEC §3), so this part depends on no time step.
-  const Nef& static_free(std::size_t c, const std::vector<core::StateObject>& objects) {
-    Camera& cam = cameras_[c];
-    if (!cam.static_free) {
+  /// What camera c cannot see past among the state's objects of one kind (hidden), cached: the
+  /// static obstacles' per camera, the dynamic obstacles' per camera and step, the targets' per
+  /// camera and pose (target_cones_; built for every state without reuse_poses_).
+  Nef hidden_cached(std::size_t c, const core::StateIndex& s,
+                    const std::vector<core::StateObject>& objects, core::ObjectKind kind) {
+    if (kind == core::ObjectKind::static_obstacle) {
+      // Static obstacles always occlude (SPEC §3), so this part depends on no time step.
       CAMPLACE_ASSERT(core::role_of(core::ObjectKind::static_obstacle, scene_.dynamic_mode) ==
                       core::ObjectRole::occluding);
-      cam.static_free.emplace(
-          remove_hidden(c, cam.fov, objects, core::ObjectKind::static_obstacle));
+      auto& slot = cameras_[c].static_hidden;
+      if (!slot) slot = hidden(c, objects, kind);
+      return *slot;
     }
-    return *cam.static_free;
-  }
-
-  /// static_free minus the dynamic obstacles' shadows or cones (cached per camera and step).
-  const Nef& step_free(std::size_t c, int h, const std::vector<core::StateObject>& objects) {
-    auto& slot = step_free_[c];
-    if (slot.size() < scene_.time_steps.size()) slot.resize(scene_.time_steps.size());
-    if (!slot[h])
-      slot[h] =
-          remove_hidden(c, static_free(c, objects), objects, core::ObjectKind::dynamic_obstacle);
-    return *slot[h];
-  }
-
-  /// Free_c of SPEC §3 for one state: step_free minus the targets' cones, which depend only on
-  /// the camera, the targets' meshes and the occluders' meshes (hidden; targets never occlude),
-  /// so states of the same pose share them (target_cones_).
-  Nef state_free(std::size_t c, const core::StateIndex& s,
-                 const std::vector<core::StateObject>& objects) {
-    const Nef& free = step_free(c, s.time_step, objects);
-    if (!reuse_poses_) return remove_hidden(c, free, objects, core::ObjectKind::target);
-    if (free.is_empty()) return free;
-    if (camera_inside(cameras_[c].view, of_kind(objects, core::ObjectKind::target))) return Nef();
-    // The key: the camera, the targets' shapes in order, a separator, the occluders' shapes.
+    if (kind == core::ObjectKind::dynamic_obstacle) {
+      auto& slot = step_hidden_[c];
+      if (slot.size() < scene_.time_steps.size()) slot.resize(scene_.time_steps.size());
+      if (!slot[s.time_step]) slot[s.time_step] = hidden(c, objects, kind);
+      return *slot[s.time_step];
+    }
+    // The targets' cones depend only on the camera, the targets' meshes and the occluders' meshes
+    // (hidden; targets never occlude), so states of the same pose share them. The key: the
+    // camera, the targets' shapes in order, a separator, the occluders' shapes.
+    if (!reuse_poses_) return hidden(c, objects, kind);
     std::vector<int> key{int(c)};
     for (const auto& o : objects)
       if (o.kind == core::ObjectKind::target) key.push_back(shape_.at(o.object));
@@ -257,10 +253,97 @@ class Pipeline {
     for (const auto& o : objects)
       if (o.role == core::ObjectRole::occluding) key.push_back(shape_.at(o.object));
     auto it = target_cones_.find(key);
-    if (it == target_cones_.end())
-      it = target_cones_.emplace(key, hidden(c, objects, core::ObjectKind::target)).first;
-    if (it->second.is_empty()) return free;
-    return free - it->second;
+    if (it == target_cones_.end()) it = target_cones_.emplace(key, hidden(c, objects, kind)).first;
+    return it->second;
+  }
+
+  /// `free` minus what camera c cannot see past among the state's objects of one kind
+  /// (hidden_cached). Empty when c lies inside one of them.
+  Nef remove_hidden(std::size_t c, Nef free, const core::StateIndex& s,
+                    const std::vector<core::StateObject>& objects, core::ObjectKind kind) {
+    if (free.is_empty()) return free;
+    if (camera_inside(cameras_[c].view, of_kind(objects, kind))) return Nef();
+    const Nef removed = hidden_cached(c, s, objects, kind);
+    if (!removed.is_empty()) free -= removed;
+    return free;
+  }
+
+  /// FOV ∩ clip box minus the static obstacles' shadows (cached per camera).
+  const Nef& static_free(std::size_t c, const core::StateIndex& s,
+                         const std::vector<core::StateObject>& objects) {
+    Camera& cam = cameras_[c];
+    if (!cam.static_free)
+      cam.static_free.emplace(
+          remove_hidden(c, cam.fov, s, objects, core::ObjectKind::static_obstacle));
+    return *cam.static_free;
+  }
+
+  /// static_free minus the dynamic obstacles' shadows or cones (cached per camera and step).
+  const Nef& step_free(std::size_t c, const core::StateIndex& s,
+                       const std::vector<core::StateObject>& objects) {
+    auto& slot = step_free_[c];
+    if (slot.size() < scene_.time_steps.size()) slot.resize(scene_.time_steps.size());
+    if (!slot[s.time_step])
+      slot[s.time_step] = remove_hidden(c, static_free(c, s, objects), s, objects,
+                                        core::ObjectKind::dynamic_obstacle);
+    return *slot[s.time_step];
+  }
+
+  /// Free_c of SPEC §3 for one state: step_free minus the targets' cones.
+  Nef state_free(std::size_t c, const core::StateIndex& s,
+                 const std::vector<core::StateObject>& objects) {
+    return remove_hidden(c, step_free(c, s, objects), s, objects, core::ObjectKind::target);
+  }
+
+  /// A box around the model `m` (bounded, in S) with short coordinates: multiples of margin_, at
+  /// least one margin_ beyond the intervals of its vertices' coordinates, cut to the clip box; none
+  /// when that box fills more than model_box_fraction_ of the clip box (then clipping saves
+  /// little).
+  std::optional<core::Box3> model_box(const Nef& m) const {
+    core::Vec3 lo = core::Vec3::Constant(HUGE_VAL), hi = core::Vec3::Constant(-HUGE_VAL);
+    for (auto v = m.vertices_begin(); v != m.vertices_end(); ++v) {
+      const Point& p = v->point();
+      const std::pair<double, double> iv[3] = {CGAL::to_interval(p.x()), CGAL::to_interval(p.y()),
+                                               CGAL::to_interval(p.z())};
+      for (int k = 0; k < 3; ++k) {
+        lo[k] = std::min(lo[k], iv[k].first);
+        hi[k] = std::max(hi[k], iv[k].second);
+      }
+    }
+    if (!(lo.x() <= hi.x())) return std::nullopt;
+    core::Box3 box;
+    for (int k = 0; k < 3; ++k) {
+      box.min[k] = std::max(clip_.min[k], std::floor(lo[k] / margin_) * margin_ - margin_);
+      box.max[k] = std::min(clip_.max[k], std::ceil(hi[k] / margin_) * margin_ + margin_);
+    }
+    const core::Vec3 size = box.max - box.min, clip_size = clip_.max - clip_.min;
+    if (size.prod() > model_box_fraction_ * clip_size.prod()) return std::nullopt;
+    return box;
+  }
+
+  /// Free_c ∩ box for one state, `box` holding the model: FOV ∩ box minus the static obstacles'
+  /// shadows, the dynamic obstacles' shadows or cones and the targets' cones, each kind left out
+  /// when no ray from c through its objects meets FOV ∩ box (sight_may_meet). The same set as
+  /// state_free ∩ box (docs/design/exact-model.md E3).
+  Nef state_free_within(std::size_t c, const core::StateIndex& s,
+                        const std::vector<core::StateObject>& objects, const core::Box3& box) {
+    constexpr core::ObjectKind kinds[] = {core::ObjectKind::static_obstacle,
+                                          core::ObjectKind::dynamic_obstacle,
+                                          core::ObjectKind::target};
+    for (const auto kind : kinds)
+      if (camera_inside(cameras_[c].view, of_kind(objects, kind))) return Nef();
+    Nef free = cameras_[c].fov * box_nef(box);
+    if (free.is_empty()) return free;
+    std::vector<Point> corners;  // of the convex FOV ∩ box
+    for (auto v = free.vertices_begin(); v != free.vertices_end(); ++v)
+      corners.push_back(v->point());
+    for (const auto kind : kinds) {
+      if (!sight_may_meet(cameras_[c].image, of_kind(objects, kind), corners)) continue;
+      const Nef removed = hidden_cached(c, s, objects, kind);
+      if (!removed.is_empty()) free -= removed;
+      if (free.is_empty()) break;
+    }
+    return free;
   }
 
   /// The id of a mesh's shape: meshes with the same vertices (bit for bit) and triangles get the
@@ -292,8 +375,9 @@ class Pipeline {
 
   /// Drops the caches of time step h.
   void release_step(int h) {
-    for (auto& slot : step_free_)
-      if (std::size_t(h) < slot.size()) slot[h].reset();
+    for (auto& slots : {&step_free_, &step_hidden_})
+      for (auto& slot : *slots)
+        if (std::size_t(h) < slot.size()) slot[h].reset();
     step_obstacles_[h].reset();
     step_area_[h].reset();
   }
@@ -325,15 +409,18 @@ class Pipeline {
   bool face_shadows_ = false;
   bool reuse_poses_ = true;
   bool obstacles_last_ = true;
+  double model_box_fraction_ = 0.5;
   std::unordered_map<const core::SceneObject*, int> shape_;
   std::unordered_map<std::size_t, std::vector<std::pair<const core::TriangleMesh*, int>>>
       shapes_by_hash_;
   int next_shape_ = 0;
   std::map<std::vector<int>, Nef> target_cones_;
   Nef area_;
+  core::Box3 clip_;      ///< S enlarged by margin_ (m)
+  double margin_ = 0.0;  ///< a power of two (m)
   std::unordered_map<const core::SceneObject*, Solid> solids_;
   std::vector<Camera> cameras_;
-  std::vector<std::vector<std::optional<Nef>>> step_free_;
+  std::vector<std::vector<std::optional<Nef>>> step_free_, step_hidden_;
   std::vector<std::optional<Nef>> step_obstacles_, step_area_;
   int current_step_ = -1;
 };

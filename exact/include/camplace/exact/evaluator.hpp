@@ -51,6 +51,11 @@ struct ExactOptions {
   /// components do not depend on it; the count of removed components may (pieces are discarded
   /// at other times).
   bool obstacles_last = true;
+  /// Build each camera's free region only within a box around the model once that box fills at
+  /// most this fraction of the box around S (docs/design/exact-model.md E3): 0 never (the whole
+  /// free region, the reference for tests), 1 from the first camera on. The results do not
+  /// depend on it, the count of removed components included.
+  double model_box_fraction = 0.5;
   /// The states to evaluate (each once). Empty: every state of the scene. Otherwise
   /// ExactEvaluation::states (and models) hold only these, in the scene's state order, and its
   /// err sums only their terms. A state the scene does not have is a core::OptionError

@@ -1,0 +1,99 @@
+// Each camera's free region built only within a box around the model
+// (ExactOptions::model_box_fraction, docs/design/exact-model.md E3) against the whole free region
+// (fraction 0, the reference): every state's d_model², model volume, kept components and count of
+// removed components are the same exact values, on random scenes (either dynamic mode, boxes and
+// tetrahedra or fine meshes, the plausibility filter on in half of them, some cameras on the
+// walls) and on paper_basic with jittered corner configurations (cameras outside the boxes, so
+// that whole kinds of objects are left out), with the box used from the first camera on
+// (fraction 1) and by default (once it fills at most half the box around S).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <random>
+#include <string>
+
+#include "camplace/core/camera.hpp"
+#include "camplace/core/scene.hpp"
+#include "camplace/exact/evaluator.hpp"
+#include "same_results.hpp"
+#include "scene_builder.hpp"
+
+namespace camplace {
+namespace {
+
+TEST(ModelBox, RandomScenesGiveTheWholeFreeRegionsFractionsAndCounts) {
+  // CAMPLACE_EXACT_MODEL_BOX_TRIALS=N runs N scenes (default 6), CAMPLACE_EXACT_MODEL_BOX_SEED
+  // another seed.
+  const char* env = std::getenv("CAMPLACE_EXACT_MODEL_BOX_TRIALS");
+  const int trials = env ? std::atoi(env) : 6;
+  const char* seed = std::getenv("CAMPLACE_EXACT_MODEL_BOX_SEED");
+  std::mt19937 rng(seed ? unsigned(std::atol(seed)) : 20261205u);
+  int filtered_states = 0, nonempty_states = 0;
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int trial = 0; trial < trials; ++trial) {
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    core::Scene scene = testing::random_scene(rng, {8, 6, 6});
+    if (trial % 3 == 2) scene = testing::with_fine_meshes(std::move(scene), 120);
+    if (trial % 2 == 1) scene.plausibility = {0.002 + 0.02 * unit(rng), 0.1 + 0.5 * unit(rng)};
+    // More cameras than random_scene's, so that the model shrinks well inside S; every other one
+    // on a wall, looking at a point of S, so that the box around the model leaves it out and
+    // whole kinds of objects can be left out (a camera in the box sees every object's rays meet
+    // it).
+    scene.cameras.resize(5);
+    core::CameraConfig config = testing::random_config(rng, scene);
+    for (std::size_t i = 0; i < config.size(); i += 2) {
+      core::Vec3& p = config[i].position;
+      const int axis = int(unit(rng) * 2.0);  // x or y wall
+      p[axis] = unit(rng) < 0.5 ? scene.area.min[axis] : scene.area.max[axis];
+      const core::Vec3 at = scene.area.min + scene.area.size().cwiseProduct(
+                                                 core::Vec3(unit(rng), unit(rng), 0.5 * unit(rng)));
+      const core::Vec3 d = (at - p).normalized();
+      config[i].yaw = std::atan2(d.y(), d.x());
+      config[i].pitch = std::asin(d.z());
+    }
+    exact::ExactOptions whole;
+    whole.threads = 1;
+    whole.model_box_fraction = 0.0;
+    const auto reference = exact::evaluate_exact(scene, config, whole);
+    for (const double fraction : {1.0, 0.5}) {
+      SCOPED_TRACE("model_box_fraction " + std::to_string(fraction));
+      exact::ExactOptions boxed = whole;
+      boxed.model_box_fraction = fraction;
+      testing::expect_same_exact_results(exact::evaluate_exact(scene, config, boxed), reference);
+    }
+    for (const auto& r : reference.states) {
+      filtered_states += r.components_removed > 0;
+      nonempty_states += r.components > 0;
+    }
+  }
+  // The default scenes exercise both the filter and non-empty models (other seeds may not).
+  if (trials >= 6 && seed == nullptr) {
+    EXPECT_GT(filtered_states, 0);
+    EXPECT_GT(nonempty_states, 0);
+  }
+  std::printf("%d scenes: %d states with removed components, %d with a non-empty model\n", trials,
+              filtered_states, nonempty_states);
+}
+
+TEST(ModelBox, PaperBasicJitteredCornersGiveTheWholeFreeRegionsFractionsAndCounts) {
+  const std::string source = CAMPLACE_SOURCE_DIR;
+  const core::Scene scene = core::load_scene(source + "/data/paper_basic.json");
+  const core::CameraConfig corners =
+      core::load_camera_config(source + "/data/paper_basic_corners.json", scene);
+  for (const auto& config : testing::configs_around(corners, scene, 20261205u, 2, 0)) {
+    exact::ExactOptions whole;
+    whole.model_box_fraction = 0.0;
+    const auto reference = exact::evaluate_exact(scene, config, whole);
+    for (const double fraction : {1.0, 0.5}) {
+      SCOPED_TRACE("model_box_fraction " + std::to_string(fraction));
+      exact::ExactOptions boxed = whole;
+      boxed.model_box_fraction = fraction;
+      testing::expect_same_exact_results(exact::evaluate_exact(scene, config, boxed), reference);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace camplace
