@@ -295,10 +295,10 @@ class Pipeline {
     return remove_hidden(c, step_free(c, s, objects), s, objects, core::ObjectKind::target);
   }
 
-  /// A box around the model `m` (bounded, in S) with short coordinates: multiples of margin_, at
-  /// least one margin_ beyond the intervals of its vertices' coordinates, cut to the clip box; none
-  /// when that box fills more than model_box_fraction_ of the clip box (then clipping saves
-  /// little).
+  /// A box around the model `m` (bounded, in S) with short coordinates: multiples of margin_ / 16,
+  /// at least one such step beyond the intervals of its vertices' coordinates, cut to the clip
+  /// box; none when that box fills more than model_box_fraction_ of the clip box (then clipping
+  /// saves little).
   std::optional<core::Box3> model_box(const Nef& m) const {
     core::Vec3 lo = core::Vec3::Constant(HUGE_VAL), hi = core::Vec3::Constant(-HUGE_VAL);
     for (auto v = m.vertices_begin(); v != m.vertices_end(); ++v) {
@@ -311,10 +311,13 @@ class Pipeline {
       }
     }
     if (!(lo.x() <= hi.x())) return std::nullopt;
+    // A tight box leaves out more of the other objects' shadows and cones (sight_may_meet);
+    // multiples of a power of two keep its coordinates short.
+    const double step = margin_ / 16.0;
     core::Box3 box;
     for (int k = 0; k < 3; ++k) {
-      box.min[k] = std::max(clip_.min[k], std::floor(lo[k] / margin_) * margin_ - margin_);
-      box.max[k] = std::min(clip_.max[k], std::ceil(hi[k] / margin_) * margin_ + margin_);
+      box.min[k] = std::max(clip_.min[k], std::floor(lo[k] / step) * step - step);
+      box.max[k] = std::min(clip_.max[k], std::ceil(hi[k] / step) * step + step);
     }
     const core::Vec3 size = box.max - box.min, clip_size = clip_.max - clip_.min;
     if (size.prod() > model_box_fraction_ * clip_size.prod()) return std::nullopt;
