@@ -17,6 +17,7 @@
 #include "camplace/core/camera.hpp"
 #include "camplace/core/scene.hpp"
 #include "camplace/exact/evaluator.hpp"
+#include "environment.hpp"
 #include "same_results.hpp"
 #include "scene_builder.hpp"
 
@@ -26,10 +27,10 @@ namespace {
 TEST(ModelBox, RandomScenesGiveTheWholeFreeRegionsFractionsAndCounts) {
   // CAMPLACE_EXACT_MODEL_BOX_TRIALS=N runs N scenes (default 6), CAMPLACE_EXACT_MODEL_BOX_SEED
   // another seed.
-  const char* env = std::getenv("CAMPLACE_EXACT_MODEL_BOX_TRIALS");
-  const int trials = env ? std::atoi(env) : 6;
-  const char* seed = std::getenv("CAMPLACE_EXACT_MODEL_BOX_SEED");
-  std::mt19937 rng(seed ? unsigned(std::atol(seed)) : 20261205u);
+  const int trials = int(testing::env_number("CAMPLACE_EXACT_MODEL_BOX_TRIALS", 6));
+  const unsigned default_seed = 20261205u;
+  const auto seed = unsigned(testing::env_number("CAMPLACE_EXACT_MODEL_BOX_SEED", default_seed));
+  std::mt19937 rng(seed);
   int filtered_states = 0, nonempty_states = 0;
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   for (int trial = 0; trial < trials; ++trial) {
@@ -69,7 +70,7 @@ TEST(ModelBox, RandomScenesGiveTheWholeFreeRegionsFractionsAndCounts) {
     }
   }
   // The default scenes exercise both the filter and non-empty models (other seeds may not).
-  if (trials >= 6 && seed == nullptr) {
+  if (trials >= 6 && seed == default_seed) {
     EXPECT_GT(filtered_states, 0);
     EXPECT_GT(nonempty_states, 0);
   }
