@@ -65,9 +65,12 @@ json cameras_json(const core::Scene& scene, const core::CameraConfig& config) {
   return json::parse(core::camera_config_json(config, -1, &scene))["cameras"];
 }
 
+}  // namespace
+
 /// One camera configuration of the session with what it needs: the scene (its camera list
-/// changes when cameras are added or removed), the evaluator and the optimizer's encoding.
-struct Setup {
+/// changes when cameras are added or removed), the evaluator and the optimizer's encoding. Not in
+/// the anonymous namespace: Planner::Impl, which holds it, has external linkage.
+struct PlannerSetup {
   std::shared_ptr<const core::Scene> scene;
   std::shared_ptr<const voxel::VoxelEvaluator> evaluator;
   std::shared_ptr<const optimize::Encoding> encoding;
@@ -76,15 +79,13 @@ struct Setup {
   std::vector<std::string> snapped;
 };
 
-}  // namespace
-
 struct Planner::Impl {
   mutable std::mutex mutex;
   PlannerOptions options;
-  Setup current;               ///< shown
-  Setup committed;             ///< the last undo step (current after a commit)
-  std::vector<Setup> history;  ///< earlier undo steps, oldest first
-  core::CameraConfig saved;    ///< as loaded or last saved
+  PlannerSetup current;               ///< shown
+  PlannerSetup committed;             ///< the last undo step (current after a commit)
+  std::vector<PlannerSetup> history;  ///< earlier undo steps, oldest first
+  core::CameraConfig saved;           ///< as loaded or last saved
   bool saved_cameras_changed = false;
   int loaded_count = 0;                    ///< the scene file's camera count
   std::vector<std::string> loaded_models;  ///< the scene file's model per camera
@@ -93,10 +94,10 @@ struct Planner::Impl {
   std::vector<core::ClosestPoints> true_segments;  ///< per state (empty: no segment)
   std::vector<bool> has_true_segment;
 
-  Setup make_setup(std::shared_ptr<const core::Scene> scene,
-                   std::shared_ptr<const voxel::VoxelEvaluator> evaluator,
-                   const core::CameraConfig& wanted) const {
-    Setup s;
+  PlannerSetup make_setup(std::shared_ptr<const core::Scene> scene,
+                          std::shared_ptr<const voxel::VoxelEvaluator> evaluator,
+                          const core::CameraConfig& wanted) const {
+    PlannerSetup s;
     s.scene = std::move(scene);
     s.evaluator = evaluator
                       ? std::move(evaluator)
@@ -130,7 +131,7 @@ struct Planner::Impl {
     return s;
   }
 
-  void push_undo(Setup next) {
+  void push_undo(PlannerSetup next) {
     // The same configuration again (a camera put back where it was) is no new undo step.
     if (next.scene == committed.scene && same(next.config, committed.config)) {
       current = std::move(next);
@@ -159,7 +160,7 @@ struct Planner::Impl {
     }
   }
 
-  json view(const Setup& s, int state, int undo_steps, bool dirty) const {
+  json view(const PlannerSetup& s, int state, int undo_steps, bool dirty) const {
     const auto start = Clock::now();
     const core::Evaluation e = s.evaluator->evaluate(s.config);
     const double evaluate_ms = ms_since(start);
@@ -231,7 +232,7 @@ struct Planner::Impl {
 
   json view_locked(std::unique_lock<std::mutex>& lock, int state) const {
     check_state(state);
-    const Setup s = current;
+    const PlannerSetup s = current;
     const int undo_steps =
         static_cast<int>(history.size()) + (current.config.size() == committed.config.size() &&
                                                     current.scene == committed.scene &&
@@ -255,7 +256,7 @@ struct Planner::Impl {
 
   /// Writes the camera file (and, with another camera list than the scene file's, the scene)
   /// for `s` as OUT_DIR/<stem>.json.
-  json write(const Setup& s, const std::string& stem) const {
+  json write(const PlannerSetup& s, const std::string& stem) const {
     const core::Scene& scene = *s.scene;
     const bool own_scene = cameras_changed(scene);
     const std::string cameras_path = options.out_dir + "/" + stem + ".json";
@@ -406,13 +407,13 @@ json Planner::update(const json& request) {
   std::unique_lock<std::mutex> lock(impl_->mutex);
   Impl& m = *impl_;
   m.check_state(state);
-  const Setup base = m.current;
+  const PlannerSetup base = m.current;
   lock.unlock();
   // Read as a camera file (the same messages), against the current camera list.
   json doc = {{"cameras", root.has("cameras") ? request["cameras"] : json()}};
   if (!root.has("cameras")) root.at("cameras");  // "missing" message
   const core::CameraConfig wanted = core::camera_config_from_json(doc, "request", base.scene.get());
-  Setup next = m.make_setup(base.scene, base.evaluator, wanted);
+  PlannerSetup next = m.make_setup(base.scene, base.evaluator, wanted);
   lock.lock();
   if (m.current.scene != base.scene) {
     throw core::InputError("request", "/cameras",
@@ -468,7 +469,7 @@ json Planner::add_camera(const std::string& model, int state) {
   core::CameraConfig wanted = m.current.config;
   wanted.push_back(optimize::corner_start(*scene).back());
   lock.unlock();
-  Setup next = m.make_setup(scene, nullptr, wanted);
+  PlannerSetup next = m.make_setup(scene, nullptr, wanted);
   lock.lock();
   m.push_undo(std::move(next));
   return m.view_locked(lock, state);
@@ -494,7 +495,7 @@ json Planner::remove_camera(int index, int state) {
   core::CameraConfig wanted = m.current.config;
   wanted.erase(wanted.begin() + index);
   lock.unlock();
-  Setup next = m.make_setup(scene, nullptr, wanted);
+  PlannerSetup next = m.make_setup(scene, nullptr, wanted);
   lock.lock();
   m.push_undo(std::move(next));
   return m.view_locked(lock, state);
@@ -503,9 +504,9 @@ json Planner::remove_camera(int index, int state) {
 void Planner::commit(const core::CameraConfig& config) {
   std::unique_lock<std::mutex> lock(impl_->mutex);
   Impl& m = *impl_;
-  const Setup base = m.current;
+  const PlannerSetup base = m.current;
   lock.unlock();
-  Setup next = m.make_setup(base.scene, base.evaluator, config);
+  PlannerSetup next = m.make_setup(base.scene, base.evaluator, config);
   lock.lock();
   if (m.current.scene != base.scene) return;  // cameras added or removed meanwhile
   m.push_undo(std::move(next));
@@ -528,7 +529,7 @@ json Planner::save(const std::string& name) {
   }
   std::unique_lock<std::mutex> lock(impl_->mutex);
   Impl& m = *impl_;
-  const Setup s = m.current;
+  const PlannerSetup s = m.current;
   lock.unlock();
   const json written = m.write(s, stem);
   lock.lock();
@@ -540,7 +541,7 @@ json Planner::save(const std::string& name) {
 std::string Planner::save_unsaved() {
   std::unique_lock<std::mutex> lock(impl_->mutex);
   Impl& m = *impl_;
-  const Setup s = m.current;
+  const PlannerSetup s = m.current;
   if (Impl::same(s.config, m.saved) && m.cameras_changed(*s.scene) == m.saved_cameras_changed) {
     return "";
   }
