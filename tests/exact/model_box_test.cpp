@@ -24,6 +24,22 @@
 namespace camplace {
 namespace {
 
+/// Evaluates `config` with the whole free regions (`options` with model_box_fraction 0) and with
+/// the box from the first camera on (1) and by default (0.5), expects the same exact results, and
+/// returns the whole free regions' evaluation.
+exact::ExactEvaluation expect_box_changes_nothing(const core::Scene& scene,
+                                                  const core::CameraConfig& config,
+                                                  exact::ExactOptions options) {
+  options.model_box_fraction = 0.0;
+  const auto reference = exact::evaluate_exact(scene, config, options);
+  for (const double fraction : {1.0, 0.5}) {
+    SCOPED_TRACE("model_box_fraction " + std::to_string(fraction));
+    options.model_box_fraction = fraction;
+    testing::expect_same_exact_results(exact::evaluate_exact(scene, config, options), reference);
+  }
+  return reference;
+}
+
 TEST(ModelBox, RandomScenesGiveTheWholeFreeRegionsFractionsAndCounts) {
   // CAMPLACE_EXACT_MODEL_BOX_TRIALS=N runs N scenes (default 6), CAMPLACE_EXACT_MODEL_BOX_SEED
   // another seed.
@@ -56,14 +72,7 @@ TEST(ModelBox, RandomScenesGiveTheWholeFreeRegionsFractionsAndCounts) {
     }
     exact::ExactOptions whole;
     whole.threads = 1;
-    whole.model_box_fraction = 0.0;
-    const auto reference = exact::evaluate_exact(scene, config, whole);
-    for (const double fraction : {1.0, 0.5}) {
-      SCOPED_TRACE("model_box_fraction " + std::to_string(fraction));
-      exact::ExactOptions boxed = whole;
-      boxed.model_box_fraction = fraction;
-      testing::expect_same_exact_results(exact::evaluate_exact(scene, config, boxed), reference);
-    }
+    const auto reference = expect_box_changes_nothing(scene, config, whole);
     for (const auto& r : reference.states) {
       filtered_states += r.components_removed > 0;
       nonempty_states += r.components > 0;
@@ -84,15 +93,7 @@ TEST(ModelBox, PaperBasicJitteredCornersGiveTheWholeFreeRegionsFractionsAndCount
   const core::CameraConfig corners =
       core::load_camera_config(source + "/data/paper_basic_corners.json", scene);
   for (const auto& config : testing::configs_around(corners, scene, 20261205u, 2, 0)) {
-    exact::ExactOptions whole;
-    whole.model_box_fraction = 0.0;
-    const auto reference = exact::evaluate_exact(scene, config, whole);
-    for (const double fraction : {1.0, 0.5}) {
-      SCOPED_TRACE("model_box_fraction " + std::to_string(fraction));
-      exact::ExactOptions boxed = whole;
-      boxed.model_box_fraction = fraction;
-      testing::expect_same_exact_results(exact::evaluate_exact(scene, config, boxed), reference);
-    }
+    expect_box_changes_nothing(scene, config, {});
   }
 }
 

@@ -191,6 +191,34 @@ TEST(LegacyEquivalence, EqualObjectsOfSeveralStatesKeepEachStatesLabels) {
   }
 }
 
+/// `scene` with `steps` time steps that repeat its first ones in turn, each step's dynamic
+/// obstacles, critical objects and targets moved by their own random offsets (up to `reach` in x
+/// and y, half of it in z): copies of a mesh moved a little between time steps. With `keep_first`,
+/// the first time steps stay as they are and the copies follow them.
+core::Scene with_moved_copies(std::mt19937& rng, core::Scene scene, int steps, double reach,
+                              bool keep_first) {
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  auto move = [&](core::SceneObject& object) {
+    const core::Vec3 offset(reach * unit(rng), reach * unit(rng), 0.5 * reach * unit(rng));
+    for (core::Vec3& v : object.mesh.vertices) v += offset;
+    object.bounds.min += offset;
+    object.bounds.max += offset;
+  };
+  const std::vector<core::TimeStep> first = scene.time_steps;
+  if (!keep_first) scene.time_steps.clear();
+  for (int h = static_cast<int>(scene.time_steps.size()); h < steps; ++h) {
+    core::TimeStep step = first[h % first.size()];
+    step.t = h;
+    for (core::SceneObject& o : step.dynamic_obstacles) move(o);
+    for (core::SceneObject& o : step.critical) move(o);
+    for (core::Event& event : step.events) {
+      for (core::SceneObject& o : event.targets) move(o);
+    }
+    scene.time_steps.push_back(std::move(step));
+  }
+  return scene;
+}
+
 TEST(LegacyEquivalence, CopiesMovedBetweenTimeStepsKeepEachStatesLabels) {
   // Conservative mode tests the slot groups of copies of a mesh moved a little from one time
   // step to the next in bundles, by the bundle's bounds first (voxel/src/camera_setup.cpp): here
@@ -198,28 +226,11 @@ TEST(LegacyEquivalence, CopiesMovedBetweenTimeStepsKeepEachStatesLabels) {
   // and targets each moved by its own offset (up to 0.12 m, about a third of a voxel), in both
   // dynamic modes (occupying and occluding copies), more than 64 states (two chunks).
   std::mt19937 rng(43);
-  std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  auto move = [&](core::SceneObject& object) {
-    const core::Vec3 offset(0.12 * unit(rng), 0.12 * unit(rng), 0.06 * unit(rng));
-    for (core::Vec3& v : object.mesh.vertices) v += offset;
-    object.bounds.min += offset;
-    object.bounds.max += offset;
-  };
   for (int s = 0; s < 2; ++s) {
     core::Scene scene = random_scene(rng, {12, 9, 9});
     scene.dynamic_mode = s == 0 ? core::DynamicMode::masked : core::DynamicMode::modelled;
     ASSERT_EQ(scene.time_steps.size(), 2u);
-    const std::vector<core::TimeStep> first = scene.time_steps;
-    for (int h = 2; h < 36; ++h) {
-      core::TimeStep step = first[h % 2];
-      step.t = h;
-      for (core::SceneObject& o : step.dynamic_obstacles) move(o);
-      for (core::SceneObject& o : step.critical) move(o);
-      for (core::Event& event : step.events) {
-        for (core::SceneObject& o : event.targets) move(o);
-      }
-      scene.time_steps.push_back(std::move(step));
-    }
+    scene = with_moved_copies(rng, std::move(scene), 36, 0.12, true);
     ASSERT_GT(core::states(scene).size(), 64u);
     const core::CameraConfig config = random_config(rng, scene);
     Tally t;
@@ -240,30 +251,12 @@ TEST(LegacyEquivalence, CopiesInBundlesGiveTheModelsOfEachStateAlone) {
   // 0.8 × 0.8 × 1.3 m, each moved by up to 0.08 m in each of 32 time steps, occupying and
   // occluding copies (both dynamic modes), 64 states, 4 scenes.
   std::mt19937 rng(91);
-  std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  auto move = [&](core::SceneObject& object) {
-    const core::Vec3 offset(0.08 * unit(rng), 0.08 * unit(rng), 0.04 * unit(rng));
-    for (core::Vec3& v : object.mesh.vertices) v += offset;
-    object.bounds.min += offset;
-    object.bounds.max += offset;
-  };
   const std::array<int, 3> resolution{12, 9, 9};
   for (int s = 0; s < 4 && !HasFatalFailure(); ++s) {
     core::Scene scene = random_scene(rng, resolution);
     scene.dynamic_mode = s % 2 == 0 ? core::DynamicMode::masked : core::DynamicMode::modelled;
     scene.plausibility = {};
-    const std::vector<core::TimeStep> first = scene.time_steps;
-    scene.time_steps.clear();
-    for (int h = 0; h < 32; ++h) {
-      core::TimeStep step = first[h % 2];
-      step.t = h;
-      for (core::SceneObject& o : step.dynamic_obstacles) move(o);
-      for (core::SceneObject& o : step.critical) move(o);
-      for (core::Event& event : step.events) {
-        for (core::SceneObject& o : event.targets) move(o);
-      }
-      scene.time_steps.push_back(std::move(step));
-    }
+    scene = with_moved_copies(rng, std::move(scene), 32, 0.08, false);
     const core::CameraConfig config = random_config(rng, scene);
     const voxel::VoxelEvaluator all(scene, {LabelMode::conservative, resolution});
     const auto states = core::states(scene);
