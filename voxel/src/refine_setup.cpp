@@ -95,16 +95,18 @@ void VoxelEvaluator::Impl::build_refinement() {
   // never reaches its children); a cell no obstacle surface meets holds no such cell below it.
   constexpr double depth = 1e-9;
   for (std::size_t h = 0; h < scene.time_steps.size(); ++h) {
-    const std::vector<const core::SceneObject*> obstacles = obstacles_of(scene.time_steps[h]);
+    std::vector<detail::IndexedSolid> obstacles;
+    for (const core::SceneObject* o : obstacles_of(scene.time_steps[h]))
+      obstacles.push_back(detail::index_solid(o->mesh));
     auto meets_surface = [&](const Box3& box) {
-      for (const core::SceneObject* o : obstacles) {
-        if (detail::box_meets_surface(o->mesh, o->bounds, box)) return true;
+      for (const detail::IndexedSolid& o : obstacles) {
+        if (detail::box_meets_surface(o, box)) return true;
       }
       return false;
     };
     auto wholly_inside = [&](const Box3& box) {
-      for (const core::SceneObject* o : obstacles) {
-        if (detail::box_inside_solid(o->mesh, o->bounds, box, depth)) return true;
+      for (const detail::IndexedSolid& o : obstacles) {
+        if (detail::box_inside_solid(o, box, depth)) return true;
       }
       return false;
     };
@@ -126,19 +128,12 @@ void VoxelEvaluator::Impl::build_refinement() {
   inside_by_voxel.assign(grid.count(), {});
   for (std::size_t o = 0; o < objects.size(); ++o) {
     if (!objects[o].occupying) continue;
-    const core::TriangleMesh& mesh = *objects[o].mesh;
-    Box3 bounds{Vec3::Constant(kInf), Vec3::Constant(-kInf)};
-    for (const Vec3& p : mesh.vertices) {
-      bounds.min = bounds.min.cwiseMin(p);
-      bounds.max = bounds.max.cwiseMax(p);
-    }
-    auto meets_surface = [&](const Box3& box) {
-      return detail::box_meets_surface(mesh, bounds, box);
-    };
+    const detail::IndexedSolid solid = detail::index_solid(*objects[o].mesh);
+    auto meets_surface = [&](const Box3& box) { return detail::box_meets_surface(solid, box); };
     auto wholly_inside = [&](const Box3& box) {
-      return detail::box_inside_solid(mesh, bounds, box, depth);
+      return detail::box_inside_solid(solid, box, depth);
     };
-    const auto range = voxel_range(bounds);
+    const auto range = voxel_range(solid.bounds);
     std::vector<std::uint8_t> table;
     for (int k = range[2][0]; k <= range[2][1]; ++k) {
       for (int j = range[1][0]; j <= range[1][1]; ++j) {

@@ -300,13 +300,15 @@ void VoxelEvaluator::Impl::build() {
 std::vector<std::uint8_t> VoxelEvaluator::Impl::obstacle_interiors(
     const core::TimeStep& step) const {
   std::vector<std::uint8_t> removed(grid.count(), 0);
-  const std::vector<const core::SceneObject*> obstacles = obstacles_of(step);
+  std::vector<detail::IndexedSolid> obstacles;
+  for (const core::SceneObject* o : obstacles_of(step))
+    obstacles.push_back(detail::index_solid(o->mesh));
   for (int v = 0; v < grid.count(); ++v) {
     const Box3 box = grid.voxel_box(v);
     // Shrunk by 1e-9 m so that faces lying on the voxel's boundary (grid-aligned obstacles) do
     // not count; center mode needs the centre only.
-    for (const core::SceneObject* o : obstacles) {
-      if (detail::box_inside_solid(o->mesh, o->bounds, box, 1e-9, conservative)) {
+    for (const detail::IndexedSolid& o : obstacles) {
+      if (detail::box_inside_solid(o, box, 1e-9, conservative)) {
         removed[v] = 1;
         break;
       }
@@ -346,22 +348,30 @@ std::vector<double> VoxelEvaluator::Impl::critical_distances(
   const int nx = grid.n[0], ny = grid.n[1], nz = grid.n[2];
   detail::parallel_for(nz, options.threads, [&](int k) {
     for (int j = 0; j < ny; ++j) {
+      // The previous centre's nearest triangle gives a cutoff that holds the minimum (its
+      // distance is a candidate): point_solids_sq_distance returns the same minimum, sooner.
+      detail::NearestTriangle hint;
       for (int i = 0; i < nx; ++i) {
         const Vec3 p(box_center[0][i], box_center[1][j], box_center[2][k]);
+        const double surface = detail::point_solids_sq_distance(solids, p, kNoCutoff, false, &hint);
+        // core::point_solid_sq_distance is 0 inside a solid (a point outside its bounds is not),
+        // else the distance to its surface: the same as the search with its inside test.
+        auto inside = [&] {
+          return std::any_of(solids.begin(), solids.end(), [&](const detail::IndexedSolid& s) {
+            return s.bounds.contains(p) && detail::inside_solid(s, p);
+          });
+        };
         double& lb = out[i + nx * (j + ny * k)];
         if (!conservative) {
-          lb = detail::point_solids_sq_distance(solids, p, kNoCutoff);
+          lb = surface > 0.0 && inside() ? 0.0 : surface;
           continue;
         }
-        const auto bound = [&](double sq) {
-          const double gap = std::sqrt(sq) * (1.0 - 1e-12) - voxel_radius * (1.0 + 1e-12) - 1e-12;
-          return gap > 0.0 ? gap * gap : 0.0;
-        };
         // The bound is monotonic in the distance, and the distance to the surfaces is at least
         // the distance to the solids (0 inside): when the surfaces already give 0, so does the
-        // solid, and the costly inside test is not needed.
-        lb = bound(detail::point_solids_sq_distance(solids, p, kNoCutoff, false));
-        if (lb > 0.0) lb = bound(detail::point_solids_sq_distance(solids, p, kNoCutoff));
+        // solid, and the inside test is not needed.
+        const double gap =
+            std::sqrt(surface) * (1.0 - 1e-12) - voxel_radius * (1.0 + 1e-12) - 1e-12;
+        lb = gap > 0.0 && !inside() ? gap * gap : 0.0;
       }
     }
   });

@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <unordered_map>
 
 namespace camplace::voxel::detail {
 
@@ -136,6 +138,131 @@ void triangle_box(const IndexedSolid& s, std::size_t t, const Box3& box,
   }
 }
 
+/// Whether every edge of `mesh` is used as often from u to v as from v to u.
+bool edges_balanced(const core::TriangleMesh& mesh) {
+  std::unordered_map<std::uint64_t, int> balance;
+  balance.reserve(mesh.triangles.size() * 3);
+  for (const auto& t : mesh.triangles) {
+    for (int i = 0; i < 3; ++i) {
+      const auto u = static_cast<std::uint32_t>(t[i]),
+                 v = static_cast<std::uint32_t>(t[(i + 1) % 3]);
+      balance[(std::uint64_t(std::min(u, v)) << 32) | std::max(u, v)] += u < v ? 1 : -1;
+    }
+  }
+  return std::all_of(balance.begin(), balance.end(), [](const auto& e) { return e.second == 0; });
+}
+
+/// How the ray {p + t·(0, 0, 1), t > 0} crosses triangle `tri`: +1 or −1 (the sign of the
+/// normal's z component) when it certainly passes through the triangle's interior, 0 when it
+/// certainly misses it, kUnsure when rounding could decide either (the ray near an edge or a
+/// vertex, or p near the triangle).
+constexpr int kUnsure = 2;
+int ray_crossing(const std::array<Vec3, 3>& tri, const Vec3& p) {
+  const Vec3 a = tri[0] - p, b = tri[1] - p, c = tri[2] - p;
+  // Twice the signed areas of the projections of (p, a, b), (p, b, c), (p, c, a) on the xy
+  // plane, each with the sum of its products' magnitudes: computed from the rounded
+  // differences, each within 4·2⁻⁵³ of that sum of the exact value, so its sign is certain
+  // when it exceeds 1e-12 of it.
+  const double e[3] = {a.x() * b.y() - a.y() * b.x(), b.x() * c.y() - b.y() * c.x(),
+                       c.x() * a.y() - c.y() * a.x()};
+  const double m[3] = {std::abs(a.x() * b.y()) + std::abs(a.y() * b.x()),
+                       std::abs(b.x() * c.y()) + std::abs(b.y() * c.x()),
+                       std::abs(c.x() * a.y()) + std::abs(c.y() * a.x())};
+  int positive = 0, negative = 0;
+  bool unsure = false;
+  double relative = 0.0;  // the largest m / |e| of the certain ones
+  for (int i = 0; i < 3; ++i) {
+    if (!(std::abs(e[i]) > 1e-12 * m[i])) {
+      unsure = true;
+      continue;
+    }
+    (e[i] > 0.0 ? positive : negative)++;
+    relative = std::max(relative, m[i] / std::abs(e[i]));
+  }
+  if (positive > 0 && negative > 0) return 0;  // p's projection is outside the triangle's
+  if (unsure) return kUnsure;
+  // p's projection is inside: the height of the crossing above p, a convex combination of the
+  // vertices' heights with weights e / Σe, each weight within (2·relative + 1)·1e-15 of its
+  // exact value (relatively).
+  const double sum = e[0] + e[1] + e[2];
+  const double t = (e[1] * a.z() + e[2] * b.z() + e[0] * c.z()) / sum;
+  const double error =
+      (8.0 * relative + 8.0) * 1e-15 * (std::abs(a.z()) + std::abs(b.z()) + std::abs(c.z()));
+  if (!(std::abs(t) > error)) return kUnsure;
+  if (t < 0.0) return 0;
+  return sum > 0.0 ? 1 : -1;
+}
+
+/// Calls `visit(t)` for each triangle t whose bounds are within the margin of `box` (the others
+/// certainly miss it: core::triangle_box_overlap's first axes are the box's normals) until it
+/// returns true; true then.
+template <class Visit>
+bool any_triangle_near(const IndexedSolid& s, const Box3& box, const Visit& visit) {
+  thread_local std::vector<std::size_t> stack;
+  stack.clear();
+  if (!s.nodes.empty()) stack.push_back(0);
+  while (!stack.empty()) {
+    const core::BoxTreeNode& node = s.nodes[stack.back()];
+    stack.pop_back();
+    if (beyond(core::box_box_sq_distance(node.box, box), 0.0)) continue;
+    if (node.count == 0) {
+      stack.push_back(node.first);
+      stack.push_back(node.first + 1);
+      continue;
+    }
+    for (std::size_t k = node.first; k < node.first + node.count; ++k) {
+      const int t = s.order[k];
+      if (!beyond(core::box_box_sq_distance(s.triangle_bounds[t], box), 0.0) && visit(t))
+        return true;
+    }
+  }
+  return false;
+}
+
+/// The squared distance from p to the nearest triangle of s when it is at most `bound`
+/// (otherwise some value above `bound`), and that triangle (-1: none found). The triangles
+/// through the hierarchy, nearer child first; a subtree or triangle is skipped when its box's
+/// distance is beyond min(best, bound) (then so is every triangle in it): the nearest triangle
+/// is never skipped, so the minimum is the scan's, the same double.
+double surface_sq_distance(const IndexedSolid& s, const Vec3& p, double bound, int& triangle) {
+  double best = kInf;
+  triangle = -1;
+  // Nodes with the lower bound of their distance computed when they were pushed.
+  thread_local std::vector<std::pair<std::size_t, double>> stack;
+  stack.clear();
+  if (!s.nodes.empty()) stack.emplace_back(0, core::point_box_sq_distance(p, s.nodes[0].box));
+  while (!stack.empty()) {
+    const auto [index, lower] = stack.back();
+    stack.pop_back();
+    if (beyond(lower, std::min(best, bound))) continue;
+    const core::BoxTreeNode& node = s.nodes[index];
+    if (node.count == 0) {
+      const double near = core::point_box_sq_distance(p, s.nodes[node.first].box);
+      const double far = core::point_box_sq_distance(p, s.nodes[node.first + 1].box);
+      if (near <= far) {
+        stack.emplace_back(node.first + 1, far);
+        stack.emplace_back(node.first, near);
+      } else {
+        stack.emplace_back(node.first, near);
+        stack.emplace_back(node.first + 1, far);
+      }
+      continue;
+    }
+    for (std::size_t k = node.first; k < node.first + node.count; ++k) {
+      const int t = s.order[k];
+      if (beyond(core::point_box_sq_distance(p, s.triangle_bounds[t]), std::min(best, bound)))
+        continue;
+      const auto& tri = s.triangles[t];
+      const double d = core::point_triangle_sq_distance(p, tri[0], tri[1], tri[2]);
+      if (d < best) {
+        best = d;
+        triangle = t;
+      }
+    }
+  }
+  return best;
+}
+
 /// The hierarchy of s's triangle boxes: top down, each node split at the median of its box
 /// centres along the widest axis of their range, leaves of at most 4 triangles.
 void build_hierarchy(IndexedSolid& s) {
@@ -165,7 +292,47 @@ IndexedSolid index_solid(const core::TriangleMesh& mesh) {
     s.unit_normals.push_back(n.norm() > 0.0 ? Vec3(n.normalized()) : Vec3::Zero());
   }
   build_hierarchy(s);
+  s.closed = edges_balanced(mesh);
   return s;
+}
+
+bool inside_solid(const IndexedSolid& s, const Vec3& p) {
+  // On a closed, consistently oriented surface the winding number of a point off the surface is
+  // an integer, the signed count of the crossings of any ray from it that passes through no
+  // edge or vertex; core::inside_mesh's sum of solid angles lies within rounding of that
+  // integer and says inside when it is at least 1. A ray crossing that rounding could decide
+  // either way (the ray near an edge or a vertex, p near the surface) leaves it to that sum.
+  if (!s.closed) return core::inside_mesh(*s.mesh, p);
+  // Within a nanometre (and rounding) of the surface the sum's rounding may decide, so it does.
+  const double clearance = 1e-9 * (1.0 + p.cwiseAbs().maxCoeff());
+  int ignored = 0;
+  if (!beyond(surface_sq_distance(s, p, clearance * clearance, ignored), clearance * clearance))
+    return core::inside_mesh(*s.mesh, p);
+  int winding = 0;
+  thread_local std::vector<std::size_t> stack;
+  stack.clear();
+  if (!s.nodes.empty()) stack.push_back(0);
+  while (!stack.empty()) {
+    const core::BoxTreeNode& node = s.nodes[stack.back()];
+    stack.pop_back();
+    // The ray meets only triangles whose boxes it meets (exact comparisons of doubles: a box
+    // left out lies wholly beside or below the ray).
+    const Box3& b = node.box;
+    if (p.x() < b.min.x() || p.x() > b.max.x() || p.y() < b.min.y() || p.y() > b.max.y() ||
+        p.z() > b.max.z())
+      continue;
+    if (node.count == 0) {
+      stack.push_back(node.first);
+      stack.push_back(node.first + 1);
+      continue;
+    }
+    for (std::size_t k = node.first; k < node.first + node.count; ++k) {
+      const int crossing = ray_crossing(s.triangles[s.order[k]], p);
+      if (crossing == kUnsure) return core::inside_mesh(*s.mesh, p);
+      winding += crossing;
+    }
+  }
+  return winding >= 1;
 }
 
 double vertex_upper_bound(const std::vector<IndexedSolid>& solids, const Box3& box) {
@@ -234,80 +401,53 @@ double box_solids_sq_distance(const std::vector<IndexedSolid>& solids, const Box
     }
   }
   for (const IndexedSolid& s : solids) {
-    if (s.bounds.contains(center) && core::inside_mesh(*s.mesh, center)) return 0.0;
+    if (s.bounds.contains(center) && inside_solid(s, center)) return 0.0;
   }
   return best;
 }
 
 double point_solids_sq_distance(const std::vector<IndexedSolid>& solids, const Vec3& p,
-                                double cutoff, bool inside_test) {
+                                double cutoff, bool inside_test, NearestTriangle* nearest) {
+  // A hinted triangle's distance is one of the candidates, so at least the minimum: a cutoff.
+  if (nearest != nullptr && nearest->solid >= 0) {
+    const auto& tri = solids[std::size_t(nearest->solid)].triangles[std::size_t(nearest->triangle)];
+    cutoff = std::min(cutoff, core::point_triangle_sq_distance(p, tri[0], tri[1], tri[2]));
+  }
   double result = kInf;
-  thread_local std::vector<std::size_t> stack;
-  for (const IndexedSolid& s : solids) {
+  NearestTriangle found;
+  for (std::size_t si = 0; si < solids.size(); ++si) {
+    const IndexedSolid& s = solids[si];
     const double bound = std::min(result, cutoff);
     if (beyond(core::point_box_sq_distance(p, s.bounds), bound)) continue;
     // core::point_solid_sq_distance: 0 inside (a point outside the bounds is not), else the
     // nearest triangle.
-    if (inside_test && s.bounds.contains(p) && core::inside_mesh(*s.mesh, p)) {
+    if (inside_test && s.bounds.contains(p) && inside_solid(s, p)) {
       result = 0.0;
       continue;
     }
-    // The triangles through the hierarchy, nearer child first; a subtree or triangle is skipped
-    // when its box's distance is beyond min(best, bound) (then so is every triangle in it): the
-    // nearest triangle is never skipped, so the minimum is the scan's, the same double.
-    double best = kInf;
-    stack.clear();
-    if (!s.nodes.empty()) stack.push_back(0);
-    while (!stack.empty()) {
-      const core::BoxTreeNode& node = s.nodes[stack.back()];
-      stack.pop_back();
-      if (beyond(core::point_box_sq_distance(p, node.box), std::min(best, bound))) continue;
-      if (node.count == 0) {
-        const double near = core::point_box_sq_distance(p, s.nodes[node.first].box);
-        const double far = core::point_box_sq_distance(p, s.nodes[node.first + 1].box);
-        stack.push_back(near <= far ? node.first + 1 : node.first);
-        stack.push_back(near <= far ? node.first : node.first + 1);
-        continue;
-      }
-      for (std::size_t k = node.first; k < node.first + node.count; ++k) {
-        const int t = s.order[k];
-        if (beyond(core::point_box_sq_distance(p, s.triangle_bounds[t]), std::min(best, bound)))
-          continue;
-        const auto& tri = s.triangles[t];
-        best = std::min(best, core::point_triangle_sq_distance(p, tri[0], tri[1], tri[2]));
-      }
+    int triangle = -1;
+    const double best = surface_sq_distance(s, p, bound, triangle);
+    if (best < result) {
+      result = best;
+      found = {static_cast<int>(si), triangle};
     }
-    result = std::min(result, best);
   }
+  if (nearest != nullptr && found.solid >= 0) *nearest = found;
   return result;
 }
 
-bool box_meets_surface(const core::TriangleMesh& mesh, const Box3& bounds, const Box3& box) {
-  if ((bounds.min.array() > box.max.array()).any() ||
-      (bounds.max.array() < box.min.array()).any()) {
-    return false;
-  }
-  for (const auto& t : mesh.triangles) {
-    if (core::triangle_box_overlap(mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]],
-                                   box)) {
-      return true;
-    }
-  }
-  return false;
+bool box_meets_surface(const IndexedSolid& s, const Box3& box) {
+  return any_triangle_near(s, box, [&](int t) {
+    const auto& tri = s.triangles[t];
+    return core::triangle_box_overlap(tri[0], tri[1], tri[2], box);
+  });
 }
 
-bool box_inside_solid(const core::TriangleMesh& mesh, const Box3& bounds, const Box3& box,
-                      double depth, bool faces) {
-  if (!bounds.contains(box.center()) || !core::inside_mesh(mesh, box.center())) return false;
+bool box_inside_solid(const IndexedSolid& s, const Box3& box, double depth, bool faces) {
+  if (!s.bounds.contains(box.center()) || !inside_solid(s, box.center())) return false;
   if (!faces) return true;
   const Box3 interior{box.min + Vec3::Constant(depth), box.max - Vec3::Constant(depth)};
-  for (const auto& t : mesh.triangles) {
-    if (core::triangle_box_overlap(mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]],
-                                   interior)) {
-      return false;
-    }
-  }
-  return true;
+  return !box_meets_surface(s, interior);
 }
 
 }  // namespace camplace::voxel::detail

@@ -29,6 +29,10 @@ struct IndexedSolid {
   /// triangle); a leaf holds the triangles order[first .. first + count).
   std::vector<core::BoxTreeNode> nodes;
   std::vector<int> order;  ///< triangle indices in leaf order
+  /// Every edge is used as often in one direction as in the other (a closed, consistently
+  /// oriented surface): then the winding number is an integer off the surface, and inside_solid
+  /// may count crossings instead of summing solid angles.
+  bool closed = false;
 };
 
 IndexedSolid index_solid(const core::TriangleMesh& mesh);
@@ -45,20 +49,33 @@ double vertex_upper_bound(const std::vector<IndexedSolid>& solids, const core::V
 /// `cutoff`; otherwise some value above `cutoff` (possibly infinity).
 double box_solids_sq_distance(const std::vector<IndexedSolid>& solids, const core::Box3& box,
                               double cutoff);
+/// A triangle of one of the solids: indices into a solids vector and its triangles.
+struct NearestTriangle {
+  int solid = -1;  ///< none
+  int triangle = -1;
+};
+
 /// min over the solids of core::point_solid_sq_distance(mesh, p), same contract. Without
 /// `inside_test`: the distance to the solids' surfaces (no point counts as inside), which is at
-/// least that minimum.
+/// least that minimum. With `nearest`: a triangle whose distance is taken as a cutoff on entry
+/// (when set; a neighbouring point's nearest one makes the search short), and on return the
+/// triangle holding the minimum when one does (unchanged otherwise).
 double point_solids_sq_distance(const std::vector<IndexedSolid>& solids, const core::Vec3& p,
-                                double cutoff, bool inside_test = true);
+                                double cutoff, bool inside_test = true,
+                                NearestTriangle* nearest = nullptr);
 
-/// Whether a triangle of `mesh` meets `box` (core::triangle_box_overlap); `bounds`: the mesh's
-/// bounding box, tested first.
-bool box_meets_surface(const core::TriangleMesh& mesh, const core::Box3& bounds,
-                       const core::Box3& box);
-/// Whether `box` lies wholly inside the closed solid `mesh` (bounding box `bounds`): its centre
-/// is inside (core::inside_mesh) and, with `faces`, no triangle meets the box shrunk by `depth`
-/// on every side (faces lying on the box's boundary do not count).
-bool box_inside_solid(const core::TriangleMesh& mesh, const core::Box3& bounds,
-                      const core::Box3& box, double depth, bool faces = true);
+/// core::inside_mesh(*s.mesh, p), the same answer: on a closed solid (IndexedSolid::closed),
+/// from the signed crossings of the ray from p along +z with the triangles found through the
+/// hierarchy, each decided only when its floating-point signs are certain (else, and on an
+/// open mesh, the solid-angle sum itself). See solid_distance.cpp.
+bool inside_solid(const IndexedSolid& s, const core::Vec3& p);
+
+/// Whether a triangle of the solid meets `box` (core::triangle_box_overlap).
+bool box_meets_surface(const IndexedSolid& s, const core::Box3& box);
+/// Whether `box` lies wholly inside the solid: its centre is inside (inside_solid) and, with
+/// `faces`, no triangle meets the box shrunk by `depth` on every side (faces lying on the box's
+/// boundary do not count).
+bool box_inside_solid(const IndexedSolid& s, const core::Box3& box, double depth,
+                      bool faces = true);
 
 }  // namespace camplace::voxel::detail
