@@ -3,7 +3,8 @@
 //  - robot:      each time step's robot (its critical objects, which are also its dynamic
 //                obstacles) replaced by one closed ellipsoid mesh of N triangles inscribed in
 //                their bounding box (tests/support/scene_builder: ellipsoid_mesh), N = 1k, 3k,
-//                10k, 30k, 100k (up to --max-triangles);
+//                10k, 30k, 100k (up to --max-triangles); and series "robot+person": each
+//                event's people too replaced by one ellipsoid of N triangles (as in person);
 //  - person:     the same for each event's targets (one ellipsoid per event in the bounding box
 //                of its targets), with the scene cut to 1 state (time step 0, event 0) and with
 //                the scene's 6 states;
@@ -80,7 +81,8 @@ from data/paper_basic.json with the corners configuration (16x12x12 voxels).
 Options:
   --family F[,F...]  robot, person, states, cameras, resolution or all (default all):
                      robot       each time step's robot replaced by an ellipsoid mesh of N
-                                 triangles (1k, 3k, 10k, 30k, 100k up to --max-triangles);
+                                 triangles (1k, 3k, 10k, 30k, 100k up to --max-triangles),
+                                 and (series robot+person) its people too;
                      person      each event's people replaced by an ellipsoid of N triangles,
                                  on the scene cut to 1 state and on its 6 states;
                      states      6, 24, 96, 384 states (up to --max-states), each with its own
@@ -278,6 +280,20 @@ core::Scene person_scene(int triangles, bool one_state) {
   return s;
 }
 
+/// robot_scene with each event's people one ellipsoid of the same triangle count: a cell of fine
+/// meshes on both sides (the set-up's exact true distances pair every robot triangle with every
+/// person triangle that may hold the minimum).
+core::Scene robot_and_person_scene(int triangles) {
+  core::Scene s = robot_scene(triangles);
+  for (core::TimeStep& step : s.time_steps) {
+    for (core::Event& event : step.events) {
+      event.targets = {
+          testing::ellipsoid_object("person", objects_bounds(event.targets), triangles)};
+    }
+  }
+  return s;
+}
+
 core::Scene states_scene(int time_steps, bool distinct) {
   const core::Scene& paper = paper_scene();
   core::Scene s = paper;
@@ -346,17 +362,21 @@ Point make_point(const std::string& family, const std::string& series, const std
 
 std::vector<Point> family_points(const std::string& family, const Options& o) {
   std::vector<Point> points;
-  if (family == "robot" || family == "person") {
-    for (const bool one : {true, false}) {
-      if (family == "robot" && one) continue;
+  if (family == "robot") {
+    // The robot alone, then the robot and the people both of N triangles.
+    for (const bool people : {false, true}) {
       for (int t : kTriangleCounts) {
         if (t > o.max_triangles) continue;
-        points.push_back(make_point(family,
-                                    family == "robot" ? "6 states"
-                                    : one             ? "1 state"
-                                                      : "6 states",
-                                    count_label(t), t,
-                                    family == "robot" ? robot_scene(t) : person_scene(t, one)));
+        points.push_back(make_point(family, people ? "robot+person" : "6 states", count_label(t), t,
+                                    people ? robot_and_person_scene(t) : robot_scene(t)));
+      }
+    }
+  } else if (family == "person") {
+    for (const bool one : {true, false}) {
+      for (int t : kTriangleCounts) {
+        if (t > o.max_triangles) continue;
+        points.push_back(make_point(family, one ? "1 state" : "6 states", count_label(t), t,
+                                    person_scene(t, one)));
       }
     }
   } else if (family == "states") {
