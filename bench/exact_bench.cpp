@@ -18,6 +18,8 @@
 //              in the image plane (the default, `patches`) and as the union of per-face shadows
 //              (ExactOptions::face_shadows, `faces`), N = 800, 5000 (`faces` up to 800 by default;
 //              CAMPLACE_BENCH_FACE_SHADOWS_MAX=N raises it)
+// The families run with one thread, or CAMPLACE_BENCH_THREADS=N threads (with one state, the
+// threads beyond the first build camera parts ahead: ExactOptions::threads).
 // One iteration each (a full evaluation takes seconds to minutes); prints the figures, the
 // growth exponents (least-squares slope of log CPU time against log N over the family, and the
 // slope between neighbouring N) and the peak memory.
@@ -166,7 +168,9 @@ void run(benchmark::State& state, const core::Scene& scene, const core::CameraCo
          bool face_cones, bool reuse_poses = true, bool obstacles_last = true,
          bool face_shadows = false) {
   exact::ExactOptions options;
-  options.threads = 1;
+  // CAMPLACE_BENCH_THREADS=N: N threads (default 1); one state then has N - 1 helpers.
+  const char* threads = std::getenv("CAMPLACE_BENCH_THREADS");
+  options.threads = threads ? std::max(1, std::atoi(threads)) : 1;
   options.face_cones = face_cones;
   options.face_shadows = face_shadows;
   options.reuse_poses = reuse_poses;

@@ -14,9 +14,12 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
+#include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -117,12 +120,14 @@ struct StateOutput {
   double labelling_ms = 0.0, clustering_ms = 0.0, distance_ms = 0.0;
 };
 
-StateOutput evaluate_state(Pipeline& pipeline, const core::Scene& scene, const core::StateIndex& s,
-                           const ExactOptions& options, const std::function<void()>& camera_done) {
+StateOutput evaluate_state(
+    Pipeline& pipeline, const core::Scene& scene, const core::StateIndex& s,
+    const ExactOptions& options, const std::function<void()>& camera_done,
+    const std::function<void(std::size_t, const std::optional<core::Box3>&)>& before_camera) {
   const std::string& export_dir = options.export_dir;
   StateOutput out;
   auto t0 = Clock::now();
-  auto [m, discarded] = pipeline.model(s, camera_done);
+  auto [m, discarded] = pipeline.model(s, camera_done, before_camera);
   out.labelling_ms = ms_since(t0);
 
   t0 = Clock::now();
@@ -191,6 +196,150 @@ std::vector<std::vector<std::size_t>> make_tasks(const std::vector<core::StateIn
   return tasks;
 }
 
+/// What helper threads build ahead for a (state, camera) unit (Pipeline::Prefill).
+Pipeline::Prefill prefill_choice() {
+  const char* env = std::getenv("CAMPLACE_EXACT_PREFILL");
+  const std::string v = env ? env : "";
+  if (v == "hidden") return Pipeline::Prefill::hidden;
+  if (v == "whole") return Pipeline::Prefill::whole;
+  return Pipeline::Prefill::likely;
+}
+
+/// The (state, camera) units of one task, whose parts that do not depend on the model
+/// (Pipeline::prefill) helper threads build ahead of the task's worker when there are more threads
+/// than tasks. Units are claimed in order by whoever comes first: a helper builds its unit in a
+/// Pipeline of its own, destroyed before the parts are put on the board, and the worker moves them
+/// into its pipeline's caches (Pipeline::adopt) when it comes to that camera; a unit nobody has
+/// claimed yet the worker builds itself, as without helpers, and while it waits for a helper it
+/// builds later units itself. A part is handed from one thread to another only through the board's
+/// mutex, after its builder has finished with it (docs/design/exact-model.md E4).
+class PartsBoard {
+ public:
+  PartsBoard(const core::Scene& scene, const core::CameraConfig& config,
+             const ExactOptions& options, std::vector<core::StateIndex> states,
+             Pipeline::Prefill what)
+      : scene_(scene),
+        config_(config),
+        options_(options),
+        states_(std::move(states)),
+        cameras_(config.size()),
+        what_(what),
+        units_(states_.size() * cameras_) {}
+
+  /// Helper: claims the next unit and builds its parts; false when no unit is left.
+  bool help() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    if (closed_ || next_ >= units_.size()) return false;
+    const std::size_t u = next_++;
+    units_[u].status = Status::helper;
+    const std::size_t k = u / cameras_, c = u % cameras_;
+    const std::optional<core::Box3> box = k == state_ ? box_ : std::nullopt;
+    lock.unlock();
+    try {
+      std::optional<Pipeline::CameraParts> parts;
+      {
+        Pipeline pipeline(scene_, config_, options_);
+        pipeline.prefill(c, states_[k], box, what_);
+        parts = pipeline.take_parts(c, states_[k]);
+      }  // the helper's pipeline ends here: the parts' handles are the only ones left
+      lock.lock();
+      parts_built_ += parts->count();
+      units_[u].parts = std::move(parts);
+      parts.reset();  // a Nef copies its handle when moved: drop ours before the worker takes it
+      units_[u].status = Status::ready;
+    } catch (...) {
+      if (!lock.owns_lock()) lock.lock();
+      units_[u].status = Status::failed;
+      if (!error_) error_ = std::current_exception();
+      closed_ = true;
+    }
+    changed_.notify_all();
+    return true;
+  }
+
+  /// Worker: before camera c of the task's k-th state, whose free region will be built within
+  /// `box` (none: whole). Adopts the unit's parts a helper built (waiting for them, and building
+  /// later units itself meanwhile), or claims the unit. Rethrows a helper's error.
+  void before_camera(Pipeline& pipeline, std::size_t k, std::size_t c,
+                     const std::optional<core::Box3>& box) {
+    const std::size_t u = k * cameras_ + c;
+    std::unique_lock<std::mutex> lock(mutex_);
+    state_ = k;
+    box_ = box;
+    if (next_ <= u) {
+      next_ = u + 1;  // the worker builds it in model(), as without helpers
+      return;
+    }
+    while (units_[u].status == Status::helper) {
+      if (!closed_ && next_ < units_.size()) {
+        const std::size_t v = next_++;
+        units_[v].status = Status::worker;
+        const std::size_t kv = v / cameras_;
+        lock.unlock();
+        pipeline.prefill(v % cameras_, states_[kv], kv == k ? box : std::nullopt, what_);
+        lock.lock();
+        continue;
+      }
+      changed_.wait(lock);
+    }
+    if (units_[u].status == Status::failed) std::rethrow_exception(error_);
+    if (units_[u].status != Status::ready) return;
+    std::optional<Pipeline::CameraParts> parts = std::move(units_[u].parts);
+    units_[u].parts.reset();
+    units_[u].status = Status::adopted;
+    lock.unlock();
+    pipeline.adopt(std::move(*parts));
+  }
+
+  /// Worker: the task's k-th state is done; its units nobody has claimed are left out (cameras
+  /// skipped because the model was already empty).
+  void state_done(std::size_t k) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    next_ = std::max(next_, (k + 1) * cameras_);
+  }
+
+  /// No unit is claimed any more (the task is done, or failed).
+  void close() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    closed_ = true;
+  }
+
+  /// The parts helpers built (adopted or not).
+  long parts_built() const {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return parts_built_;
+  }
+
+  /// A helper's error, also when the worker never came to the failed unit; null if none.
+  std::exception_ptr error() const {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return error_;
+  }
+
+ private:
+  enum class Status { open, helper, worker, ready, adopted, failed };
+  struct Unit {
+    Status status = Status::open;
+    std::optional<Pipeline::CameraParts> parts;
+  };
+
+  const core::Scene& scene_;
+  const core::CameraConfig& config_;
+  const ExactOptions& options_;
+  const std::vector<core::StateIndex> states_;
+  const std::size_t cameras_;
+  const Pipeline::Prefill what_;
+  mutable std::mutex mutex_;
+  std::condition_variable changed_;
+  std::vector<Unit> units_;  ///< unit k · cameras + c: camera c of the k-th state
+  std::size_t next_ = 0;     ///< the first unit nobody has claimed
+  bool closed_ = false;
+  std::size_t state_ = 0;          ///< the state the worker is in,
+  std::optional<core::Box3> box_;  ///< and the box of its last camera's free region
+  long parts_built_ = 0;
+  std::exception_ptr error_;
+};
+
 /// The scene's states (core::states) that `wanted` names, in the scene's order; all of them when
 /// `wanted` is empty. core::OptionError ("states") for a state the scene does not have.
 std::vector<core::StateIndex> chosen_states(const core::Scene& scene,
@@ -237,39 +386,87 @@ ExactEvaluation evaluate_exact(const core::Scene& scene, const core::CameraConfi
   }
   std::vector<StateOutput> outputs(states.size());
   // Each thread owns its Pipeline: CGAL's lazy exact numbers and Nef polyhedra are never shared
-  // between threads; a model built by a worker is handed over when the worker has joined.
+  // between threads; a model built by a worker is handed over when the worker has joined. The
+  // threads beyond one per task help the tasks' workers: they build camera parts ahead, each unit
+  // in a Pipeline of its own (PartsBoard), so that one state or a few use every thread.
+  const std::size_t threads_wanted = thread_count(options.threads);
+  const std::size_t workers = std::min(threads_wanted, tasks.size());
+  std::size_t helpers = threads_wanted - workers;
+  std::vector<std::unique_ptr<PartsBoard>> boards;
+  if (helpers > 0) {
+    const Pipeline::Prefill what = prefill_choice();
+    std::size_t units = 0;
+    for (const auto& task : tasks) {
+      std::vector<core::StateIndex> task_states;
+      for (std::size_t i : task) task_states.push_back(states[i]);
+      units += task_states.size() * config.size();
+      boards.push_back(
+          std::make_unique<PartsBoard>(scene, config, options, std::move(task_states), what));
+    }
+    helpers = std::min(helpers, units);
+  }
   std::atomic<std::size_t> next_task{0};
   std::mutex error_mutex;
   std::exception_ptr error;
+  auto fail = [&] {
+    const std::lock_guard<std::mutex> lock(error_mutex);
+    if (!error) error = std::current_exception();
+    next_task = tasks.size();
+    for (auto& board : boards) board->close();
+  };
   auto work = [&] {
     try {
       std::optional<Pipeline> pipeline;
       for (std::size_t t = next_task++; t < tasks.size(); t = next_task++) {
         if (!pipeline) pipeline.emplace(scene, config, options);
-        for (std::size_t i : tasks[t]) {
-          outputs[i] = evaluate_state(*pipeline, scene, states[i], options, camera_done);
+        PartsBoard* board = boards.empty() ? nullptr : boards[t].get();
+        for (std::size_t k = 0; k < tasks[t].size(); ++k) {
+          const std::size_t i = tasks[t][k];
+          std::function<void(std::size_t, const std::optional<core::Box3>&)> before_camera;
+          if (board)
+            before_camera = [&, k](std::size_t c, const std::optional<core::Box3>& box) {
+              board->before_camera(*pipeline, k, c, box);
+            };
+          outputs[i] =
+              evaluate_state(*pipeline, scene, states[i], options, camera_done, before_camera);
+          if (board) board->state_done(k);
           // A model's Nef polyhedron is large and its results are in outputs[i].result: held
           // until the end only when asked for, so the memory does not grow with the states.
           if (!options.keep_models) outputs[i].model.reset();
         }
+        if (board) board->close();
       }
     } catch (...) {
-      const std::lock_guard<std::mutex> lock(error_mutex);
-      if (!error) error = std::current_exception();
-      next_task = tasks.size();
+      fail();
     }
   };
-  const std::size_t workers = std::min(thread_count(options.threads), tasks.size());
-  if (workers <= 1) {
+  auto help = [&](std::size_t first) {
+    try {
+      // Round the boards, a unit at a time, until no board has one left.
+      for (std::size_t b = first;; ++b) {
+        bool any = false;
+        for (std::size_t j = 0; j < boards.size() && !any; ++j)
+          any = boards[(b + j) % boards.size()]->help();
+        if (!any) break;
+      }
+    } catch (...) {
+      fail();
+    }
+  };
+  if (workers + helpers <= 1) {
     work();
   } else {
     std::vector<std::thread> threads;
     for (std::size_t w = 0; w < workers; ++w) threads.emplace_back(work);
+    for (std::size_t h = 0; h < helpers; ++h) threads.emplace_back(help, h);
     for (auto& thread : threads) thread.join();
   }
+  for (const auto& board : boards)
+    if (!error) error = board->error();
   if (error) std::rethrow_exception(error);
 
   ExactEvaluation result;
+  for (const auto& board : boards) result.parts_built_ahead += board->parts_built();
   for (auto& out : outputs) {
     result.timing.labelling_ms += out.labelling_ms;
     result.timing.clustering_ms += out.clustering_ms;

@@ -21,7 +21,9 @@
 // V that rays from c through the box can meet (state_free_within; the same model,
 // docs/design/exact-model.md E3).
 //
-// What is computed once and reused (per Pipeline, i.e. per worker thread):
+// What is computed once and reused (per Pipeline, i.e. per worker thread; the scene objects'
+// exact solids and the cameras' FOVs are built on first use, so a pipeline that serves one state
+// or one camera costs little to set up):
 //   hidden parts  the static obstacles' shadows per camera, the dynamic obstacles' shadows or
 //                 cones per camera and step;
 //   static part   FOV ∩ clip box minus the static obstacles' shadows, per camera;
@@ -32,6 +34,16 @@
 //                 meshes share it (a person standing at the same place in every time step);
 //   step obstacles the union of the step's obstacles, and in the former order S minus it, per
 //                 step (dropped likewise).
+//
+// Helper threads (ExactOptions::threads, when there are fewer states' tasks than threads) build
+// ahead, each unit (state, camera) in a Pipeline of its own (prefill), the parts above that do not
+// depend on the model: the hidden parts and, while the model still fills the clip box, the static
+// and step parts. The helper's pipeline is destroyed before the parts are handed over (take_parts);
+// the consuming pipeline only moves them into its caches (adopt), so no Nef polyhedron or lazy
+// exact number is ever used by two threads at once (the parts' handles keep what they share with
+// the helper's solids alive, reference counts being atomic with CGAL_HAS_THREADS). Each state's
+// model stays one sequential loop over the cameras, and a part is the same point set whoever
+// builds it, so no result depends on the number of threads (docs/design/exact-model.md E4).
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -62,6 +74,7 @@ class Pipeline {
   Pipeline(const core::Scene& scene, const core::CameraConfig& config,
            const ExactOptions& options = {})
       : scene_(scene),
+        config_(config),
         face_cones_(options.face_cones),
         face_shadows_(options.face_shadows),
         reuse_poses_(options.reuse_poses),
@@ -78,12 +91,9 @@ class Pipeline {
                           scene.area.max + core::Vec3::Constant(margin)};
     clip_ = clip;
     margin_ = margin;
-    const Nef clip_box = box_nef(clip);
+    clip_box_ = box_nef(clip);
     auto add = [this](const std::vector<core::SceneObject>& objects) {
-      for (const auto& o : objects) {
-        solids_.try_emplace(&o, o.mesh);
-        shape_.emplace(&o, shape_id(o.mesh));
-      }
+      for (const auto& o : objects) shape_.emplace(&o, shape_id(o.mesh));
     };
     add(scene.static_obstacles);
     for (const auto& step : scene.time_steps) {
@@ -95,7 +105,6 @@ class Pipeline {
       const core::CameraSetting& setting = config[i];
       Camera cam;
       cam.view = view_point(setting, clip);
-      cam.fov = fov_nef(cam.view, setting, scene.cameras.models.at(i)) * clip_box;
       cam.image = image_plane(setting, scene.cameras.models.at(i));
       cameras_.push_back(std::move(cam));
     }
@@ -122,14 +131,14 @@ class Pipeline {
   /// paper_basic most of the model's vertices, so the later booleans cost ~40% less); the kept
   /// model does not depend on the order, but the count of removed components may
   /// (discard_implausible). `camera_done` (may be empty) is called after each camera's step, also
-  /// for the cameras skipped because the model is already empty.
-  StateModel model(const core::StateIndex& s, const std::function<void()>& camera_done = {}) {
+  /// for the cameras skipped because the model is already empty. `before_camera` (may be empty)
+  /// is called before each camera's step that is not skipped, with the camera and the box its
+  /// free region will be built within (none: the whole region), e.g. to adopt parts built ahead.
+  StateModel model(const core::StateIndex& s, const std::function<void()>& camera_done = {},
+                   const std::function<void(std::size_t, const std::optional<core::Box3>&)>&
+                       before_camera = {}) {
     const auto objects = core::state_objects(scene_, s);
-    // A step's caches are dropped when the pipeline moves on to another step: the worker threads
-    // take whole time steps (or slices of one), so a thread holds one step's at a time, not every
-    // step's (at worst a step is visited again and its part recomputed: the same sets).
-    if (current_step_ >= 0 && current_step_ != s.time_step) release_step(current_step_);
-    current_step_ = s.time_step;
+    enter_step(s.time_step);
     StateModel out;
     Nef m = obstacles_last_ ? area_ : step_area(s.time_step, objects);
     std::size_t c = 0;
@@ -138,6 +147,7 @@ class Pipeline {
       // only the free region's part in that box is built and subtracted: the same set, and the
       // later booleans skip the static and step parts' facets far from the model (E3).
       const std::optional<core::Box3> box = model_box(m);
+      if (before_camera) before_camera(c, box);
       const Nef free = box ? state_free_within(c, s, objects, *box) : state_free(c, s, objects);
       if (!free.is_empty()) m -= free;
       if (c + 1 < cameras_.size()) out.discarded += discard_implausible(m, scene_.plausibility);
@@ -161,19 +171,154 @@ class Pipeline {
   }
 
   /// FOV ∩ S of camera c (for export).
-  Nef fov(std::size_t c) const { return cameras_[c].fov * area_; }
+  Nef fov(std::size_t c) const { return fov_of(c) * area_; }
   std::size_t camera_count() const { return cameras_.size(); }
+
+  /// What prefill builds ahead for one (state, camera) unit.
+  enum class Prefill {
+    hidden,  ///< the hidden parts of every kind (hidden_cached)
+    whole,   ///< those and the static and step parts (static_free, step_free)
+    likely,  ///< whole while no box is given, else the hidden parts that the box may need
+  };
+
+  /// The parts of camera c for state s that do not depend on the model, moved out of a
+  /// pipeline's caches (take_parts) to be moved into another's (adopt).
+  struct CameraParts {
+    std::size_t camera = 0;
+    core::StateIndex state;
+    std::optional<Nef> static_hidden, static_free, step_hidden, step_free, target_cones;
+    /// The number of parts held.
+    int count() const {
+      return int(bool(static_hidden)) + bool(static_free) + bool(step_hidden) + bool(step_free) +
+             bool(target_cones);
+    }
+  };
+
+  /// Builds into the caches the parts of camera c for state s that do not depend on the model
+  /// (SPEC §3: the shadows and cones of each kind, and with Prefill::whole the static and step
+  /// parts), as model() would build them; `box`: a box that holds the model whenever camera c's
+  /// step comes (none: unknown), which lets Prefill::likely leave out the parts state_free_within
+  /// will not need (sight_may_meet: the box only shrinks). Parts that end up unused cost time,
+  /// never correctness: model() builds whatever is missing.
+  void prefill(std::size_t c, const core::StateIndex& s, const std::optional<core::Box3>& box,
+               Prefill what) {
+    const auto objects = core::state_objects(scene_, s);
+    enter_step(s.time_step);
+    if (what == Prefill::whole || (what == Prefill::likely && !box)) {
+      const Nef& free = step_free(c, s, objects);
+      // Without reuse_poses the targets' cones are built for each state when needed, not cached.
+      if (!free.is_empty() && reuse_poses_ &&
+          !camera_inside(cameras_[c].view, of_kind(objects, core::ObjectKind::target)))
+        hidden_cached(c, s, objects, core::ObjectKind::target);
+      return;
+    }
+    constexpr core::ObjectKind kinds[] = {core::ObjectKind::static_obstacle,
+                                          core::ObjectKind::dynamic_obstacle,
+                                          core::ObjectKind::target};
+    // A camera inside an object sees nothing (state_free and state_free_within build nothing).
+    for (const auto kind : kinds)
+      if (camera_inside(cameras_[c].view, of_kind(objects, kind))) return;
+    std::vector<Point> corners;  // of the convex FOV ∩ box
+    if (what == Prefill::likely) {
+      const Nef region = fov_of(c) * box_nef(*box);
+      if (region.is_empty()) return;
+      for (auto v = region.vertices_begin(); v != region.vertices_end(); ++v)
+        corners.push_back(v->point());
+    }
+    for (const auto kind : kinds) {
+      if (kind == core::ObjectKind::target && !reuse_poses_) continue;
+      if (what == Prefill::likely &&
+          !sight_may_meet(cameras_[c].image, of_kind(objects, kind), corners))
+        continue;
+      hidden_cached(c, s, objects, kind);
+    }
+  }
+
+  /// Moves the parts of camera c for state s out of the caches.
+  CameraParts take_parts(std::size_t c, const core::StateIndex& s) {
+    const auto objects = core::state_objects(scene_, s);
+    const std::size_t h = std::size_t(s.time_step);
+    CameraParts out;
+    out.camera = c;
+    out.state = s;
+    out.static_hidden = take(cameras_[c].static_hidden);
+    out.static_free = take(cameras_[c].static_free);
+    if (h < step_hidden_[c].size()) out.step_hidden = take(step_hidden_[c][h]);
+    if (h < step_free_[c].size()) out.step_free = take(step_free_[c][h]);
+    const auto it = target_cones_.find(target_key(c, objects));
+    if (it != target_cones_.end()) {
+      out.target_cones = std::move(it->second);
+      target_cones_.erase(it);
+    }
+    return out;
+  }
+
+  /// Moves parts built by another pipeline (take_parts) into the caches, where they are missing;
+  /// the parts' state must be of the time step the pipeline is in (model() or prefill).
+  void adopt(CameraParts&& parts) {
+    const std::size_t c = parts.camera;
+    const core::StateIndex& s = parts.state;
+    CAMPLACE_ASSERT(current_step_ == s.time_step);
+    const std::size_t h = std::size_t(s.time_step);
+    auto put = [](std::optional<Nef>& slot, std::optional<Nef>& part) {
+      if (!slot && part) slot = std::move(part);
+      part.reset();
+    };
+    put(cameras_[c].static_hidden, parts.static_hidden);
+    put(cameras_[c].static_free, parts.static_free);
+    for (auto* slots : {&step_hidden_, &step_free_})
+      if ((*slots)[c].size() < scene_.time_steps.size())
+        (*slots)[c].resize(scene_.time_steps.size());
+    put(step_hidden_[c][h], parts.step_hidden);
+    put(step_free_[c][h], parts.step_free);
+    if (parts.target_cones) {
+      target_cones_.try_emplace(target_key(c, core::state_objects(scene_, s)),
+                                std::move(*parts.target_cones));
+      parts.target_cones.reset();
+    }
+  }
 
  private:
   struct Camera {
     ViewPoint view;
-    Nef fov;           ///< pyramid ∩ clip box
+    mutable std::optional<Nef> fov;  ///< pyramid ∩ clip box (fov_of)
     ImagePlane image;  ///< for the outlines of occupying objects and the shadows' patches
     std::optional<Nef> static_hidden;  ///< the static obstacles' shadows
     std::optional<Nef> static_free;
   };
 
-  const Solid& solid(const core::SceneObject& o) const { return solids_.at(&o); }
+  /// The object's exact solid, built on first use (a pipeline that serves one state builds only
+  /// that state's).
+  const Solid& solid(const core::SceneObject& o) const {
+    return solids_.try_emplace(&o, o.mesh).first->second;
+  }
+
+  /// Camera c's pyramid ∩ clip box, built on first use.
+  const Nef& fov_of(std::size_t c) const {
+    const Camera& cam = cameras_[c];
+    if (!cam.fov)
+      cam.fov.emplace(fov_nef(cam.view, config_[c], scene_.cameras.models.at(c)) * clip_box_);
+    return *cam.fov;
+  }
+
+  /// The part in `slot`, which is left empty.
+  static std::optional<Nef> take(std::optional<Nef>& slot) {
+    std::optional<Nef> out = std::move(slot);
+    slot.reset();
+    return out;
+  }
+
+  /// The key of the targets' cones of camera c in target_cones_: the camera, the targets' shapes
+  /// in order, a separator, the occluders' shapes.
+  std::vector<int> target_key(std::size_t c, const std::vector<core::StateObject>& objects) const {
+    std::vector<int> key{int(c)};
+    for (const auto& o : objects)
+      if (o.kind == core::ObjectKind::target) key.push_back(shape_.at(o.object));
+    key.push_back(-1);
+    for (const auto& o : objects)
+      if (o.role == core::ObjectRole::occluding) key.push_back(shape_.at(o.object));
+    return key;
+  }
 
   /// The state's objects of this kind.
   std::vector<const Solid*> of_kind(const std::vector<core::StateObject>& objects,
@@ -243,15 +388,9 @@ class Pipeline {
       return *slot[s.time_step];
     }
     // The targets' cones depend only on the camera, the targets' meshes and the occluders' meshes
-    // (hidden; targets never occlude), so states of the same pose share them. The key: the
-    // camera, the targets' shapes in order, a separator, the occluders' shapes.
+    // (hidden; targets never occlude), so states of the same pose share them (target_key).
     if (!reuse_poses_) return hidden(c, objects, kind);
-    std::vector<int> key{int(c)};
-    for (const auto& o : objects)
-      if (o.kind == core::ObjectKind::target) key.push_back(shape_.at(o.object));
-    key.push_back(-1);
-    for (const auto& o : objects)
-      if (o.role == core::ObjectRole::occluding) key.push_back(shape_.at(o.object));
+    const std::vector<int> key = target_key(c, objects);
     auto it = target_cones_.find(key);
     if (it == target_cones_.end()) it = target_cones_.emplace(key, hidden(c, objects, kind)).first;
     return it->second;
@@ -274,7 +413,7 @@ class Pipeline {
     Camera& cam = cameras_[c];
     if (!cam.static_free)
       cam.static_free.emplace(
-          remove_hidden(c, cam.fov, s, objects, core::ObjectKind::static_obstacle));
+          remove_hidden(c, fov_of(c), s, objects, core::ObjectKind::static_obstacle));
     return *cam.static_free;
   }
 
@@ -335,7 +474,7 @@ class Pipeline {
                                           core::ObjectKind::target};
     for (const auto kind : kinds)
       if (camera_inside(cameras_[c].view, of_kind(objects, kind))) return Nef();
-    Nef free = cameras_[c].fov * box_nef(box);
+    Nef free = fov_of(c) * box_nef(box);
     if (free.is_empty()) return free;
     std::vector<Point> corners;  // of the convex FOV ∩ box
     for (auto v = free.vertices_begin(); v != free.vertices_end(); ++v)
@@ -376,6 +515,14 @@ class Pipeline {
     return next_shape_++;
   }
 
+  /// Moves the pipeline to time step h: the caches of the step it was in are dropped. The worker
+  /// threads take whole time steps (or slices of one), so a pipeline holds one step's at a time,
+  /// not every step's (at worst a step is visited again and its part recomputed: the same sets).
+  void enter_step(int h) {
+    if (current_step_ >= 0 && current_step_ != h) release_step(current_step_);
+    current_step_ = h;
+  }
+
   /// Drops the caches of time step h.
   void release_step(int h) {
     for (auto& slots : {&step_free_, &step_hidden_})
@@ -408,6 +555,7 @@ class Pipeline {
   }
 
   const core::Scene& scene_;
+  core::CameraConfig config_;
   bool face_cones_ = false;
   bool face_shadows_ = false;
   bool reuse_poses_ = true;
@@ -419,9 +567,10 @@ class Pipeline {
   int next_shape_ = 0;
   std::map<std::vector<int>, Nef> target_cones_;
   Nef area_;
+  Nef clip_box_;         ///< the box clip_
   core::Box3 clip_;      ///< S enlarged by margin_ (m)
   double margin_ = 0.0;  ///< a power of two (m)
-  std::unordered_map<const core::SceneObject*, Solid> solids_;
+  mutable std::unordered_map<const core::SceneObject*, Solid> solids_;
   std::vector<Camera> cameras_;
   std::vector<std::vector<std::optional<Nef>>> step_free_, step_hidden_;
   std::vector<std::optional<Nef>> step_obstacles_, step_area_;

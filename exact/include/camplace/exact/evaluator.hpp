@@ -22,9 +22,14 @@ struct ExactOptions {
   std::string export_dir;
   /// Keep each state's model in ExactEvaluation::models (for validation).
   bool keep_models = false;
-  /// Worker threads evaluating states in parallel (each with its own Nef objects; whole time
-  /// steps per thread, so the per-step caches still help); 0 = std::thread::hardware_concurrency().
-  /// The results do not depend on it and are always in state order.
+  /// Threads (0 = std::thread::hardware_concurrency()), each with its own Nef objects: worker
+  /// threads evaluate states in parallel, whole time steps per thread (so the per-step caches
+  /// still help; a step's events are split only when there are fewer steps than threads); the
+  /// threads beyond one per such task help the workers by building each camera's shadows, cones
+  /// and free-region pieces ahead (they do not depend on the model), so that a single state also
+  /// uses them. Each state's model is still built camera after camera by one thread. The results,
+  /// the count of removed components included, do not depend on it and are always in state order
+  /// (docs/design/exact-model.md E4).
   int threads = 0;
   /// Build each silhouette cone as the union of one cone per visible face (the former
   /// construction: the same model exactly, much slower on fine meshes; a reference for tests and
@@ -109,6 +114,9 @@ class ExactModel {
 /// model).
 struct ExactEvaluation : core::Evaluation {
   std::vector<ExactModel> models;  ///< one per state when ExactOptions::keep_models
+  /// Camera parts (shadows, cones, free-region pieces of one camera for one state) that helper
+  /// threads built ahead (ExactOptions::threads); 0 without helpers.
+  long parts_built_ahead = 0;
 };
 
 /// Evaluates Err exactly for `config` (one setting per camera of `scene`). The FOV is always
