@@ -15,7 +15,6 @@
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
-#include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <functional>
@@ -196,15 +195,6 @@ std::vector<std::vector<std::size_t>> make_tasks(const std::vector<core::StateIn
   return tasks;
 }
 
-/// What helper threads build ahead for a (state, camera) unit (Pipeline::Prefill).
-Pipeline::Prefill prefill_choice() {
-  const char* env = std::getenv("CAMPLACE_EXACT_PREFILL");
-  const std::string v = env ? env : "";
-  if (v == "hidden") return Pipeline::Prefill::hidden;
-  if (v == "whole") return Pipeline::Prefill::whole;
-  return Pipeline::Prefill::likely;
-}
-
 /// The (state, camera) units of one task, whose parts that do not depend on the model
 /// (Pipeline::prefill) helper threads build ahead of the task's worker when there are more threads
 /// than tasks. Units are claimed in order by whoever comes first: a helper builds its unit in a
@@ -216,14 +206,12 @@ Pipeline::Prefill prefill_choice() {
 class PartsBoard {
  public:
   PartsBoard(const core::Scene& scene, const core::CameraConfig& config,
-             const ExactOptions& options, std::vector<core::StateIndex> states,
-             Pipeline::Prefill what)
+             const ExactOptions& options, std::vector<core::StateIndex> states)
       : scene_(scene),
         config_(config),
         options_(options),
         states_(std::move(states)),
         cameras_(config.size()),
-        what_(what),
         units_(states_.size() * cameras_) {}
 
   /// Helper: claims the next unit and builds its parts; false when no unit is left.
@@ -239,7 +227,7 @@ class PartsBoard {
       std::optional<Pipeline::CameraParts> parts;
       {
         Pipeline pipeline(scene_, config_, options_);
-        pipeline.prefill(c, states_[k], box, what_);
+        pipeline.prefill(c, states_[k], box);
         parts = pipeline.take_parts(c, states_[k]);
       }  // the helper's pipeline ends here: the parts' handles are the only ones left
       lock.lock();
@@ -276,7 +264,7 @@ class PartsBoard {
         units_[v].status = Status::worker;
         const std::size_t kv = v / cameras_;
         lock.unlock();
-        pipeline.prefill(v % cameras_, states_[kv], kv == k ? box : std::nullopt, what_);
+        pipeline.prefill(v % cameras_, states_[kv], kv == k ? box : std::nullopt);
         lock.lock();
         continue;
       }
@@ -328,7 +316,6 @@ class PartsBoard {
   const ExactOptions& options_;
   const std::vector<core::StateIndex> states_;
   const std::size_t cameras_;
-  const Pipeline::Prefill what_;
   mutable std::mutex mutex_;
   std::condition_variable changed_;
   std::vector<Unit> units_;  ///< unit k · cameras + c: camera c of the k-th state
@@ -394,14 +381,13 @@ ExactEvaluation evaluate_exact(const core::Scene& scene, const core::CameraConfi
   std::size_t helpers = threads_wanted - workers;
   std::vector<std::unique_ptr<PartsBoard>> boards;
   if (helpers > 0) {
-    const Pipeline::Prefill what = prefill_choice();
     std::size_t units = 0;
     for (const auto& task : tasks) {
       std::vector<core::StateIndex> task_states;
       for (std::size_t i : task) task_states.push_back(states[i]);
       units += task_states.size() * config.size();
       boards.push_back(
-          std::make_unique<PartsBoard>(scene, config, options, std::move(task_states), what));
+          std::make_unique<PartsBoard>(scene, config, options, std::move(task_states)));
     }
     helpers = std::min(helpers, units);
   }

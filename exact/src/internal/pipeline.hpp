@@ -32,23 +32,28 @@
 //   target cones  the union V of a state's targets, per camera and per pose: states whose targets
 //                 have the same meshes (vertex for vertex) and whose occluders have the same
 //                 meshes share it (a person standing at the same place in every time step);
+//   free region   Free_c of a state, per camera and state, only when built ahead (below);
 //   step obstacles the union of the step's obstacles, and in the former order S minus it, per
 //                 step (dropped likewise).
 //
 // Helper threads (ExactOptions::threads, when there are fewer states' tasks than threads) build
 // ahead, each unit (state, camera) in a Pipeline of its own (prefill), the parts above that do not
-// depend on the model: the hidden parts and, while the model still fills the clip box, the static
-// and step parts. The helper's pipeline is destroyed before the parts are handed over (take_parts);
-// the consuming pipeline only moves them into its caches (adopt), so no Nef polyhedron or lazy
-// exact number is ever used by two threads at once (the parts' handles keep what they share with
-// the helper's solids alive, reference counts being atomic with CGAL_HAS_THREADS). Each state's
-// model stays one sequential loop over the cameras, and a part is the same point set whoever
-// builds it, so no result depends on the number of threads (docs/design/exact-model.md E4).
+// depend on the model: while the model still fills the clip box (no model box yet), the whole free
+// region of the camera with the parts it is built from; after that, the hidden parts whose sight
+// may meet FOV ∩ the model box (the box only shrinks). The helper's pipeline is destroyed before
+// the parts are handed over (take_parts); the consuming pipeline only moves them into its caches
+// (adopt), so no Nef polyhedron or lazy exact number is ever used by two threads at once (the
+// parts' handles keep what they share with the helper's solids alive, reference counts being atomic
+// with CGAL_HAS_THREADS). Each state's model stays one sequential loop over the cameras, and a part
+// is the same point set whoever builds it, so no result depends on the number of threads
+// (docs/design/exact-model.md E4).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstring>
 #include <functional>
+#include <iterator>
 #include <map>
 #include <optional>
 #include <unordered_map>
@@ -148,7 +153,7 @@ class Pipeline {
       // later booleans skip the static and step parts' facets far from the model (E3).
       const std::optional<core::Box3> box = model_box(m);
       if (before_camera) before_camera(c, box);
-      const Nef free = box ? state_free_within(c, s, objects, *box) : state_free(c, s, objects);
+      const Nef free = free_region(c, s, objects, box);
       if (!free.is_empty()) m -= free;
       if (c + 1 < cameras_.size()) out.discarded += discard_implausible(m, scene_.plausibility);
       if (camera_done) camera_done();
@@ -174,63 +179,52 @@ class Pipeline {
   Nef fov(std::size_t c) const { return fov_of(c) * area_; }
   std::size_t camera_count() const { return cameras_.size(); }
 
-  /// What prefill builds ahead for one (state, camera) unit.
-  enum class Prefill {
-    hidden,  ///< the hidden parts of every kind (hidden_cached)
-    whole,   ///< those and the static and step parts (static_free, step_free)
-    likely,  ///< whole while no box is given, else the hidden parts that the box may need
-  };
-
   /// The parts of camera c for state s that do not depend on the model, moved out of a
   /// pipeline's caches (take_parts) to be moved into another's (adopt).
   struct CameraParts {
     std::size_t camera = 0;
     core::StateIndex state;
-    std::optional<Nef> static_hidden, static_free, step_hidden, step_free, target_cones;
+    std::optional<Nef> static_hidden, static_free, step_hidden, step_free, target_cones, free;
     /// The number of parts held.
     int count() const {
       return int(bool(static_hidden)) + bool(static_free) + bool(step_hidden) + bool(step_free) +
-             bool(target_cones);
+             bool(target_cones) + bool(free);
     }
   };
 
-  /// Builds into the caches the parts of camera c for state s that do not depend on the model
-  /// (SPEC §3: the shadows and cones of each kind, and with Prefill::whole the static and step
-  /// parts), as model() would build them; `box`: a box that holds the model whenever camera c's
-  /// step comes (none: unknown), which lets Prefill::likely leave out the parts state_free_within
-  /// will not need (sight_may_meet: the box only shrinks). Parts that end up unused cost time,
-  /// never correctness: model() builds whatever is missing.
-  void prefill(std::size_t c, const core::StateIndex& s, const std::optional<core::Box3>& box,
-               Prefill what) {
+  /// Builds into the caches the parts of camera c for state s that do not depend on the model, as
+  /// model() would build them (SPEC §3). `box`: a box that holds the model whenever camera c's step
+  /// comes (none: unknown). Without one, the whole free region Free_c (state_free, with the static
+  /// and step parts and the hidden parts it is built from), which model() uses while the model
+  /// still fills the clip box. With one, only the hidden parts (hidden_cached) of the kinds whose
+  /// sight may meet FOV ∩ box: state_free_within needs no others, since the model's box only
+  /// shrinks (sight_may_meet). Parts that end up unused cost time, never correctness: model()
+  /// builds whatever is missing. (On paper_basic with 12 cameras, and with a person of 3,200
+  /// triangles, this left the worker less to do than building only the hidden parts, for less CPU
+  /// time than building every camera's whole free region.)
+  void prefill(std::size_t c, const core::StateIndex& s, const std::optional<core::Box3>& box) {
     const auto objects = core::state_objects(scene_, s);
     enter_step(s.time_step);
-    if (what == Prefill::whole || (what == Prefill::likely && !box)) {
-      const Nef& free = step_free(c, s, objects);
-      // Without reuse_poses the targets' cones are built for each state when needed, not cached.
-      if (!free.is_empty() && reuse_poses_ &&
-          !camera_inside(cameras_[c].view, of_kind(objects, core::ObjectKind::target)))
-        hidden_cached(c, s, objects, core::ObjectKind::target);
+    if (!box) {
+      whole_free_.insert_or_assign(unit_key(c, s), state_free(c, s, objects));
       return;
     }
     constexpr core::ObjectKind kinds[] = {core::ObjectKind::static_obstacle,
                                           core::ObjectKind::dynamic_obstacle,
                                           core::ObjectKind::target};
-    // A camera inside an object sees nothing (state_free and state_free_within build nothing).
+    // A camera inside an object sees nothing (state_free_within builds nothing).
     for (const auto kind : kinds)
       if (camera_inside(cameras_[c].view, of_kind(objects, kind))) return;
+    const Nef region = fov_of(c) * box_nef(*box);
+    if (region.is_empty()) return;
     std::vector<Point> corners;  // of the convex FOV ∩ box
-    if (what == Prefill::likely) {
-      const Nef region = fov_of(c) * box_nef(*box);
-      if (region.is_empty()) return;
-      for (auto v = region.vertices_begin(); v != region.vertices_end(); ++v)
-        corners.push_back(v->point());
-    }
+    for (auto v = region.vertices_begin(); v != region.vertices_end(); ++v)
+      corners.push_back(v->point());
     for (const auto kind : kinds) {
+      // Without reuse_poses the targets' cones are built for each state when needed, not cached.
       if (kind == core::ObjectKind::target && !reuse_poses_) continue;
-      if (what == Prefill::likely &&
-          !sight_may_meet(cameras_[c].image, of_kind(objects, kind), corners))
-        continue;
-      hidden_cached(c, s, objects, kind);
+      if (sight_may_meet(cameras_[c].image, of_kind(objects, kind), corners))
+        hidden_cached(c, s, objects, kind);
     }
   }
 
@@ -249,6 +243,11 @@ class Pipeline {
     if (it != target_cones_.end()) {
       out.target_cones = std::move(it->second);
       target_cones_.erase(it);
+    }
+    const auto whole = whole_free_.find(unit_key(c, s));
+    if (whole != whole_free_.end()) {
+      out.free = std::move(whole->second);
+      whole_free_.erase(whole);
     }
     return out;
   }
@@ -275,6 +274,10 @@ class Pipeline {
       target_cones_.try_emplace(target_key(c, core::state_objects(scene_, s)),
                                 std::move(*parts.target_cones));
       parts.target_cones.reset();
+    }
+    if (parts.free) {
+      whole_free_.try_emplace(unit_key(c, s), std::move(*parts.free));
+      parts.free.reset();
     }
   }
 
@@ -306,6 +309,11 @@ class Pipeline {
     std::optional<Nef> out = std::move(slot);
     slot.reset();
     return out;
+  }
+
+  /// The key of camera c's free region for state s in whole_free_.
+  static std::array<int, 3> unit_key(std::size_t c, const core::StateIndex& s) {
+    return {int(c), s.time_step, s.event};
   }
 
   /// The key of the targets' cones of camera c in target_cones_: the camera, the targets' shapes
@@ -428,6 +436,21 @@ class Pipeline {
     return *slot[s.time_step];
   }
 
+  /// Camera c's free region for state s within `box` (state_free_within), or whole (state_free,
+  /// taken from whole_free_ when it was built ahead: prefill) when there is none.
+  Nef free_region(std::size_t c, const core::StateIndex& s,
+                  const std::vector<core::StateObject>& objects,
+                  const std::optional<core::Box3>& box) {
+    std::optional<Nef> ahead;
+    const auto it = whole_free_.find(unit_key(c, s));
+    if (it != whole_free_.end()) {
+      ahead = std::move(it->second);
+      whole_free_.erase(it);
+    }
+    if (box) return state_free_within(c, s, objects, *box);
+    return ahead ? std::move(*ahead) : state_free(c, s, objects);
+  }
+
   /// Free_c of SPEC §3 for one state: step_free minus the targets' cones.
   Nef state_free(std::size_t c, const core::StateIndex& s,
                  const std::vector<core::StateObject>& objects) {
@@ -530,6 +553,8 @@ class Pipeline {
         if (std::size_t(h) < slot.size()) slot[h].reset();
     step_obstacles_[h].reset();
     step_area_[h].reset();
+    for (auto it = whole_free_.begin(); it != whole_free_.end();)
+      it = (*it).first[1] == h ? whole_free_.erase(it) : std::next(it);
   }
 
   /// The union of the obstacles of step h (cached per step; targets are no obstacles, SPEC §4).
@@ -566,6 +591,7 @@ class Pipeline {
       shapes_by_hash_;
   int next_shape_ = 0;
   std::map<std::vector<int>, Nef> target_cones_;
+  std::map<std::array<int, 3>, Nef> whole_free_;  ///< state_free built ahead (prefill), by unit_key
   Nef area_;
   Nef clip_box_;         ///< the box clip_
   core::Box3 clip_;      ///< S enlarged by margin_ (m)
