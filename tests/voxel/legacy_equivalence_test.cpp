@@ -294,6 +294,54 @@ TEST(LegacyEquivalence, CopiesInBundlesGiveTheModelsOfEachStateAlone) {
   }
 }
 
+TEST(LegacyEquivalence, CenterModelsOfCopiesEqualThoseOfEachStateAlone) {
+  // Center mode, models of all states at once (judge_center with free_only): the hits of an
+  // object whose states of interest are all blocked are not tested, and a voxel is left as soon
+  // as every state is blocked (docs/design/labelling.md L8). Each hit claims only its own
+  // object's states, so every state keeps the model it has alone. Here 64 states of copies
+  // moved a little between 32 time steps (so each voxel and camera has many objects, some of
+  // whose states are blocked before others), occupying and occluding copies (both dynamic
+  // modes), every camera's model against that of the state's own scene (its time step and
+  // event only). A skipped hit that decides an open state (a state free where it is occupied
+  // alone, or the reverse) makes a model differ.
+  std::mt19937 rng(57);
+  const std::array<int, 3> resolution{12, 9, 9};
+  for (int s = 0; s < 4 && !HasFatalFailure(); ++s) {
+    core::Scene scene = random_scene(rng, resolution);
+    scene.dynamic_mode = s % 2 == 0 ? core::DynamicMode::masked : core::DynamicMode::modelled;
+    scene.plausibility = {};
+    scene = with_moved_copies(rng, std::move(scene), 32, 0.08, false);
+    const core::CameraConfig config = random_config(rng, scene);
+    const voxel::VoxelEvaluator all(scene, {LabelMode::center, resolution});
+    const auto states = core::states(scene);
+    ASSERT_EQ(states.size(), 64u);
+    long model_differing = 0, in_model = 0, out_of_model = 0;
+    for (std::size_t st = 0; st < states.size(); ++st) {
+      core::Scene alone = scene;
+      alone.time_steps = {scene.time_steps[states[st].time_step]};
+      alone.time_steps[0].events = {
+          scene.time_steps[states[st].time_step].events[states[st].event]};
+      const voxel::VoxelEvaluator one(alone, {LabelMode::center, resolution});
+      // Each camera alone (the scene's cameras all at its setting), then all of them.
+      std::vector<core::CameraConfig> configs;
+      for (const core::CameraSetting& camera : config) configs.emplace_back(config.size(), camera);
+      configs.push_back(config);
+      for (const core::CameraConfig& cams : configs) {
+        const auto expected = one.model(cams, 0);
+        const auto got = all.model(cams, static_cast<int>(st));
+        ASSERT_EQ(expected.size(), got.size());
+        for (std::size_t v = 0; v < got.size(); ++v) {
+          model_differing += expected[v] != got[v];
+          (expected[v] ? in_model : out_of_model) += 1;
+        }
+      }
+    }
+    EXPECT_EQ(model_differing, 0) << "scene " << s;
+    EXPECT_GT(in_model, 0) << "scene " << s;
+    EXPECT_GT(out_of_model, 0) << "scene " << s;
+  }
+}
+
 TEST(LegacyEquivalence, BlocksCutShortKeepVoxelsWhoseBallHoldsTheCamera) {
   // A 2×2×1 block of 1 m voxels, [2, 4]² × [0, 1] (the grid has one layer: blocks are cut short
   // in z), and a 170° × 170° frustum camera 1.53 m from the block's centre toward its corner

@@ -133,9 +133,18 @@ Verdict VoxelEvaluator::Impl::judge_center(const CameraSetup& cam, const Vec3& w
     scratch.hits.push_back({hit, objects[o].occupying ? 1 : 0, t});
     if (hit <= d) out.blocked |= m;
   };
+  // The states a hit of object o can still change: with free_only, a state with a hit in
+  // (0, d] is not free whatever else the ray meets, so the hits of an object whose states of
+  // interest are all blocked change neither the model nor another state's first hit (each hit
+  // claims only its own object's states).
+  auto open_states = [&](int o) {
+    return object_states[o] & interest & (free_only ? ~out.blocked : ~StateMask(0));
+  };
+  // With free_only, done once every state of interest is blocked.
+  auto all_blocked = [&] { return free_only && !(interest & ~out.blocked); };
   auto test = [&](int s) {
     const int o = cam.slot_object[s];
-    const StateMask m = object_states[o] & interest;
+    const StateMask m = open_states(o);
     if (!m) return;
     if (projected) {
       const auto& r = cam.rect[s];  // padded: a ray through the triangle projects inside
@@ -155,7 +164,7 @@ Verdict VoxelEvaluator::Impl::judge_center(const CameraSetup& cam, const Vec3& w
   // tests only rule out triangles the ray misses (docs/design/labelling.md L10 e).
   auto direct = [&](const detail::SlotGroup& group) {
     const int o = group.object;
-    const StateMask m = object_states[o] & interest;
+    const StateMask m = open_states(o);
     if (!m) return;
     ready();
     for (int s = group.first; s < group.last; ++s) {
@@ -180,7 +189,9 @@ Verdict VoxelEvaluator::Impl::judge_center(const CameraSetup& cam, const Vec3& w
             scratch.stamp[g] = scratch.visit;
           }
           const detail::SlotGroup& group = cam.groups[g];
-          // The group's rectangle holds each of its slots' (test's first test).
+          // Its object's states (test's first test, the same for each of its slots), then its
+          // rectangle, which holds each of its slots' (test's second test).
+          if (!open_states(group.object)) continue;
           if (projected) {
             const auto& r = group.rect;
             if (px < r[0] || px > r[1] || py < r[2] || py > r[3]) continue;
@@ -189,10 +200,12 @@ Verdict VoxelEvaluator::Impl::judge_center(const CameraSetup& cam, const Vec3& w
               cam.group_state[g].load(std::memory_order_acquire) != detail::kConeReady &&
               cam.group_rays[g].fetch_add(1, std::memory_order_relaxed) < cam.direct_rays) {
             direct(group);
+            if (all_blocked()) return out;
             continue;
           }
           ensure_projected(cam, g);
           for (int s = group.first; s < group.last; ++s) test(s);
+          if (all_blocked()) return out;
         }
       }
     }
