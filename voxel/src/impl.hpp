@@ -645,8 +645,16 @@ struct VoxelEvaluator::Impl : detail::SceneTables,
                                 const core::Vec3& hi, detail::StateMask open, int chunk,
                                 detail::Scratch& scratch) const;
   enum class Cone { meet, miss, near_miss };
-  Cone cone_test(const detail::TriangleCone& tc, const core::Vec3& w,
-                 const detail::CellSize& size) const;
+  /// A box as cone_test sees it: its centre w from the camera (m), its size, and the tolerances
+  /// that depend on the box only — kTouch·(|w| + Σh) and kMargin·|w| — computed once per box
+  /// (cone_box), the same numbers for every cone it is tested against.
+  struct ConeBox {
+    core::Vec3 w = core::Vec3::Zero();
+    const detail::CellSize* size = nullptr;
+    double scale = 0.0, inside = 0.0;
+  };
+  static ConeBox cone_box(const core::Vec3& w, const detail::CellSize& size);
+  Cone cone_test(const detail::TriangleCone& tc, const ConeBox& box) const;
   /// The cone over triangle t from the camera at c (conservative mode; camera_setup.cpp).
   void make_cone(int t, const core::Vec3& c, detail::TriangleCone& tc) const;
   /// The cone of the camera's slot, made on first use (thread-safe; make_cone_of in

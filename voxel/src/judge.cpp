@@ -30,16 +30,17 @@ namespace {
 /// of the bundles in the bins under the box's projection that `open_bundle` does not rule out as
 /// a whole (each bundle once), of the groups that `open` does not rule out as a whole (`project`
 /// projects a group), then the slots everywhere. `test(s)`: true when the verdict changed.
-template <class Test, class OpenBundle, class Open, class Project, class Done>
+/// `group_test(group, s)`: test(s) for a slot s of `group` (whose slots share its object).
+template <class Test, class GroupTest, class OpenBundle, class Open, class Project, class Done>
 void judge_candidates(const CameraSetup& cam, const detail::ChunkCandidates& cand, double vx0,
                       double vx1, double vy0, double vy1, double z_lo, Scratch& scratch, Test& test,
-                      const OpenBundle& open_bundle, const Open& open, const Project& project,
-                      const Done& done) {
+                      GroupTest& group_test, const OpenBundle& open_bundle, const Open& open,
+                      const Project& project, const Done& done) {
   auto slots = [&](int g) __attribute__((always_inline)) {
     project(g);
     const detail::SlotGroup& group = cam.groups[g];
     for (int s = group.first; s < group.last; ++s) {
-      if (test(s) && done()) return true;
+      if (group_test(group, s) && done()) return true;
     }
     return false;
   };
@@ -90,6 +91,13 @@ void judge_candidates(const CameraSetup& cam, const detail::ChunkCandidates& can
 }
 
 }  // namespace
+
+// (Defined before its callers, so that it is inlined: one per box.)
+inline VoxelEvaluator::Impl::ConeBox VoxelEvaluator::Impl::cone_box(const Vec3& w,
+                                                                    const detail::CellSize& size) {
+  const double norm = w.norm();
+  return {w, &size, kTouch * (norm + size.half.sum()), kMargin * norm};
+}
 
 /// Center mode: the ray from the camera through the voxel centre at w (d = |w|, or < 0 when not
 /// yet known), in the camera's FOV, for the states in `interest`: the states where the voxel is
@@ -276,6 +284,7 @@ Verdict VoxelEvaluator::Impl::judge_conservative(const CameraSetup& cam, const V
   };
   // Needed only once a triangle gets to the cone test.
   Vec3 wc;            // the previous labeller's dir · dist
+  ConeBox box;        // the box at wc as cone_test sees it
   double far = -1.0;  // the box's farthest distance, once an occluding triangle needs it
   bool exact_ready = false;
   // The states of object o still open for a test of its triangles: states already decided need
@@ -309,11 +318,9 @@ Verdict VoxelEvaluator::Impl::judge_conservative(const CameraSetup& cam, const V
                        group.near);
   };
   auto project = [&](int g) { ensure_projected(cam, g); };
-  // True when `out` changed. Inlined into judge_candidates' loops (GCC and Clang): 5% of an
-  // evaluation at 36×27×27.
-  auto test = [&](int s) __attribute__((always_inline)) {
-    const int o = cam.slot_object[s];
-    const bool occupying = objects[o].occupying;
+  // True when `out` changed: slot s of object o (whose role is `occupying`). Inlined into
+  // judge_candidates' loops (GCC and Clang): 5% of an evaluation at 36×27×27.
+  auto test_of = [&](int s, int o, bool occupying) __attribute__((always_inline)) {
     const StateMask m = open_states(o, occupying);
     if (!m) return false;
     // (The edge lines of the projection would repeat the cone-plane test of cone_test.)
@@ -332,10 +339,11 @@ Verdict VoxelEvaluator::Impl::judge_conservative(const CameraSetup& cam, const V
     if (!exact_ready) {
       if (d < 0.0) d = w.norm();
       wc = (w / d) * d;
+      box = cone_box(wc, size);
       exact_ready = true;
     }
     if (!occupying && tc.near_distance >= far) return false;
-    const Cone cone = cone_test(tc, wc, size);
+    const Cone cone = cone_test(tc, box);
     if (cone == Cone::near_miss && cam.culled[o]) {
       // A culled object touching the voxel within rounding: its back faces decide as they
       // did without culling (the front face through the touching point may have been
@@ -346,7 +354,7 @@ Verdict VoxelEvaluator::Impl::judge_conservative(const CameraSetup& cam, const V
         detail::TriangleCone back;
         make_cone(b, cam.c, back);
         if (!occupying && back.near_distance >= far) continue;
-        if (cone_test(back, wc, size) == Cone::meet) {
+        if (cone_test(back, box) == Cone::meet) {
           (occupying ? out.occupied : out.blocked) |= m;
           return true;
         }
@@ -366,6 +374,14 @@ Verdict VoxelEvaluator::Impl::judge_conservative(const CameraSetup& cam, const V
       if (holds) witnesses->sure |= m;
     }
     return true;
+  };
+  auto test = [&](int s) __attribute__((always_inline)) {
+    const int o = cam.slot_object[s];
+    return test_of(s, o, objects[o].occupying);
+  };
+  // A group's slots are of its object (its role read once per group, not per slot).
+  auto group_test = [&](const detail::SlotGroup& group, int s) __attribute__((always_inline)) {
+    return test_of(s, group.object, objects[group.object].occupying);
   };
   // With free_only, done as soon as every state of interest is decided.
   auto done = [&] { return free_only && !(interest & ~(out.occupied | out.blocked)); };
@@ -387,12 +403,13 @@ Verdict VoxelEvaluator::Impl::judge_conservative(const CameraSetup& cam, const V
     for (int s : first) {
       if (s >= 0 && test(s) && done()) return out;
     }
-    judge_candidates(cam, cand, vx0, vx1, vy0, vy1, z_lo, scratch, test, open_bundle, open, project,
-                     done);
+    auto group_witness = [&](const detail::SlotGroup&, int s) { return test(s); };
+    judge_candidates(cam, cand, vx0, vx1, vy0, vy1, z_lo, scratch, test, group_witness, open_bundle,
+                     open, project, done);
     return out;
   }
-  judge_candidates(cam, cand, vx0, vx1, vy0, vy1, z_lo, scratch, test, open_bundle, open, project,
-                   done);
+  judge_candidates(cam, cand, vx0, vx1, vy0, vy1, z_lo, scratch, test, group_test, open_bundle,
+                   open, project, done);
   return out;
 }
 
@@ -403,10 +420,12 @@ Verdict VoxelEvaluator::Impl::judge_conservative(const CameraSetup& cam, const V
 /// 1e-12 of the scale (|w| + Σh) on every separating axis — a touching configuration where
 /// rounding decided; back-face culling then tests the object's back faces too (see
 /// judge_conservative()).
-VoxelEvaluator::Impl::Cone VoxelEvaluator::Impl::cone_test(const TriangleCone& tc, const Vec3& w,
-                                                           const detail::CellSize& size) const {
+VoxelEvaluator::Impl::Cone VoxelEvaluator::Impl::cone_test(const TriangleCone& tc,
+                                                           const ConeBox& box) const {
+  const Vec3& w = box.w;
+  const detail::CellSize& size = *box.size;
   const Vec3& h = size.half;  // the box's half extents (a voxel's or a refined cell's)
-  const double scale = kTouch * (w.norm() + h.sum());
+  const double scale = box.scale;
   bool near_miss = false;
   // Cone planes first: cheapest and most often decisive.
   double s[3];
@@ -417,7 +436,7 @@ VoxelEvaluator::Impl::Cone VoxelEvaluator::Impl::cone_test(const TriangleCone& t
     near_miss = near_miss || gap < 0.0;
   }
   // The box centre clearly inside the cone: they meet (no axis can separate them).
-  const double inside = kMargin * w.norm();
+  const double inside = box.inside;
   if (s[0] > inside && s[1] > inside && s[2] > inside) return Cone::meet;
   // Else the box corner deepest across the planes the centre is outside of: clearly inside
   // the cone, they meet too.
@@ -502,10 +521,10 @@ StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& 
     }
     return detail::outside_outline(outline, rect);
   };
-  auto decides = [&](int s) {
+  // (occupying: the role of the slot's object.)
+  auto decides = [&](int s, bool occupying) {
     const auto& rect = cam.rect[s];
     if (rect[0] > vx1 || rect[1] < vx0 || rect[2] > vy1 || rect[3] < vy0) return false;
-    const bool occupying = objects[cam.slot_object[s]].occupying;
     if (!cone_ready(cam, s)) {
       // Before a cone is made: clearly outside the block's outline, or wholly beyond the block.
       if (outside(rect)) return false;
@@ -529,9 +548,10 @@ StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& 
   StateMask clear = open;
   // True when no state is left.
   auto pass = [&](int s) {
-    const StateMask m = object_states[cam.slot_object[s]] & clear;
+    const int o = cam.slot_object[s];
+    const StateMask m = object_states[o] & clear;
     if (!m) return false;
-    if (decides(s)) clear &= ~m;
+    if (decides(s, objects[o].occupying)) clear &= ~m;
     return !clear;
   };
   for (int s : cand.everywhere) {
@@ -580,9 +600,11 @@ StateMask VoxelEvaluator::Impl::block_clear(const CameraSetup& cam, const Vec3& 
             continue;
           }
           ensure_projected(cam, g);
+          // The group's slots are of its object.
+          const bool occupying = objects[group.object].occupying;
           for (int s = group.first; s < group.last; ++s) {
-            const StateMask m = object_states[cam.slot_object[s]] & clear;
-            if (!m || !decides(s)) continue;
+            const StateMask m = object_states[group.object] & clear;
+            if (!m || !decides(s, occupying)) continue;
             clear &= ~m;
             if (!clear) return 0;
             decided = !single;
