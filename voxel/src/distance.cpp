@@ -27,7 +27,7 @@ struct RowMembers {
   int nx = 1, words_per_row = 1;
   long cells() const {
     long members = 0;
-    for (std::size_t w = 0; w < words; ++w) members += __builtin_popcountll(rows[w]);
+    for (std::size_t w = 0; w < words; ++w) members += detail::bit_count(rows[w]);
     return members;
   }
   bool holds(int v) const { return detail::row_bit(rows, nx, words_per_row, v); }
