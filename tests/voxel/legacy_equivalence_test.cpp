@@ -294,11 +294,13 @@ TEST(LegacyEquivalence, CopiesInBundlesGiveTheModelsOfEachStateAlone) {
   }
 }
 
-TEST(LegacyEquivalence, CenterModelsOfCopiesEqualThoseOfEachStateAlone) {
-  // Center mode, models of all states at once (judge_center with free_only): the hits of an
-  // object whose states of interest are all blocked are not tested, and a voxel is left as soon
-  // as every state is blocked (docs/design/labelling.md L8). Each hit claims only its own
-  // object's states, so every state keeps the model it has alone. Here 64 states of copies
+TEST(LegacyEquivalence, CenterLabelsAndModelsOfCopiesEqualThoseOfEachStateAlone) {
+  // Center mode lists the slot groups of copies moved a little between time steps in bundles
+  // (docs/design/labelling.md L1 step 7), for labels and models; and for the models of all
+  // states at once (judge_center with free_only) the hits of an object whose states of interest
+  // are all blocked are not tested, and a voxel is left as soon as every state is blocked (L8).
+  // Each hit claims only its own object's states, so every state keeps the labels and the model
+  // it has alone. Here 64 states of copies
   // moved a little between 32 time steps (so each voxel and camera has many objects, some of
   // whose states are blocked before others), occupying and occluding copies (both dynamic
   // modes), every camera's model against that of the state's own scene (its time step and
@@ -315,13 +317,19 @@ TEST(LegacyEquivalence, CenterModelsOfCopiesEqualThoseOfEachStateAlone) {
     const voxel::VoxelEvaluator all(scene, {LabelMode::center, resolution});
     const auto states = core::states(scene);
     ASSERT_EQ(states.size(), 64u);
-    long model_differing = 0, in_model = 0, out_of_model = 0;
+    long differing = 0, model_differing = 0, in_model = 0, out_of_model = 0;
     for (std::size_t st = 0; st < states.size(); ++st) {
       core::Scene alone = scene;
       alone.time_steps = {scene.time_steps[states[st].time_step]};
       alone.time_steps[0].events = {
           scene.time_steps[states[st].time_step].events[states[st].event]};
       const voxel::VoxelEvaluator one(alone, {LabelMode::center, resolution});
+      for (const core::CameraSetting& camera : config) {
+        const auto expected = one.labels(camera, 0);
+        const auto got = all.labels(camera, static_cast<int>(st));
+        ASSERT_EQ(expected.size(), got.size());
+        for (std::size_t v = 0; v < got.size(); ++v) differing += expected[v] != got[v];
+      }
       // Each camera alone (the scene's cameras all at its setting), then all of them.
       std::vector<core::CameraConfig> configs;
       for (const core::CameraSetting& camera : config) configs.emplace_back(config.size(), camera);
@@ -336,6 +344,7 @@ TEST(LegacyEquivalence, CenterModelsOfCopiesEqualThoseOfEachStateAlone) {
         }
       }
     }
+    EXPECT_EQ(differing, 0) << "scene " << s;
     EXPECT_EQ(model_differing, 0) << "scene " << s;
     EXPECT_GT(in_model, 0) << "scene " << s;
     EXPECT_GT(out_of_model, 0) << "scene " << s;

@@ -184,36 +184,62 @@ Verdict VoxelEvaluator::Impl::judge_center(const CameraSetup& cam, const Vec3& w
       ray(t, o, m);
     }
   };
+  // Slot group g of a bundle that passed (its rectangle, its object's states): true when every
+  // state of interest is blocked (free_only: nothing left to find).
+  auto visit_group = [&](int g) __attribute__((always_inline)) {
+    const detail::SlotGroup& group = cam.groups[g];
+    // Its object's states (test's first test, the same for each of its slots), then its
+    // rectangle, which holds each of its slots' (test's second test).
+    if (!open_states(group.object)) return false;
+    if (projected) {
+      const auto& r = group.rect;
+      if (px < r[0] || px > r[1] || py < r[2] || py > r[3]) return false;
+    }
+    if (cam.direct_rays > 0 &&
+        cam.group_state[g].load(std::memory_order_acquire) != detail::kConeReady &&
+        cam.group_rays[g].fetch_add(1, std::memory_order_relaxed) < cam.direct_rays) {
+      direct(group);
+      return all_blocked();
+    }
+    ensure_projected(cam, g);
+    for (int s = group.first; s < group.last; ++s) test(s);
+    return all_blocked();
+  };
   if (binned) {
+    // The bins list bundles of slot groups (copies of one mesh in consecutive time steps, as in
+    // conservative mode): the union of their rectangles and of their objects' states holds each
+    // group's, so a bundle that fails these tests has no group that passes them.
+    const bool bundled = !cand.bundles.empty();
     const bool single = bins.x0 == bins.x1 && bins.y0 == bins.y1;
     if (!single) ++scratch.visit;
     for (int by = bins.y0; by <= bins.y1; ++by) {
       for (int bx = bins.x0; bx <= bins.x1; ++bx) {
         const int b = by * cam.coarse.n[0] + bx;
         for (int n = cand.coarse.start[b]; n < cand.coarse.start[b + 1]; ++n) {
-          const int g = cand.coarse.items[n];
+          const int u = cand.coarse.items[n];
           if (!single) {
-            if (scratch.stamp[g] == scratch.visit) continue;
-            scratch.stamp[g] = scratch.visit;
+            if (scratch.stamp[u] == scratch.visit) continue;
+            scratch.stamp[u] = scratch.visit;
           }
-          const detail::SlotGroup& group = cam.groups[g];
-          // Its object's states (test's first test, the same for each of its slots), then its
-          // rectangle, which holds each of its slots' (test's second test).
-          if (!open_states(group.object)) continue;
-          if (projected) {
-            const auto& r = group.rect;
-            if (px < r[0] || px > r[1] || py < r[2] || py > r[3]) continue;
-          }
-          if (cam.direct_rays > 0 &&
-              cam.group_state[g].load(std::memory_order_acquire) != detail::kConeReady &&
-              cam.group_rays[g].fetch_add(1, std::memory_order_relaxed) < cam.direct_rays) {
-            direct(group);
-            if (all_blocked()) return out;
+          // Groups, when the chunk has no bundles (few time steps).
+          if (!bundled) {
+            if (visit_group(u)) return out;
             continue;
           }
-          ensure_projected(cam, g);
-          for (int s = group.first; s < group.last; ++s) test(s);
-          if (all_blocked()) return out;
+          const detail::SlotBundle& bundle = cand.bundles[u];
+          // A bundle of one group has that group's bounds: visit_group's tests are made.
+          if (bundle.last - bundle.first == 1) {
+            if (visit_group(cand.bundle_groups[bundle.first])) return out;
+            continue;
+          }
+          if (!(bundle.states & interest & (free_only ? ~out.blocked : ~StateMask(0)))) continue;
+          if (projected) {
+            const auto& r = bundle.rect;
+            if (px < r[0] || px > r[1] || py < r[2] || py > r[3]) continue;
+          }
+          for (int k = bundle.first; k < bundle.last; ++k) {
+            if (visit_group(cand.bundle_groups[k])) return out;
+          }
         }
       }
     }
