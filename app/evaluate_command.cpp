@@ -311,8 +311,10 @@ void register_evaluate_command(CLI::App& app) {
       ->check(in_range(1e-3, 1e9, "must be a number of seconds in [0.001, 1e9]"));
   cmd->add_flag("--exact-fractions", args->exact_fractions,
                 "exact pipeline: add squared distances as exact fractions \"p/q\"");
-  cmd->add_option("--threads", args->threads,
-                  "states evaluated in parallel, both pipelines (default: one thread per core)")
+  cmd->add_option(
+         "--threads", args->threads,
+         "states evaluated in parallel, both pipelines; the exact pipeline gives threads left over "
+         "(fewer states than threads) to one state's cameras (default: one thread per core)")
       ->check(in_range(1, core::kMaxThreads));
   CLI::Option* export_mesh = cmd->add_option(
       "--export-mesh", args->export_dir,
