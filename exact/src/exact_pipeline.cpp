@@ -214,9 +214,13 @@ class PartsBoard {
         cameras_(config.size()),
         units_(states_.size() * cameras_) {}
 
-  /// Helper: claims the next unit and builds its parts; false when no unit is left.
+  /// Helper: claims the next unit and builds its parts; false when no unit is left. Waits while
+  /// the next unit is more than one state ahead of the worker's: parts wait on the board until
+  /// the worker adopts them, so the board holds at most two states' units.
   bool help() {
     std::unique_lock<std::mutex> lock(mutex_);
+    changed_.wait(
+        lock, [&] { return closed_ || next_ >= units_.size() || next_ / cameras_ <= state_ + 1; });
     if (closed_ || next_ >= units_.size()) return false;
     const std::size_t u = next_++;
     units_[u].status = Status::helper;
@@ -254,6 +258,7 @@ class PartsBoard {
     std::unique_lock<std::mutex> lock(mutex_);
     state_ = k;
     box_ = box;
+    changed_.notify_all();  // helpers waiting for the worker to move on
     if (next_ <= u) {
       next_ = u + 1;  // the worker builds it in model(), as without helpers
       return;
@@ -284,24 +289,24 @@ class PartsBoard {
   void state_done(std::size_t k) {
     const std::lock_guard<std::mutex> lock(mutex_);
     next_ = std::max(next_, (k + 1) * cameras_);
+    if (state_ <= k) {
+      state_ = k + 1;  // no box known yet for the next state
+      box_.reset();
+    }
+    changed_.notify_all();
   }
 
   /// No unit is claimed any more (the task is done, or failed).
   void close() {
     const std::lock_guard<std::mutex> lock(mutex_);
     closed_ = true;
+    changed_.notify_all();
   }
 
   /// The parts helpers built (adopted or not).
   long parts_built() const {
     const std::lock_guard<std::mutex> lock(mutex_);
     return parts_built_;
-  }
-
-  /// A helper's error, also when the worker never came to the failed unit; null if none.
-  std::exception_ptr error() const {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    return error_;
   }
 
  private:
@@ -447,8 +452,8 @@ ExactEvaluation evaluate_exact(const core::Scene& scene, const core::CameraConfi
     for (std::size_t h = 0; h < helpers; ++h) threads.emplace_back(help, h);
     for (auto& thread : threads) thread.join();
   }
-  for (const auto& board : boards)
-    if (!error) error = board->error();
+  // A helper's error on a unit the worker never came to (a camera skipped once the model was
+  // empty) is not one: one thread would not have built that unit.
   if (error) std::rethrow_exception(error);
 
   ExactEvaluation result;

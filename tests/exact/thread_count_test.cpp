@@ -121,5 +121,29 @@ TEST(ThreadCount, PaperBasicSingleStatesGiveTheSameFractionsAndCountsWithOneTwoA
   EXPECT_GT(ahead, 0);
 }
 
+TEST(ThreadCount, HelpersOfTasksOfSeveralStatesGiveTheSameFractionsAndCounts) {
+  // paper_basic with time step 1's three events twice over (six states) and time step 0's first
+  // event: with four threads, step 0 is one task of one state and step 1 two tasks of three
+  // states, so the fourth thread helps tasks of several states (it waits while a task's next unit
+  // is more than one state ahead of its worker).
+  const std::string source = CAMPLACE_SOURCE_DIR;
+  core::Scene scene = core::load_scene(source + "/data/paper_basic.json");
+  const core::CameraConfig corners =
+      core::load_camera_config(source + "/data/paper_basic_corners.json", scene);
+  auto& events = scene.time_steps[1].events;
+  const std::size_t n = events.size();
+  for (std::size_t l = 0; l < n; ++l) events.push_back(events[l]);
+  for (auto& e : events) e.weight /= 2.0;
+  exact::ExactOptions options;
+  options.states = {{0, 0}};
+  for (int l = 0; l < int(events.size()); ++l) options.states.push_back({1, l});
+  options.threads = 1;
+  const auto reference = exact::evaluate_exact(scene, corners, options);
+  options.threads = 4;
+  const auto e = exact::evaluate_exact(scene, corners, options);
+  testing::expect_same_exact_results(e, reference);
+  EXPECT_GT(e.parts_built_ahead, 0);
+}
+
 }  // namespace
 }  // namespace camplace
