@@ -60,16 +60,7 @@ TEST(ModelBox, RandomScenesGiveTheWholeFreeRegionsFractionsAndCounts) {
     // it).
     scene.cameras.resize(5);
     core::CameraConfig config = testing::random_config(rng, scene);
-    for (std::size_t i = 0; i < config.size(); i += 2) {
-      core::Vec3& p = config[i].position;
-      const int axis = int(unit(rng) * 2.0);  // x or y wall
-      p[axis] = unit(rng) < 0.5 ? scene.area.min[axis] : scene.area.max[axis];
-      const core::Vec3 at = scene.area.min + scene.area.size().cwiseProduct(
-                                                 core::Vec3(unit(rng), unit(rng), 0.5 * unit(rng)));
-      const core::Vec3 d = (at - p).normalized();
-      config[i].yaw = std::atan2(d.y(), d.x());
-      config[i].pitch = std::asin(d.z());
-    }
+    testing::put_on_walls(rng, scene, config);
     exact::ExactOptions whole;
     whole.threads = 1;
     const auto reference = expect_box_changes_nothing(scene, config, whole);

@@ -71,16 +71,7 @@ TEST(ThreadCount, RandomScenesGiveTheSameFractionsAndCountsWithOneTwoAndThreeThr
     // that the model shrinks well inside S and the box around it leaves kinds of objects out.
     scene.cameras.resize(5);
     core::CameraConfig config = testing::random_config(rng, scene);
-    for (std::size_t i = 0; i < config.size(); i += 2) {
-      core::Vec3& p = config[i].position;
-      const int axis = int(unit(rng) * 2.0);
-      p[axis] = unit(rng) < 0.5 ? scene.area.min[axis] : scene.area.max[axis];
-      const core::Vec3 at = scene.area.min + scene.area.size().cwiseProduct(
-                                                 core::Vec3(unit(rng), unit(rng), 0.5 * unit(rng)));
-      const core::Vec3 d = (at - p).normalized();
-      config[i].yaw = std::atan2(d.y(), d.x());
-      config[i].pitch = std::asin(d.z());
-    }
+    testing::put_on_walls(rng, scene, config);
     // One state (one task: the other threads help), then the two events of the other time step
     // (with two threads a task each, with three a task each and a helper).
     const int h = trial % 2;

@@ -211,6 +211,20 @@ core::Scene with_fine_meshes(core::Scene scene, int triangles) {
   return scene;
 }
 
+void put_on_walls(std::mt19937& rng, const core::Scene& scene, core::CameraConfig& config) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (std::size_t i = 0; i < config.size(); i += 2) {
+    core::Vec3& p = config[i].position;
+    const int axis = int(unit(rng) * 2.0);  // x or y wall
+    p[axis] = unit(rng) < 0.5 ? scene.area.min[axis] : scene.area.max[axis];
+    const core::Vec3 at = scene.area.min + scene.area.size().cwiseProduct(
+                                               core::Vec3(unit(rng), unit(rng), 0.5 * unit(rng)));
+    const core::Vec3 d = (at - p).normalized();
+    config[i].yaw = std::atan2(d.y(), d.x());
+    config[i].pitch = std::asin(d.z());
+  }
+}
+
 core::CameraConfig random_config(std::mt19937& rng, const core::Scene& scene) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   core::CameraConfig config;

@@ -45,6 +45,10 @@ core::Scene random_scene(std::mt19937& rng, std::array<int, 3> voxels);
 core::Scene with_fine_meshes(core::Scene scene, int triangles);
 /// Random camera configuration inside the scene's area.
 core::CameraConfig random_config(std::mt19937& rng, const core::Scene& scene);
+/// Moves every other camera of `config` (0, 2, 4, ...) onto an x or y wall of S, looking at a
+/// random point of S's lower half: the model then shrinks well inside S, and a box around it
+/// leaves such cameras outside (the exact pipeline's model box).
+void put_on_walls(std::mt19937& rng, const core::Scene& scene, core::CameraConfig& config);
 /// Gives the scene's cameras a mix of models: camera i is a frustum when i % 3 is
 /// 0 or 1 (full angles H ∈ [20°, 170°], V ∈ [20°, 150°]), else a pyramid (3–16 sides) or a
 /// cone; each with a near plane (0.05–0.8 m) half of the time and a far plane (2–5 m) a third

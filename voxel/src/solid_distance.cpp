@@ -193,30 +193,35 @@ int ray_crossing(const std::array<Vec3, 3>& tri, const Vec3& p) {
   return sum > 0.0 ? 1 : -1;
 }
 
-/// Calls `visit(t)` for each triangle t whose bounds are within the margin of `box` (the others
-/// certainly miss it: core::triangle_box_overlap's first axes are the box's normals) until it
-/// returns true; true then.
-template <class Visit>
-bool any_triangle_near(const IndexedSolid& s, const Box3& box, const Visit& visit) {
+/// Calls `visit(t)` for each triangle t of the leaves of the hierarchy whose nodes' boxes all
+/// pass `keep`, until it returns true; true then.
+template <class Keep, class Visit>
+bool walk_triangles(const IndexedSolid& s, const Keep& keep, const Visit& visit) {
   thread_local std::vector<std::size_t> stack;
   stack.clear();
   if (!s.nodes.empty()) stack.push_back(0);
   while (!stack.empty()) {
     const core::BoxTreeNode& node = s.nodes[stack.back()];
     stack.pop_back();
-    if (beyond(core::box_box_sq_distance(node.box, box), 0.0)) continue;
+    if (!keep(node.box)) continue;
     if (node.count == 0) {
       stack.push_back(node.first);
       stack.push_back(node.first + 1);
       continue;
     }
-    for (std::size_t k = node.first; k < node.first + node.count; ++k) {
-      const int t = s.order[k];
-      if (!beyond(core::box_box_sq_distance(s.triangle_bounds[t], box), 0.0) && visit(t))
-        return true;
-    }
+    for (std::size_t k = node.first; k < node.first + node.count; ++k)
+      if (visit(s.order[k])) return true;
   }
   return false;
+}
+
+/// Calls `visit(t)` for each triangle t whose bounds are within the margin of `box` (the others
+/// certainly miss it: core::triangle_box_overlap's first axes are the box's normals) until it
+/// returns true; true then.
+template <class Visit>
+bool any_triangle_near(const IndexedSolid& s, const Box3& box, const Visit& visit) {
+  const auto near = [&](const Box3& b) { return !beyond(core::box_box_sq_distance(b, box), 0.0); };
+  return walk_triangles(s, near, [&](int t) { return near(s.triangle_bounds[t]) && visit(t); });
 }
 
 /// The squared distance from p to the nearest triangle of s when it is at most `bound`
@@ -309,29 +314,20 @@ bool inside_solid(const IndexedSolid& s, const Vec3& p) {
   if (!beyond(surface_sq_distance(s, p, clearance * clearance, ignored), clearance * clearance))
     return core::inside_mesh(*s.mesh, p);
   int winding = 0;
-  thread_local std::vector<std::size_t> stack;
-  stack.clear();
-  if (!s.nodes.empty()) stack.push_back(0);
-  while (!stack.empty()) {
-    const core::BoxTreeNode& node = s.nodes[stack.back()];
-    stack.pop_back();
-    // The ray meets only triangles whose boxes it meets (exact comparisons of doubles: a box
-    // left out lies wholly beside or below the ray).
-    const Box3& b = node.box;
-    if (p.x() < b.min.x() || p.x() > b.max.x() || p.y() < b.min.y() || p.y() > b.max.y() ||
-        p.z() > b.max.z())
-      continue;
-    if (node.count == 0) {
-      stack.push_back(node.first);
-      stack.push_back(node.first + 1);
-      continue;
-    }
-    for (std::size_t k = node.first; k < node.first + node.count; ++k) {
-      const int crossing = ray_crossing(s.triangles[s.order[k]], p);
-      if (crossing == kUnsure) return core::inside_mesh(*s.mesh, p);
-      winding += crossing;
-    }
-  }
+  bool unsure = false;
+  // The ray meets only triangles whose boxes it meets (exact comparisons of doubles: a box left
+  // out lies wholly beside or below the ray).
+  const auto on_ray = [&](const Box3& b) {
+    return !(p.x() < b.min.x() || p.x() > b.max.x() || p.y() < b.min.y() || p.y() > b.max.y() ||
+             p.z() > b.max.z());
+  };
+  walk_triangles(s, on_ray, [&](int t) {
+    const int crossing = ray_crossing(s.triangles[t], p);
+    unsure = crossing == kUnsure;
+    if (!unsure) winding += crossing;
+    return unsure;
+  });
+  if (unsure) return core::inside_mesh(*s.mesh, p);
   return winding >= 1;
 }
 
