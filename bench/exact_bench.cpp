@@ -45,6 +45,21 @@
 
 namespace {
 
+/// The whole number ≥ 1 in environment variable `name`, or `fallback` when it is not set; exits
+/// with a message naming the variable when it is set to anything else.
+int env_count(const char* name, int fallback) {
+  const char* text = std::getenv(name);
+  if (text == nullptr) return fallback;
+  char* end = nullptr;
+  const long value = std::strtol(text, &end, 10);
+  if (end == text || *end != '\0' || value < 1 || value > 1000000) {
+    std::fprintf(stderr, "exact_bench: %s=\"%s\": expected a whole number from 1 to 1000000\n",
+                 name, text);
+    std::exit(2);
+  }
+  return int(value);
+}
+
 using namespace camplace;
 
 using bench::corners;
@@ -169,8 +184,7 @@ void run(benchmark::State& state, const core::Scene& scene, const core::CameraCo
          bool face_shadows = false) {
   exact::ExactOptions options;
   // CAMPLACE_BENCH_THREADS=N: N threads (default 1); one state then has N - 1 helpers.
-  const char* threads = std::getenv("CAMPLACE_BENCH_THREADS");
-  options.threads = threads ? std::max(1, std::atoi(threads)) : 1;
+  options.threads = env_count("CAMPLACE_BENCH_THREADS", 1);
   options.face_cones = face_cones;
   options.face_shadows = face_shadows;
   options.reuse_poses = reuse_poses;
@@ -229,8 +243,7 @@ void register_families() {
     {
       // The robot occluding (modelled mode), its shadows from patches or per face.
       const char* shadows = faces ? "faces" : "patches";
-      const char* env = std::getenv("CAMPLACE_BENCH_FACE_SHADOWS_MAX");
-      const int faces_max = env ? std::atoi(env) : 800;
+      const int faces_max = env_count("CAMPLACE_BENCH_FACE_SHADOWS_MAX", 800);
       for (const int n : {800, 5000}) {
         if (faces && n > faces_max) continue;
         benchmark::RegisterBenchmark(
