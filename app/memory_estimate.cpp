@@ -118,8 +118,9 @@ ExactWork exact_work(const core::Scene& scene, int threads) {
   ExactWork w;
   w.cameras = static_cast<int>(scene.cameras.domains.size());
   const int cores = static_cast<int>(std::max(std::thread::hardware_concurrency(), 1u));
-  w.threads = std::max(1, std::min(threads > 0 ? threads : cores,
-                                   std::max(1, static_cast<int>(scene.time_steps.size()))));
+  // Every thread counts: a worker per task, and the threads left over help build camera parts
+  // ahead, each in a pipeline of its own.
+  w.threads = std::max(1, threads > 0 ? threads : cores);
   const long statics = triangles_of(scene.static_obstacles);
   std::unordered_set<std::size_t> poses;
   for (const auto& step : scene.time_steps) {

@@ -49,13 +49,14 @@ void check_memory(const VoxelWork& work, const std::string& option);
 /// What sizes the exact pipeline's memory (exact::evaluate_exact).
 struct ExactWork {
   int cameras = 0;
-  int threads = 1;           ///< states evaluated at a time, each thread with its own caches
+  int threads = 1;           ///< threads, each with its own caches (workers and helpers)
   long state_triangles = 0;  ///< the most triangles of one state (static, dynamic, targets)
   long pose_triangles = 0;   ///< the triangles of the distinct target meshes (cached cones)
 };
 
-/// The exact work of `scene` with `threads` worker threads (0: one per core), capped at the
-/// number of time steps (each thread takes whole steps unless there are fewer steps than threads).
+/// The exact work of `scene` with `threads` threads (0: one per core). All of them count: the
+/// threads beyond one per task (fewer states than threads) help build camera parts ahead, each in
+/// a pipeline of its own.
 ExactWork exact_work(const core::Scene& scene, int threads);
 
 /// Bytes the exact pipeline holds at most for `work`, fitted to the peak resident memory of
