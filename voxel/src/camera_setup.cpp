@@ -679,13 +679,16 @@ void VoxelEvaluator::Impl::project_group(const CameraSetup& cam, int g) const {
     while (state.load(std::memory_order_acquire) != detail::kConeReady) std::this_thread::yield();
     return;
   }
-  // The numbers add_slots computes from the vertices' views (triangles holds the same vertices),
-  // of triangles that lie wholly in front of the camera (ball_rectangle) and face it.
+  // The numbers add_slots computes from the vertices' views (cluster_corners holds the same
+  // vertices), of triangles that lie wholly in front of the camera (ball_rectangle) and face it.
+  // Only a group of all of a cluster's triangles is projected here (the others at set-up).
   const double inf = std::numeric_limits<double>::infinity();
   const detail::SlotGroup& group = cam.groups[g];
   if (group.cluster >= 0) fill_group(cam, group);
+  const detail::ObjectInfo& info = objects[group.object];
+  const auto* corners = &info.cluster_corners[info.clusters[group.source].begin];
   for (int s = group.first; s < group.last; ++s) {
-    const auto& tri = triangles[cam.slot_triangle[s]];
+    const auto& tri = corners[s - group.first];
     const VertexView views[3] = {view_point(tri[0], cam), view_point(tri[1], cam),
                                  view_point(tri[2], cam)};
     CAMPLACE_ASSERT(views[0].in_front && views[1].in_front && views[2].in_front);

@@ -125,6 +125,9 @@ struct ObjectInfo {
   /// The object's triangles (indices into mesh->triangles) cluster by cluster, and the clusters:
   /// each camera numbers its slots in this order and bins them per cluster (camera_setup).
   std::vector<int> cluster_order;
+  /// The corners of those triangles in that order (the scene's numbers): a cluster's slots are
+  /// projected from one block of memory (project_group), not from triangles spread over the mesh.
+  std::vector<std::array<core::Vec3, 3>> cluster_corners;
   std::vector<TriangleCluster> clusters;
   std::vector<ClusterNode> nodes;  ///< the tree over the clusters, pre-order, root first
   /// The first object with the same role and the same triangles (vertex indices) whose vertices

@@ -180,6 +180,12 @@ int VoxelEvaluator::Impl::add_object(const core::SceneObject& object, core::Obje
   }
   info.outward = core::signed_volume(object.mesh) > 0.0;
   cluster_triangles(object.mesh, info);
+  info.cluster_corners.reserve(info.cluster_order.size());
+  for (const int i : info.cluster_order) {
+    const auto& t = object.mesh.triangles[i];
+    info.cluster_corners.push_back(
+        {object.mesh.vertices[t[0]], object.mesh.vertices[t[1]], object.mesh.vertices[t[2]]});
+  }
   info.first_triangle = static_cast<int>(triangles.size());
   info.triangle_count = static_cast<int>(object.mesh.triangles.size());
   for (const auto& t : object.mesh.triangles) {
