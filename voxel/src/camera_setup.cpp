@@ -732,7 +732,11 @@ void VoxelEvaluator::Impl::make_cone(int t, const Vec3& c, TriangleCone& tc) con
   const auto& tri = triangles[t];
   const Vec3 a = tri[0] - c, b = tri[1] - c, e = tri[2] - c;
   const double det = a.dot(b.cross(e));
-  tc.near_distance = std::sqrt(core::point_triangle_sq_distance(c, tri[0], tri[1], tri[2]));
+  // Read only for an occluding object's triangle (one wholly beyond a box does not block it); an
+  // occupying object's cone is tested on every ray through the box, so it gets no distance.
+  tc.near_distance = objects[triangle_object[t]].occupying
+                         ? 0.0
+                         : std::sqrt(core::point_triangle_sq_distance(c, tri[0], tri[1], tri[2]));
   const double sign = det > 0 ? 1.0 : -1.0;
   const Vec3 edge[3] = {a, b, e};
   tc.normal[0] = (sign * a.cross(b)).normalized();

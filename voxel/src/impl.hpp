@@ -138,7 +138,8 @@ struct ObjectInfo {
 
 /// Per camera and candidate triangle (conservative mode): the infinite cone from the camera over
 /// the triangle, as the inward unit normals of its three planes, the separating-axis candidates,
-/// and the triangle's nearest distance. 376 bytes; what the tests derive from these (|normal|,
+/// and the triangle's nearest distance (an occluding object's; 0 for an occupying object's,
+/// which no test reads). 376 bytes; what the tests derive from these (|normal|,
 /// an axis's box radius and length) is computed where used, from the same numbers.
 struct TriangleCone {
   core::Vec3 normal[3];
