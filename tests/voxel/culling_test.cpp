@@ -7,6 +7,7 @@
 // decides; culling then tests the back faces as well, so the labels stay the same.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "legacy_labeller.hpp"
@@ -142,6 +143,49 @@ TEST(Culling, RaysGrazingAFaceOfATargetStayOccupied) {
   EXPECT_EQ(labels[13 + 16 * (5 + 12 * 1)], Label::occupied);
   // Voxel (13, 5, 2): z ∈ [0.5, 0.75]: its lowest rays graze the top face (touching counts).
   EXPECT_EQ(labels[13 + 16 * (5 + 12 * 2)], Label::occupied);
+}
+
+TEST(Culling, AFineTargetWithANearEdgeOnTriangleIsCulledWithTheSameLabels) {
+  // A fine ellipsoid target (occupying): the camera lies 1e-10 (tilt) in front of the plane of one
+  // triangle on its equator, 1.2 m away along the plane, looking at the ellipsoid. That triangle
+  // is near edge-on but not flat, so conservative mode culls the target's clear back faces and
+  // keeps it a slot (L3); the labels must equal the labeller without culling.
+  const core::Box3 box{Vec3(1.5, 1.0, 0.5), Vec3(2.5, 2.0, 1.5)};
+  core::Scene scene = simple_scene({Vec3(0, 0, 0), Vec3(4, 3, 3)}, {16, 12, 12}, 1, 35.0,
+                                   {box_object("critical", {0.2, 2.5, 0}, {0.4, 2.7, 0.5})},
+                                   {ellipsoid_object("ellipsoid target", box, 4000)});
+  const core::TriangleMesh& mesh = scene.time_steps[0].events[0].targets[0].mesh;
+  // The triangle whose outward normal is closest to −x, near the equator.
+  int chosen = 0;
+  double best = 2.0;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& v = mesh.triangles[t];
+    const Vec3 n = (mesh.vertices[v[1]] - mesh.vertices[v[0]])
+                       .cross(mesh.vertices[v[2]] - mesh.vertices[v[0]])
+                       .normalized();
+    if (n.x() < -0.9 && std::abs(n.z()) < best) {
+      best = std::abs(n.z());
+      chosen = static_cast<int>(t);
+    }
+  }
+  const auto& v = mesh.triangles[chosen];
+  const Vec3 a = mesh.vertices[v[0]], b = mesh.vertices[v[1]], e = mesh.vertices[v[2]];
+  const Vec3 cross = (b - a).cross(e - a);
+  const Vec3 n = cross.normalized();
+  const Vec3 along = n.cross(Vec3::UnitZ()).normalized();  // in the plane, horizontal
+  const Vec3 centroid = (a + b + e) / 3.0;
+  const double reach = 1.2;
+  // det ≈ −δ |cross| for an offset δ along n, |a − c||b − c||e − c| ≈ reach³: tilt ≈ −1e-10.
+  const double offset = 1e-10 * reach * reach * reach / cross.norm();
+  const Vec3 c = centroid + reach * along + offset * n;
+  const Vec3 ac = a - c, bc = b - c, ec = e - c;
+  const double tilt = ac.dot(bc.cross(ec)) / (ac.norm() * bc.norm() * ec.norm());
+  EXPECT_LT(std::abs(tilt), 1e-9);   // near edge-on: the stricter guard would not cull
+  EXPECT_GT(std::abs(tilt), 1e-12);  // not flat
+  const Vec3 look = box.center() - c;
+  const double yaw = std::atan2(look.y(), look.x()) * 180.0 / core::kPi;
+  const double pitch = std::atan2(look.z(), look.head<2>().norm()) * 180.0 / core::kPi;
+  EXPECT_GT(check_camera(scene, camera_at(c, yaw, pitch), "near edge-on", false), 50);
 }
 
 }  // namespace
