@@ -197,5 +197,54 @@ TEST(Components, ThresholdsAreInclusive) {
   EXPECT_EQ(std::count(model.begin(), model.end(), 1), 0);
 }
 
+TEST(Components, SharedCoreFilterEqualsEachModelsOwnFilter) {
+  // Chunks of models that share a random base and each add voxels of their own (few or many,
+  // touching the base or apart; one model with nothing of its own, and a chunk of one model):
+  // filtered together (the components of the voxels all hold, then each model's others; C1),
+  // each gets filter_components' result on it alone. Rows of one word and of several.
+  std::mt19937 rng(99);
+  int joined = 0, removed = 0;
+  for (const std::array<int, 3> n :
+       {std::array<int, 3>{9, 5, 4}, {36, 7, 6}, {64, 4, 3}, {130, 4, 4}}) {
+    const voxel::Grid grid = voxel::make_grid({core::Vec3(0, 0, 0), core::Vec3(1, 1, 1)}, n);
+    core::Plausibility filter;
+    filter.min_volume = 6.5 * grid.voxel_volume();  // 7 voxels or more
+    filter.min_height = 1.5 * grid.step.z();        // 2 layers or more
+    for (const double base_density : {0.0, 0.2, 0.5, 0.8}) {
+      for (const int count : {1, 5, 64}) {
+        std::bernoulli_distribution base_on(base_density), stay(0.8);
+        std::vector<std::uint8_t> base(grid.count(), 0);
+        for (int v = 0; v < grid.count(); ++v) {
+          base[v] =
+              v % n[0] == 0 || !stay(rng) ? static_cast<std::uint8_t>(base_on(rng)) : base[v - 1];
+        }
+        std::vector<std::vector<std::uint8_t>> models(count, base);
+        for (int m = 1; m < count; ++m) {
+          std::bernoulli_distribution extra(m % 2 ? 0.02 : 0.3);
+          for (auto& b : models[m]) b = b || extra(rng);
+        }
+        std::vector<std::vector<std::uint8_t>> expected = models;
+        std::vector<voxel::ComponentCount> expected_counts;
+        for (auto& model : expected) {
+          expected_counts.push_back(voxel::filter_components(model, grid, filter));
+        }
+        const std::vector<voxel::ComponentCount> counts =
+            voxel::filter_components_together(models, grid, filter);
+        ASSERT_EQ(counts.size(), expected_counts.size());
+        for (int m = 0; m < count; ++m) {
+          EXPECT_EQ(counts[m].kept, expected_counts[m].kept) << m;
+          EXPECT_EQ(counts[m].removed, expected_counts[m].removed) << m;
+          ASSERT_EQ(models[m], expected[m]) << n[0] << "x" << n[1] << "x" << n[2] << " base "
+                                            << base_density << " model " << m << " of " << count;
+          joined += expected_counts[m].kept;
+          removed += expected_counts[m].removed;
+        }
+      }
+    }
+  }
+  EXPECT_GT(joined, 100);
+  EXPECT_GT(removed, 100);
+}
+
 }  // namespace
 }  // namespace camplace

@@ -2,7 +2,9 @@
 // the base model as bit rows (detail::filter_rows; filter_components on bytes goes through it) and
 // on refined cells (detail::filter_cells). Voxels on runs: maximal segments of model voxels along
 // x. Two runs connect when they lie in face-adjacent rows (j ± 1 or k ± 1) and share an x index;
-// union–find over runs gives the components.
+// union–find over runs gives the components. A chunk of states' models share most voxels: the
+// components of the voxels all of them hold (detail::RowCore) are found once, and each model's
+// other runs are joined to them (docs/design/distance.md C1).
 #include "camplace/voxel/components.hpp"
 
 #include <algorithm>
@@ -10,6 +12,7 @@
 #include <cstdint>
 #include <numeric>
 
+#include "camplace/core/error.hpp"
 #include "cells.hpp"
 #include "rows.hpp"
 #include "union_find.hpp"
@@ -18,11 +21,8 @@ namespace camplace::voxel {
 
 namespace {
 
-struct Run {
-  int row;     ///< j + ny·k
-  int i0, i1;  ///< x range, inclusive
-};
-
+using Run = detail::RowRun;
+using detail::ComponentExtent;
 using detail::find;
 using detail::Rows;
 using detail::unite;
@@ -38,7 +38,7 @@ class ComponentTally {
   }
   /// Adds `count` cells in layers k0..k1 to component c.
   void add_cells(int c, long count, long k0, long k1) {
-    Extent& e = extent_[c];
+    ComponentExtent& e = extent_[c];
     if (e.kmax < 0) {
       e.kmin = k0;
       e.kmax = k1;
@@ -48,6 +48,8 @@ class ComponentTally {
     }
     e.cells += count;
   }
+  int size() const { return static_cast<int>(extent_.size()); }
+  const ComponentExtent& extent(int c) const { return extent_[c]; }
   /// keep[c] = 1 when `plausibility` keeps component c; how many it keeps and removes.
   ComponentCount decide(const core::Plausibility& plausibility, double cell_volume,
                         double cell_height, std::vector<std::uint8_t>& keep) const {
@@ -64,11 +66,7 @@ class ComponentTally {
   }
 
  private:
-  struct Extent {
-    long cells = 0;
-    long kmin = 0, kmax = -1;
-  };
-  std::vector<Extent> extent_;
+  std::vector<ComponentExtent> extent_;
 };
 
 /// The model's runs and their union–find forest (parent[n]: run n's component is find(n)), with
@@ -155,6 +153,24 @@ inline void transpose64(std::uint64_t a[64]) {
   }
 }
 
+/// Sets voxels run.i0 .. run.i1 of the run's row in `rows` (words per row) to `value`.
+void set_run(std::uint64_t* rows, int words, const Run& run, bool value) {
+  std::uint64_t* row = rows + static_cast<std::size_t>(run.row) * words;
+  for (int i = run.i0; i <= run.i1;) {
+    // Bits i .. min(i1, end of its word) at once.
+    const int w = i >> 6, lo = i & 63, hi = std::min(run.i1 - 64 * w, 63);
+    const std::uint64_t span = (hi == 63 ? ~std::uint64_t{0} : (std::uint64_t{1} << (hi + 1)) - 1) &
+                               ~((std::uint64_t{1} << lo) - 1);
+    row[w] = value ? row[w] | span : row[w] & ~span;
+    i = 64 * w + hi + 1;
+  }
+}
+
+/// Whether voxel i of row r is in `rows` (words per row).
+bool has_bit(const std::uint64_t* rows, int words, int r, int i) {
+  return (rows[static_cast<std::size_t>(r) * words + (i >> 6)] >> (i & 63)) & 1;
+}
+
 }  // namespace
 
 std::vector<int> component_labels(const std::vector<std::uint8_t>& model, const Grid& grid) {
@@ -184,6 +200,26 @@ ComponentCount filter_components(std::vector<std::uint8_t>& model, const Grid& g
   return result;
 }
 
+std::vector<ComponentCount> filter_components_together(
+    std::vector<std::vector<std::uint8_t>>& models, const Grid& grid,
+    const core::Plausibility& plausibility) {
+  std::vector<Rows> rows(models.size());
+  std::vector<const Rows*> all;
+  for (std::size_t m = 0; m < models.size(); ++m) {
+    detail::rows_from_bytes(models[m], grid, rows[m]);
+    all.push_back(&rows[m]);
+  }
+  std::vector<ComponentCount> counts(models.size());
+  if (models.empty()) return counts;
+  detail::RowCore core;
+  detail::core_of_rows(all.data(), static_cast<int>(all.size()), grid, plausibility, core);
+  for (std::size_t m = 0; m < models.size(); ++m) {
+    counts[m] = detail::filter_rows(rows[m], core, grid, plausibility);
+    detail::bytes_from_rows(rows[m], grid, models[m]);
+  }
+  return counts;
+}
+
 namespace detail {
 
 void rows_from_masks(const std::uint64_t* masks, int count, const Grid& grid, Rows* const* out) {
@@ -207,16 +243,24 @@ void rows_from_masks(const std::uint64_t* masks, int count, const Grid& grid, Ro
     return;
   }
   for (int s = 0; s < count; ++s) out[s]->resize(size);
+  const std::uint64_t all = count == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << count) - 1;
   std::uint64_t a[64];
   for (int r = 0; r < rows; ++r) {
     for (int w = 0; w < words; ++w) {
       const int i0 = 64 * w, n = std::min(64, nx - i0);
       const std::uint64_t* m = masks + static_cast<std::size_t>(r) * nx + i0;
-      std::uint64_t any = 0;
-      for (int i = 0; i < n; ++i) any |= a[i] = m[i];
+      // `same`: voxel by voxel, in M in every state or in none (most words: the states share
+      // most of their models), then each state's word is `held`, without a transpose.
+      std::uint64_t held = 0;
+      bool same = true;
+      for (int i = 0; i < n; ++i) {
+        a[i] = m[i];
+        held |= static_cast<std::uint64_t>(m[i] != 0) << i;
+        same &= (m[i] == 0) | (m[i] == all);
+      }
       const std::size_t at = static_cast<std::size_t>(r) * words + w;
-      if (!any) {
-        for (int s = 0; s < count; ++s) (*out[s])[at] = 0;
+      if (same) {
+        for (int s = 0; s < count; ++s) (*out[s])[at] = held;
         continue;
       }
       std::fill(a + n, a + 64, 0);
@@ -251,40 +295,156 @@ void bytes_from_rows(const Rows& rows, const Grid& grid, std::vector<std::uint8_
   }
 }
 
-ComponentCount filter_rows(Rows& rows, const Grid& grid, const core::Plausibility& plausibility) {
+void core_of_rows(const Rows* const* models, int count, const Grid& grid,
+                  const core::Plausibility& plausibility, RowCore& core) {
   const int ny = grid.n[1];
   const int words = words_per_row(grid.n[0]);
-  // Per thread, reused: the evaluator filters every state's model per evaluation.
+  core.bits = *models[0];
+  for (int m = 1; m < count; ++m) {
+    for (std::size_t w = 0; w < core.bits.size(); ++w) core.bits[w] &= (*models[m])[w];
+  }
+  // The core's components (numbered in order of their first run), their extents and runs.
   thread_local RunForest forest;
-  run_forest(rows.data(), grid, forest);
+  run_forest(core.bits.data(), grid, forest);
+  core.runs = forest.runs;
+  core.row_start = forest.row_start;
+  const std::size_t runs = core.runs.size();
+  core.component.assign(runs, -1);
+  ComponentTally tally;
+  for (std::size_t n = 0; n < runs; ++n) {
+    const int root = find(forest.parent, static_cast<int>(n));
+    if (core.component[root] < 0) core.component[root] = tally.add_component();
+    const int c = core.component[root];
+    core.component[n] = c;
+    const long k = core.runs[n].row / ny;
+    tally.add_cells(c, core.runs[n].i1 - core.runs[n].i0 + 1, k, k);
+  }
+  // Each component's runs, by counting sort.
+  const int components = tally.size();
+  core.extents.resize(components);
+  core.component_start.assign(components + 1, 0);
+  for (int c = 0; c < components; ++c) core.extents[c] = tally.extent(c);
+  for (std::size_t n = 0; n < runs; ++n) ++core.component_start[core.component[n] + 1];
+  std::partial_sum(core.component_start.begin(), core.component_start.end(),
+                   core.component_start.begin());
+  core.component_runs.resize(runs);
+  thread_local std::vector<int> next;
+  next.assign(core.component_start.begin(), core.component_start.end() - 1);
+  for (std::size_t n = 0; n < runs; ++n) {
+    core.component_runs[next[core.component[n]]++] = static_cast<int>(n);
+  }
+  // The filter on the core alone.
+  core.count = tally.decide(plausibility, grid.voxel_volume(), grid.step.z(), core.keep);
+  core.kept = core.bits;
+  for (std::size_t n = 0; n < runs; ++n) {
+    if (!core.keep[core.component[n]]) set_run(core.kept.data(), words, core.runs[n], false);
+  }
+}
+
+ComponentCount filter_rows(Rows& rows, const Grid& grid, const core::Plausibility& plausibility) {
+  // The core of this model alone (C1: every voxel is the core's).
+  thread_local RowCore core;
+  const Rows* models[1] = {&rows};
+  core_of_rows(models, 1, grid, plausibility, core);
+  rows = core.kept;
+  return core.count;
+}
+
+ComponentCount filter_rows(Rows& rows, const RowCore& core, const Grid& grid,
+                           const core::Plausibility& plausibility) {
+  const int nx = grid.n[0], ny = grid.n[1], nz = grid.n[2];
+  const int words = words_per_row(nx);
+  // The model's voxels beyond the core (E of C1); the rows start as what the core's filter
+  // keeps and all of E, and only components that hold voxels of E change that.
+  thread_local Rows own;
+  own.resize(rows.size());
+  std::uint64_t any = 0;
+  for (std::size_t w = 0; w < rows.size(); ++w) {
+    CAMPLACE_ASSERT((core.bits[w] & ~rows[w]) == 0);  // the model holds the core
+    own[w] = rows[w] & ~core.bits[w];
+    rows[w] = core.kept[w] | own[w];
+    any |= own[w];
+  }
+  if (!any) return core.count;
+  // E's runs joined among themselves (nodes 0 .. runs − 1), then the core's components they
+  // touch (C1, 2): at either end in the run's row, overlapping it in the four rows beside it.
+  // A core component no run of E touches is a component of the model too, and the core's
+  // filter decided it already.
+  thread_local RunForest forest;
+  run_forest(own.data(), grid, forest);
   const std::vector<Run>& runs = forest.runs;
   std::vector<int>& parent = forest.parent;
-  // Volume (voxel count) and z-extent per component, in order of their first run.
+  const int own_runs = static_cast<int>(runs.size());
+  thread_local std::vector<int> node_of;  // per core component: its node, or −1
+  node_of.resize(core.extents.size(), -1);
+  thread_local std::vector<int> touched;  // the core components touched, in order of nodes
+  touched.clear();
+  auto join_row = [&](int n, int r, int i0, int i1) {
+    for (int c = core.row_start[r]; c < core.row_start[r + 1]; ++c) {
+      const Run& run = core.runs[c];
+      if (run.i0 > i1) break;
+      if (run.i1 < i0) continue;
+      int& node = node_of[core.component[c]];
+      if (node < 0) {
+        node = own_runs + static_cast<int>(touched.size());
+        touched.push_back(core.component[c]);
+        parent.push_back(node);
+      }
+      unite(parent, n, node);
+    }
+  };
+  const std::uint64_t* core_bits = core.bits.data();
+  for (int n = 0; n < own_runs; ++n) {
+    const Run& run = runs[n];
+    const int r = run.row, j = r % ny, k = r / ny;
+    if (run.i0 > 0 && has_bit(core_bits, words, r, run.i0 - 1)) {
+      join_row(n, r, run.i0 - 1, run.i0 - 1);
+    }
+    if (run.i1 + 1 < nx && has_bit(core_bits, words, r, run.i1 + 1)) {
+      join_row(n, r, run.i1 + 1, run.i1 + 1);
+    }
+    if (j > 0) join_row(n, r - 1, run.i0, run.i1);
+    if (j + 1 < ny) join_row(n, r + 1, run.i0, run.i1);
+    if (k > 0) join_row(n, r - ny, run.i0, run.i1);
+    if (k + 1 < nz) join_row(n, r + ny, run.i0, run.i1);
+  }
+  // Volume and z-extent of each component that holds voxels of E: its runs' and its core
+  // components'.
+  const int nodes = static_cast<int>(parent.size());
   ComponentTally tally;
   thread_local std::vector<int> id;
-  id.assign(runs.size(), -1);
-  for (std::size_t n = 0; n < runs.size(); ++n) {
-    const int root = find(parent, static_cast<int>(n));
+  id.assign(nodes, -1);
+  for (int x = 0; x < nodes; ++x) {
+    const int root = find(parent, x);
     if (id[root] < 0) id[root] = tally.add_component();
-    const long k = runs[n].row / ny;
-    id[n] = id[root];
-    tally.add_cells(id[root], runs[n].i1 - runs[n].i0 + 1, k, k);
+    id[x] = id[root];
+    if (x < own_runs) {
+      const long k = runs[x].row / ny;
+      tally.add_cells(id[x], runs[x].i1 - runs[x].i0 + 1, k, k);
+    } else {
+      const ComponentExtent& e = core.extents[touched[x - own_runs]];
+      tally.add_cells(id[x], e.cells, e.kmin, e.kmax);
+    }
   }
   thread_local std::vector<std::uint8_t> keep;
-  const ComponentCount result =
+  const ComponentCount changed =
       tally.decide(plausibility, grid.voxel_volume(), grid.step.z(), keep);
-  for (std::size_t n = 0; n < runs.size(); ++n) {
-    if (keep[id[n]]) continue;
-    const Run& run = runs[n];
-    std::uint64_t* row = rows.data() + static_cast<std::size_t>(run.row) * words;
-    for (int i = run.i0; i <= run.i1;) {
-      // Bits i .. min(i1, end of its word) cleared at once.
-      const int w = i >> 6, lo = i & 63, hi = std::min(run.i1 - 64 * w, 63);
-      const std::uint64_t span =
-          (hi == 63 ? ~std::uint64_t{0} : (std::uint64_t{1} << (hi + 1)) - 1) &
-          ~((std::uint64_t{1} << lo) - 1);
-      row[w] &= ~span;
-      i = 64 * w + hi + 1;
+  // The core's count with its touched components' decisions replaced by the components that
+  // hold them; their runs and E's runs as those components are decided.
+  ComponentCount result = core.count;
+  result.kept += changed.kept;
+  result.removed += changed.removed;
+  for (int n = 0; n < own_runs; ++n) {
+    if (!keep[id[n]]) set_run(rows.data(), words, runs[n], false);
+  }
+  for (std::size_t t = 0; t < touched.size(); ++t) {
+    const int c = touched[t];
+    node_of[c] = -1;
+    const bool kept = keep[id[own_runs + t]];
+    --(core.keep[c] ? result.kept : result.removed);
+    if (kept == static_cast<bool>(core.keep[c])) continue;
+    for (int at = core.component_start[c]; at < core.component_start[c + 1]; ++at) {
+      set_run(rows.data(), words, core.runs[core.component_runs[at]], kept);
     }
   }
   return result;

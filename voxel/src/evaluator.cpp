@@ -46,6 +46,26 @@ VoxelEvaluator::~VoxelEvaluator() = default;
 VoxelEvaluator::VoxelEvaluator(VoxelEvaluator&&) noexcept = default;
 VoxelEvaluator& VoxelEvaluator::operator=(VoxelEvaluator&&) noexcept = default;
 
+void VoxelEvaluator::Impl::filter_states(std::vector<detail::Rows>& models,
+                                         std::vector<ComponentCount>& counts) const {
+  const int state_count = static_cast<int>(models.size());
+  const int chunks = (state_count + detail::kChunk - 1) / detail::kChunk;
+  // Per calling thread, reused (a reference, so that the worker threads see this thread's).
+  thread_local std::vector<detail::RowCore> core_buffers;
+  std::vector<detail::RowCore>& cores = core_buffers;
+  cores.resize(chunks);
+  detail::parallel_for(chunks, options.threads, [&](int chunk) {
+    const int first = chunk * detail::kChunk;
+    const int count = std::min(detail::kChunk, state_count - first);
+    const detail::Rows* chunk_models[detail::kChunk];
+    for (int s = 0; s < count; ++s) chunk_models[s] = &models[first + s];
+    detail::core_of_rows(chunk_models, count, grid, scene.plausibility, cores[chunk]);
+  });
+  detail::parallel_for(state_count, options.threads, [&](int s) {
+    counts[s] = detail::filter_rows(models[s], cores[s / detail::kChunk], grid, scene.plausibility);
+  });
+}
+
 Evaluation VoxelEvaluator::evaluate(const core::CameraConfig& config) const {
   const Impl& m = *impl_;
   const auto start = Clock::now();
@@ -68,9 +88,7 @@ Evaluation VoxelEvaluator::evaluate(const core::CameraConfig& config) const {
 #endif
   std::vector<ComponentCount> filtered(state_count);
   t0 = Clock::now();
-  detail::parallel_for(state_count, m.options.threads, [&](int s) {
-    filtered[s] = detail::filter_rows(models[s], m.grid, m.scene.plausibility);
-  });
+  m.filter_states(models, filtered);
   result.timing.clustering_ms = ms_since(t0);
 #if CAMPLACE_EXPENSIVE_CHECKS
   for (int s = 0; s < state_count; ++s) detail::bytes_from_rows(models[s], m.grid, bytes[s]);
@@ -139,10 +157,10 @@ detail::FilteredModels VoxelEvaluator::Impl::filtered_models(
   std::vector<detail::Rows> rows;
   m.all_raw_models(config, rows, &cameras);
   out.base.resize(rows.size());
-  for (std::size_t s = 0; s < rows.size(); ++s) {
-    detail::filter_rows(rows[s], m.grid, m.scene.plausibility);
+  std::vector<ComponentCount> filtered(rows.size());
+  m.filter_states(rows, filtered);
+  for (std::size_t s = 0; s < rows.size(); ++s)
     detail::bytes_from_rows(rows[s], m.grid, out.base[s]);
-  }
   if (m.levels == 0) return out;
   std::vector<ComponentCount> counts;
   std::vector<ModelDistance> distances;

@@ -605,6 +605,10 @@ struct VoxelEvaluator::Impl : detail::SceneTables,
   /// d(C_h, M) and volume of the finest cells of `set` (node_sq of the nearest cell).
   ModelDistance model_distance(const detail::CellSet& set, int time_step) const;
 
+  /// The plausibility filter on every state's model (`models`, one per state, in chunks of
+  /// kChunk), into `counts`: per chunk the components of the voxels its states share, found once
+  /// (docs/design/distance.md C1), then each state's (evaluator.cpp).
+  void filter_states(std::vector<detail::Rows>& models, std::vector<ComponentCount>& counts) const;
   /// All raw models filtered, and refined with refinement (evaluator.cpp).
   detail::FilteredModels filtered_models(const core::CameraConfig& config) const;
 

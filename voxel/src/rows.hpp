@@ -40,7 +40,47 @@ void rows_from_masks(const std::uint64_t* masks, int count, const Grid& grid, Ro
 void rows_from_bytes(const std::vector<std::uint8_t>& model, const Grid& grid, Rows& rows);
 void bytes_from_rows(const Rows& rows, const Grid& grid, std::vector<std::uint8_t>& model);
 
+/// A maximal segment of model voxels along x: row j + ny·k, voxels i0..i1 (inclusive).
+struct RowRun {
+  int row;
+  int i0, i1;
+};
+
+/// A component's cell count and z-extent (layer indices kmin..kmax; kmax < 0: no cells yet).
+struct ComponentExtent {
+  long cells = 0;
+  long kmin = 0, kmax = -1;
+};
+
+/// The voxels that every model of a set holds (a chunk's states: they share most voxels), with
+/// their components, found once (core_of_rows) so that filtering each model joins only the
+/// model's own voxels to them (filter_rows with a core).
+struct RowCore {
+  Rows bits;                             ///< the voxels every model holds
+  std::vector<RowRun> runs;              ///< bits' runs, row by row, ascending
+  std::vector<int> row_start;            ///< per row: its first run (rows + 1 offsets)
+  std::vector<int> component;            ///< per run: its component among bits' components
+  std::vector<ComponentExtent> extents;  ///< per component
+  /// Per component c: its runs component_runs[component_start[c] ..].
+  std::vector<int> component_start, component_runs;
+  /// The filter on bits alone (a model that holds no other voxel): per component whether it
+  /// keeps it, what it keeps, and its count.
+  std::vector<std::uint8_t> keep;
+  Rows kept;
+  ComponentCount count;
+};
+
+/// The core of models[0 .. count − 1] (each of `grid`), into `core` (its memory reused).
+void core_of_rows(const Rows* const* models, int count, const Grid& grid,
+                  const core::Plausibility& plausibility, RowCore& core);
+
 /// filter_components on rows: clears the bits of every component the filter removes.
 ComponentCount filter_rows(Rows& rows, const Grid& grid, const core::Plausibility& plausibility);
+
+/// The same on rows that hold every voxel of `core`: the same components (each of the core's
+/// components lies in one of the model's; docs/design/distance.md C1), found from the core's
+/// and the model's other voxels.
+ComponentCount filter_rows(Rows& rows, const RowCore& core, const Grid& grid,
+                           const core::Plausibility& plausibility);
 
 }  // namespace camplace::voxel::detail
