@@ -77,19 +77,28 @@ struct RunForest {
   std::vector<int> row_start;
 };
 
-/// Into `forest` (its memory reused), from the model's rows (detail::Rows).
-void run_forest(const std::uint64_t* bits, const Grid& grid, RunForest& forest) {
+/// Into `forest` (its memory reused), from the model's rows (detail::Rows). `occupied`: rows
+/// (ascending) among which are all that hold voxels, or null for all rows; only they are read
+/// (a model's voxels beyond its chunk's core lie in few rows).
+void run_forest(const std::uint64_t* bits, const Grid& grid, const std::vector<int>* occupied,
+                RunForest& forest) {
   const int ny = grid.n[1], nz = grid.n[2];
   const int words = detail::words_per_row(grid.n[0]);
   const int rows = ny * nz;
+  const int listed = occupied ? static_cast<int>(occupied->size()) : rows;
+  auto row_at = [&](int n) { return occupied ? (*occupied)[n] : n; };
   std::vector<Run>& runs = forest.runs;
   runs.clear();
   std::vector<int>& row_start = forest.row_start;
-  row_start.assign(rows + 1, 0);
+  row_start.resize(rows + 1);
   // A run starts at a 1 bit with a 0 (or the row's start) before it and ends at a 1 bit with a
-  // 0 (or the row's end) after it, across words; starts and ends alternate along the row.
-  for (int r = 0; r < rows; ++r) {
-    row_start[r] = static_cast<int>(runs.size());
+  // 0 (or the row's end) after it, across words; starts and ends alternate along the row. Rows
+  // not listed hold no runs: they start where the next listed row does.
+  int filled = 0;  // row_start is written for rows before this one
+  for (int n = 0; n < listed; ++n) {
+    const int r = row_at(n);
+    std::fill(row_start.begin() + filled, row_start.begin() + r + 1, static_cast<int>(runs.size()));
+    filled = r + 1;
     const std::uint64_t* row = bits + static_cast<std::size_t>(r) * words;
     int start = -1;  // the open run's first voxel
     for (int w = 0; w < words; ++w) {
@@ -110,7 +119,7 @@ void run_forest(const std::uint64_t* bits, const Grid& grid, RunForest& forest) 
       }
     }
   }
-  row_start[rows] = static_cast<int>(runs.size());
+  std::fill(row_start.begin() + filled, row_start.end(), static_cast<int>(runs.size()));
   std::vector<int>& parent = forest.parent;
   parent.resize(runs.size());
   std::iota(parent.begin(), parent.end(), 0);
@@ -134,10 +143,13 @@ void run_forest(const std::uint64_t* bits, const Grid& grid, RunForest& forest) 
       }
     }
   };
-  for (int r = 0; r < rows; ++r) {
+  // (A row without runs has nothing to connect.)
+  for (int n = 0; n < listed; ++n) {
+    const int r = row_at(n);
+    if (row_start[r] == row_start[r + 1]) continue;
     const int j = r % ny;
-    if (j > 0) connect(r, r - 1);
-    if (r >= ny) connect(r, r - ny);
+    if (j > 0 && row_start[r - 1] < row_start[r]) connect(r, r - 1);
+    if (r >= ny && row_start[r - ny] < row_start[r - ny + 1]) connect(r, r - ny);
   }
 }
 
@@ -153,15 +165,19 @@ inline void transpose64(std::uint64_t a[64]) {
   }
 }
 
+/// Bits lo .. hi (0 ≤ lo ≤ hi ≤ 63) of a word.
+std::uint64_t span(int lo, int hi) {
+  return (hi == 63 ? ~std::uint64_t{0} : (std::uint64_t{1} << (hi + 1)) - 1) &
+         ~((std::uint64_t{1} << lo) - 1);
+}
+
 /// Sets voxels run.i0 .. run.i1 of the run's row in `rows` (words per row) to `value`.
 void set_run(std::uint64_t* rows, int words, const Run& run, bool value) {
   std::uint64_t* row = rows + static_cast<std::size_t>(run.row) * words;
   for (int i = run.i0; i <= run.i1;) {
     // Bits i .. min(i1, end of its word) at once.
     const int w = i >> 6, lo = i & 63, hi = std::min(run.i1 - 64 * w, 63);
-    const std::uint64_t span = (hi == 63 ? ~std::uint64_t{0} : (std::uint64_t{1} << (hi + 1)) - 1) &
-                               ~((std::uint64_t{1} << lo) - 1);
-    row[w] = value ? row[w] | span : row[w] & ~span;
+    row[w] = value ? row[w] | span(lo, hi) : row[w] & ~span(lo, hi);
     i = 64 * w + hi + 1;
   }
 }
@@ -177,7 +193,7 @@ std::vector<int> component_labels(const std::vector<std::uint8_t>& model, const 
   Rows rows;
   detail::rows_from_bytes(model, grid, rows);
   RunForest forest;
-  run_forest(rows.data(), grid, forest);
+  run_forest(rows.data(), grid, nullptr, forest);
   std::vector<int> id(forest.runs.size(), -1);
   std::vector<int> labels(model.size(), -1);
   int next = 0;
@@ -305,7 +321,7 @@ void core_of_rows(const Rows* const* models, int count, const Grid& grid,
   }
   // The core's components (numbered in order of their first run), their extents and runs.
   thread_local RunForest forest;
-  run_forest(core.bits.data(), grid, forest);
+  run_forest(core.bits.data(), grid, nullptr, forest);
   core.runs = forest.runs;
   core.row_start = forest.row_start;
   const std::size_t runs = core.runs.size();
@@ -358,6 +374,8 @@ ComponentCount filter_rows(Rows& rows, const RowCore& core, const Grid& grid,
   // keeps and all of E, and only components that hold voxels of E change that.
   thread_local Rows own;
   own.resize(rows.size());
+  thread_local std::vector<int> occupied;  // the rows that hold voxels of E
+  occupied.clear();
   std::uint64_t any = 0;
   for (std::size_t w = 0; w < rows.size(); ++w) {
     CAMPLACE_ASSERT((core.bits[w] & ~rows[w]) == 0);  // the model holds the core
@@ -366,12 +384,17 @@ ComponentCount filter_rows(Rows& rows, const RowCore& core, const Grid& grid,
     any |= own[w];
   }
   if (!any) return core.count;
+  for (int r = 0; r < ny * nz; ++r) {
+    std::uint64_t held = 0;
+    for (int w = 0; w < words; ++w) held |= own[static_cast<std::size_t>(r) * words + w];
+    if (held) occupied.push_back(r);
+  }
   // E's runs joined among themselves (nodes 0 .. runs − 1), then the core's components they
   // touch (C1, 2): at either end in the run's row, overlapping it in the four rows beside it.
   // A core component no run of E touches is a component of the model too, and the core's
   // filter decided it already.
   thread_local RunForest forest;
-  run_forest(own.data(), grid, forest);
+  run_forest(own.data(), grid, &occupied, forest);
   const std::vector<Run>& runs = forest.runs;
   std::vector<int>& parent = forest.parent;
   const int own_runs = static_cast<int>(runs.size());
