@@ -6,10 +6,12 @@
 #include <CGAL/Triangulation_face_base_with_info_2.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
+#include <algorithm>
 #include <array>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <numeric>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -100,6 +102,18 @@ inline void TriangleSoup::add_halffacet(Nef::Halffacet_const_handle f) {
     }
   }
   if (cycles.empty()) throw std::logic_error("exact pipeline: a facet without a boundary cycle");
+  // Each cycle from its least vertex, the cycles and isolated vertices in the order of those
+  // (CGAL::compare_xyz): the fan and the triangulation's insertion order, and so its triangles,
+  // depend only on the facet, not on where the Nef polyhedron's lists start (which the order of
+  // the Boolean operations that built it, e.g. on helper threads, can change).
+  auto less = [](Nef::Vertex_const_handle a, Nef::Vertex_const_handle b) {
+    return CGAL::compare_xyz(a->point(), b->point()) == CGAL::SMALLER;
+  };
+  for (auto& cycle : cycles)
+    std::rotate(cycle.begin(), std::min_element(cycle.begin(), cycle.end(), less), cycle.end());
+  std::sort(cycles.begin(), cycles.end(),
+            [&](const auto& a, const auto& b) { return less(a.front(), b.front()); });
+  std::sort(isolated.begin(), isolated.end(), less);
   if (cycles.size() == 1 && isolated.empty() && strictly_convex(cycles[0], normal)) {
     // A fan; the cycle of a facet is simple, so turning one way at every vertex means convex.
     const auto& cycle = cycles[0];
@@ -180,9 +194,37 @@ inline void write_off(const std::string& path, const std::vector<core::Vec3>& ve
   core::write_file_atomically(path, out.str());
 }
 
-/// Writes an exact soup rounded to double as an OFF file (atomically).
-inline void export_soup(const std::string& path, const std::vector<Point>& points,
-                        const std::vector<std::array<std::size_t, 3>>& triangles) {
+/// An exact soup in an order that depends only on its triangles, not on the order it lists them
+/// and their vertices in (a Nef polyhedron's volumes, facets and vertices come in the order of
+/// the operations that built it): equal points merged, points sorted by CGAL::compare_xyz, each
+/// triangle started at its least vertex (its orientation kept), triangles sorted.
+inline void canonical_order(std::vector<Point>& points,
+                            std::vector<std::array<std::size_t, 3>>& triangles) {
+  std::vector<std::size_t> order(points.size());
+  std::iota(order.begin(), order.end(), std::size_t(0));
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return CGAL::compare_xyz(points[a], points[b]) == CGAL::SMALLER;
+  });
+  std::vector<Point> sorted;
+  std::vector<std::size_t> rank(points.size());
+  for (const std::size_t i : order) {
+    if (sorted.empty() || CGAL::compare_xyz(sorted.back(), points[i]) != CGAL::EQUAL)
+      sorted.push_back(points[i]);
+    rank[i] = sorted.size() - 1;
+  }
+  for (auto& t : triangles) {
+    t = {rank[t[0]], rank[t[1]], rank[t[2]]};
+    std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+  }
+  std::sort(triangles.begin(), triangles.end());
+  points = std::move(sorted);
+}
+
+/// Writes an exact soup rounded to double as an OFF file (atomically), in canonical order: the
+/// same surface, triangulated the same way, gives the same file.
+inline void export_soup(const std::string& path, std::vector<Point> points,
+                        std::vector<std::array<std::size_t, 3>> triangles) {
+  canonical_order(points, triangles);
   std::vector<core::Vec3> v;
   v.reserve(points.size());
   for (const auto& p : points) v.push_back(to_vec3(p));
